@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages ardrone-gs needs, only those missing. Idempotent.
+# Usage: scripts/install-deps.sh [build|test]
+set -euo pipefail
+mode=${1:-build}
+
+pkgs=(cmake ninja-build g++ pkg-config
+      libopencv-dev libavcodec-dev libavutil-dev libswscale-dev libx264-dev
+      libimgui-dev libstb-dev libglfw3-dev libgl-dev libeigen3-dev
+      libcli11-dev nlohmann-json3-dev)
+if [[ $mode == test ]]; then
+  pkgs+=(libgtest-dev libgmock-dev xvfb xauth libgl1-mesa-dri)
+  # node and npm run the independent-client interop test; a node installed outside apt is fine.
+  if ! command -v node >/dev/null || ! command -v npm >/dev/null; then pkgs+=(nodejs npm); fi
+fi
+
+missing=()
+for p in "${pkgs[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+[[ ${#missing[@]} -eq 0 ]] && exit 0
+
+echo "ardrone-gs: installing missing packages: ${missing[*]}"
+sudo=""
+if [[ $(id -u) -ne 0 ]]; then sudo="sudo"; fi
+export DEBIAN_FRONTEND=noninteractive
+$sudo apt-get update -qq
+$sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
