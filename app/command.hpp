@@ -13,12 +13,17 @@ namespace gs::app {
 // throws CLI::RuntimeError(code) (after printing the reason to stderr) on failure.
 using CommandSetup = std::function<void(CLI::App& root)>;
 
+// A top-level subcommand: `setup` receives the root app and adds its subcommand to it.
+// A nested one (parent non-empty, e.g. "inspect"): `setup` receives the parent subcommand, which
+// main creates once with `parent_description`.
 struct CommandRegistration {
     CommandRegistration(int order, CommandSetup setup);
+    CommandRegistration(int order, std::string parent, std::string parent_description,
+                        CommandSetup setup);
 };
 
-// Every registered subcommand, sorted by `order` (the order `--help` lists them in).
-std::vector<CommandSetup> registered_commands();
+// Adds every registered subcommand to `root`, sorted by `order` (the order `--help` lists them in).
+void add_registered_commands(CLI::App& root);
 
 // Prints "ardrone-gs: <message>" on stderr and returns the exit code to throw.
 [[nodiscard]] CLI::RuntimeError fail(const std::string& message, int code = 1);

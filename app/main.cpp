@@ -1,26 +1,44 @@
 // ardrone-gs: ground station for the Parrot AR.Drone 2.0.
 #include "app/command.hpp"
 
-#include <algorithm>
+#include <string>
 #include <iostream>
 #include <map>
 
 namespace gs::app {
 namespace {
-std::multimap<int, CommandSetup>& registry() {
-    static std::multimap<int, CommandSetup> r;
+struct Entry {
+    std::string parent, parent_description;
+    CommandSetup setup;
+};
+std::multimap<int, Entry>& registry() {
+    static std::multimap<int, Entry> r;
     return r;
 }
 }  // namespace
 
 CommandRegistration::CommandRegistration(int order, CommandSetup setup) {
-    registry().emplace(order, std::move(setup));
+    registry().emplace(order, Entry{{}, {}, std::move(setup)});
 }
 
-std::vector<CommandSetup> registered_commands() {
-    std::vector<CommandSetup> out;
-    for (auto& [order, setup] : registry()) out.push_back(setup);
-    return out;
+CommandRegistration::CommandRegistration(int order, std::string parent,
+                                         std::string parent_description, CommandSetup setup) {
+    registry().emplace(order, Entry{std::move(parent), std::move(parent_description), std::move(setup)});
+}
+
+void add_registered_commands(CLI::App& root) {
+    for (auto& [order, e] : registry()) {
+        if (e.parent.empty()) {
+            e.setup(root);
+            continue;
+        }
+        CLI::App* parent = root.get_subcommand_no_throw(e.parent);
+        if (parent == nullptr) {
+            parent = root.add_subcommand(e.parent, e.parent_description);
+            parent->require_subcommand(1);
+        }
+        e.setup(*parent);
+    }
 }
 
 CLI::RuntimeError fail(const std::string& message, int code) {
@@ -33,7 +51,7 @@ CLI::RuntimeError fail(const std::string& message, int code) {
 int main(int argc, char** argv) {
     CLI::App app{"ardrone-gs: ground station for the Parrot AR.Drone 2.0"};
     app.set_version_flag("--version", "ardrone-gs 0.1.0");
-    for (auto& setup : gs::app::registered_commands()) setup(app);
+    gs::app::add_registered_commands(app);
     app.require_subcommand(0, 1);
     try {
         app.parse(argc, argv);
