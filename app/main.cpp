@@ -27,12 +27,13 @@ CommandRegistration::CommandRegistration(int order, std::string parent,
 }
 
 void add_registered_commands(CLI::App& root) {
+    std::map<std::string, CLI::App*> parents;
     for (auto& [order, e] : registry()) {
         if (e.parent.empty()) {
             e.setup(root);
             continue;
         }
-        CLI::App* parent = root.get_subcommand_no_throw(e.parent);
+        CLI::App*& parent = parents[e.parent];
         if (parent == nullptr) {
             parent = root.add_subcommand(e.parent, e.parent_description);
             parent->require_subcommand(1);
