@@ -3,10 +3,10 @@
 // decisions: readers want the newest, never a backlog) and a bounded queue (commands, records to
 // disk: every item matters, but memory is bounded and overflow is counted, never silent).
 
+#include <algorithm>
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
-#include <algorithm>
 #include <deque>
 #include <mutex>
 #include <optional>
@@ -21,6 +21,13 @@ public:
     void publish(T v) {
         std::lock_guard lk(m_);
         value_ = std::move(v);
+        ++generation_;
+    }
+    // Read-modify-write under the slot's lock (for rare updates such as subscriber lists).
+    template <class F>
+    void update(F&& f) {
+        std::lock_guard lk(m_);
+        f(value_);
         ++generation_;
     }
     // Copies the value into `out` when it is newer than `*seen_generation`; updates the generation.
@@ -99,11 +106,30 @@ public:
         cv_.notify_all();
     }
 
-    bool closed() const { std::lock_guard lk(m_); return closed_; }
-    std::size_t size() const { std::lock_guard lk(m_); return q_.size(); }
+    // Opens a closed queue again (a restarted link reuses its queues); queued items are dropped.
+    void reopen() {
+        std::lock_guard lk(m_);
+        q_.clear();
+        closed_ = false;
+    }
+
+    bool closed() const {
+        std::lock_guard lk(m_);
+        return closed_;
+    }
+    std::size_t size() const {
+        std::lock_guard lk(m_);
+        return q_.size();
+    }
     std::size_t capacity() const { return capacity_; }
-    std::uint64_t dropped() const { std::lock_guard lk(m_); return dropped_; }
-    std::size_t high_water() const { std::lock_guard lk(m_); return high_water_; }
+    std::uint64_t dropped() const {
+        std::lock_guard lk(m_);
+        return dropped_;
+    }
+    std::size_t high_water() const {
+        std::lock_guard lk(m_);
+        return high_water_;
+    }
 
 private:
     std::optional<T> pop_locked() {
