@@ -57,7 +57,7 @@ struct Spec<Time> {
     GS_NAVDATA_SPEC(Time, 1, 8, "time", time);
     template <class D, class F>
     static void fields(D& d, F&& f) {
-        f(4, "time", "s:11|us:21", d.time.raw);
+        f(4, "time", "raw (s << 21 | us)", d.time.raw);
     }
 };
 
