@@ -83,7 +83,8 @@ TEST(InspectNavdata, JsonOfFullCaptureHasTheValues) {
 }
 
 TEST(InspectNavdata, JsonReportsOpaqueTag27) {
-    const CmdResult r = run("inspect navdata " + fixture("node-ar-drone_navdata_2013.bin") + " --json");
+    const CmdResult r =
+        run("inspect navdata " + fixture("node-ar-drone_navdata_2013.bin") + " --json");
     ASSERT_EQ(r.exit_code, 0) << r.out;
     const auto j = nlohmann::json::parse(r.out);
     EXPECT_EQ(j["checksum"], 57639);
