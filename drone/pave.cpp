@@ -93,6 +93,7 @@ bool valid_header_size(std::size_t hs) {
 // Validates as much of a header as `n` bytes allow, field by field in wire order, so a decision
 // taken on a short prefix is the one the full header would give (chunking invariance).
 CheckResult check_prefix(const std::uint8_t* p, std::size_t n, std::uint32_t max_payload) {
+    if (n == 0) return {Check::NeedMore};  // p may be null: memcmp must not see it
     if (n < 4) {
         return {std::memcmp(p, kPaveSignature.data(), n) == 0 ? Check::NeedMore : Check::Bad,
                 PaveError::BadSignature};
