@@ -1,0 +1,197 @@
+// `ardrone-gs inspect pave FILE [--json] [--decode DIR]`: runs a saved PaVE/H.264 TCP stream
+// (bytes as read from port 5555/5553) through the framer and lists every frame, every resync and
+// the trailing partial frame; --decode also decodes the H.264 and writes DIR/NNNNNN.png.
+#include "app/command.hpp"
+#include "drone/h264_decoder.hpp"
+#include "drone/pave.hpp"
+#include "drone/pave_json.hpp"
+
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace gs::app {
+namespace {
+
+struct Opts {
+    std::string file;
+    bool json = false;
+    std::string decode_dir;
+};
+
+nlohmann::json decoder_json(const H264DecoderStats& s) {
+    return {{"access_units", s.access_units},
+            {"decoded", s.decoded},
+            {"skipped_waiting_idr", s.skipped_waiting_idr},
+            {"decode_errors", s.decode_errors},
+            {"concealed", s.concealed},
+            {"frame_gaps", s.frame_gaps},
+            {"reinits", s.reinits}};
+}
+
+std::string image_name(std::uint64_t n) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%06llu.png", static_cast<unsigned long long>(n));
+    return buf;
+}
+
+void print_frame_line(std::ostream& os, const PaveFrame& f, const std::optional<std::string>& img) {
+    const PaveHeader& h = f.header;
+    char line[256];
+    std::snprintf(line, sizeof line,
+                  "%6llu %9llu %4u %8u %12u %11u  %-7s %-5s %4ux%-4u %4ux%-4u %6u %3u/%-3u %4u",
+                  static_cast<unsigned long long>(f.index),
+                  static_cast<unsigned long long>(f.stream_offset), unsigned{h.header_size},
+                  h.payload_size, h.frame_number, h.timestamp, to_string(h.frame_type).c_str(),
+                  to_string(h.video_codec).c_str(), unsigned{h.encoded_stream_width},
+                  unsigned{h.encoded_stream_height}, unsigned{h.display_width},
+                  unsigned{h.display_height}, unsigned{h.stream_id}, unsigned{h.header1_size},
+                  unsigned{h.header2_size}, unsigned{h.control});
+    os << line;
+    if (img) os << "  -> " << *img;
+    os << '\n';
+}
+
+void run(const Opts& o) {
+    std::ifstream in(o.file, std::ios::binary);
+    if (!in) throw fail("cannot open " + o.file);
+
+    const bool decode = !o.decode_dir.empty();
+    if (decode) {
+        std::error_code ec;
+        std::filesystem::create_directories(o.decode_dir, ec);
+        if (ec || !std::filesystem::is_directory(o.decode_dir)) {
+            throw fail("cannot create directory " + o.decode_dir +
+                       (ec ? ": " + ec.message() : std::string()));
+        }
+    }
+
+    PaveFramer framer;
+    H264Decoder decoder;
+    cv::Mat image;
+    std::uint64_t images = 0;
+    nlohmann::json frames = nlohmann::json::array();
+    nlohmann::json resyncs = nlohmann::json::array();
+    std::ostream& os = std::cout;
+    if (!o.json) {
+        os << o.file << '\n'
+           << " index    offset  hdr  payload frame_number   timestamp  type    codec encoded   "
+              "display   stream h1/h2  ctrl\n";
+    }
+
+    std::vector<char> chunk(64 * 1024);
+    while (in) {
+        in.read(chunk.data(), static_cast<std::streamsize>(chunk.size()));
+        const auto got = static_cast<std::size_t>(in.gcount());
+        if (got == 0) break;
+        framer.push(std::span(reinterpret_cast<const std::uint8_t*>(chunk.data()), got));
+        while (auto ev = framer.next()) {
+            if (const auto* r = std::get_if<PaveResync>(&*ev)) {
+                if (o.json) {
+                    resyncs.push_back(to_json(*r));
+                } else {
+                    os << "resync at " << r->stream_offset << ": skipped " << r->bytes_skipped
+                       << " bytes (" << to_string(r->reason) << "), next frame at "
+                       << r->stream_offset + r->bytes_skipped << '\n';
+                }
+                continue;
+            }
+            const auto& f = std::get<PaveFrame>(*ev);
+            std::optional<std::string> img;
+            if (decode) {
+                AccessUnit au{f.payload, f.header.frame_number, f.header.display_width,
+                              f.header.display_height, f.header.stream_id};
+                auto res = decoder.decode(au, image);
+                if (res && *res == DecodeStatus::Frame) {
+                    img = image_name(images);
+                    const auto path = std::filesystem::path(o.decode_dir) / *img;
+                    if (!cv::imwrite(path.string(), image)) {
+                        throw fail("cannot write " + path.string());
+                    }
+                    ++images;
+                }
+            }
+            if (o.json) {
+                nlohmann::json j = {{"index", f.index}, {"offset", f.stream_offset}};
+                j.update(to_json(f.header));
+                if (decode) j["image"] = img ? nlohmann::json(*img) : nlohmann::json(nullptr);
+                frames.push_back(std::move(j));
+            } else {
+                print_frame_line(os, f, img);
+            }
+        }
+    }
+    if (in.bad()) throw fail("cannot read " + o.file);
+
+    const PavePending pending = framer.pending();
+    const PaveFramerStats& stats = framer.stats();
+    nlohmann::json trailing = nullptr;
+    if (pending.buffered_bytes > 0 || pending.unreported_skip > 0) {
+        trailing = {{"buffered_bytes", pending.buffered_bytes},
+                    {"skipped_bytes", pending.unreported_skip}};
+        if (pending.header) {
+            nlohmann::json h = to_json(*pending.header);
+            trailing["offset"] = pending.header_offset;
+            trailing["payload_bytes_present"] =
+                pending.buffered_bytes - pending.header->header_size;
+            trailing["header"] = std::move(h);
+        }
+    }
+
+    if (o.json) {
+        nlohmann::json j = {{"file", o.file},       {"file_size", stats.bytes_in},
+                            {"frames", frames},     {"resyncs", resyncs},
+                            {"trailing", trailing}, {"stats", to_json(stats)}};
+        if (decode) {
+            j["decode"] = {{"dir", o.decode_dir},
+                           {"images", images},
+                           {"stats", decoder_json(decoder.stats())}};
+        }
+        os << j.dump(2) << '\n';
+        return;
+    }
+    if (pending.header) {
+        os << "trailing partial frame " << pending.header->frame_number << " at "
+           << pending.header_offset << ": " << pending.buffered_bytes - pending.header->header_size
+           << " of " << pending.header->payload_size << " payload bytes present\n";
+    } else if (pending.buffered_bytes > 0) {
+        os << "trailing " << pending.buffered_bytes << " bytes (incomplete header)\n";
+    }
+    if (pending.unreported_skip > 0) {
+        os << "trailing garbage: " << pending.unreported_skip << " bytes skipped at the end\n";
+    }
+    os << stats.bytes_in << " bytes: " << stats.frames << " frames (" << stats.payload_bytes
+       << " payload bytes), " << stats.resyncs << " resyncs, " << stats.bytes_skipped
+       << " bytes skipped, " << stats.oversize_rejections << " oversize headers refused\n";
+    if (decode) {
+        const H264DecoderStats& d = decoder.stats();
+        os << "decoded " << d.decoded << " of " << d.access_units << " access units into "
+           << o.decode_dir << " (" << d.skipped_waiting_idr << " skipped waiting for an IDR, "
+           << d.frame_gaps << " frame-number gaps, " << d.decode_errors << " errors, "
+           << d.concealed << " concealed, " << d.reinits << " re-initialisations)\n";
+    }
+}
+
+const CommandRegistration reg(
+    20, "inspect", "Inspect real drone captures (navdata datagrams, PaVE video streams)",
+    [](CLI::App& inspect) {
+        auto opts = std::make_shared<Opts>();
+        CLI::App* cmd = inspect.add_subcommand(
+            "pave", "List the PaVE frames of a saved video stream (TCP 5555 bytes in a file)");
+        cmd->add_option("file", opts->file, "File holding the raw TCP byte stream")->required();
+        cmd->add_flag("--json", opts->json, "Print JSON (PROTOCOL.md field names) instead of text");
+        cmd->add_option("--decode", opts->decode_dir,
+                        "Decode the H.264 and write DIR/NNNNNN.png (0-based, decode order)");
+        cmd->callback([opts] { run(*opts); });
+    });
+
+}  // namespace
+}  // namespace gs::app
