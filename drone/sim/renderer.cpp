@@ -13,7 +13,7 @@ namespace gs::sim {
 namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
-constexpr int kBlock = 16;
+constexpr int kBlock = 8;
 constexpr double kNear = 0.01;
 constexpr std::uint16_t kNoPrim = 0xffff;
 
@@ -74,6 +74,13 @@ CameraFrame camera_frame(const Pose& p, CameraKind k) {
     return {r_wc.t(), frd(p.x_m, p.y_m, p.z_m)};
 }
 
+// log2 from the float's bits, mantissa linear: within 0.09 of the true value, plenty to pick a
+// mip level, and far cheaper than std::log2 per pixel.
+inline float fast_log2(float v) {
+    const auto bits = std::bit_cast<std::int32_t>(v);
+    return float(bits - (127 << 23)) * (1.0f / float(1 << 23));
+}
+
 inline int fast_floor(float v) {
     const int i = static_cast<int>(v);
     return i - (v < static_cast<float>(i) ? 1 : 0);
@@ -123,7 +130,8 @@ struct Renderer::Impl {
 
     // Per pixel, fixed: undistorted normalised ray (rx, ry, 1), inverse ray length, pixel
     // footprint in normalised units, vignetting gain (8.8 fixed point folded with shading later).
-    std::vector<float> rx, ry, inv_r, foot, vig;
+    std::vector<float> rx, ry, inv_r, foot2, vig;
+    std::array<float, 16> level_scale{};
     // Blocks: normalised-coordinate bounds of the rays of each block, and per column / row.
     int bw = 0, bh = 0;
     std::vector<std::array<float, 4>> block_bounds;  // x0, x1, y0, y1
@@ -255,7 +263,8 @@ struct Renderer::Impl {
         rx.resize(n);
         ry.resize(n);
         inv_r.resize(n);
-        foot.resize(n);
+        foot2.resize(n);
+        for (std::size_t l = 0; l < level_scale.size(); ++l) level_scale[l] = 1.0f / float(1 << l);
         vig.resize(n);
         // Invert the distortion at pixel corners, then take centres and footprints from them.
         const int CW = W + 1, CH = H + 1;
@@ -279,7 +288,7 @@ struct Renderer::Impl {
                 const auto& b = corner[std::size_t(y) * std::size_t(CW) + std::size_t(x) + 1];
                 const auto& d = corner[std::size_t(y + 1) * std::size_t(CW) + std::size_t(x)];
                 const cv::Point2d ex = b - a, ey = d - a;
-                foot[i] = float(std::sqrt(std::abs(ex.x * ey.y - ex.y * ey.x)));
+                foot2[i] = float(std::abs(ex.x * ey.y - ex.y * ey.x));
                 const double rr = std::hypot(x + 0.5 - W / 2.0, y + 0.5 - H / 2.0) / diag;
                 vig[i] = float(1.0 - options_vignette * rr * rr);
             }
@@ -391,7 +400,15 @@ struct Renderer::Impl {
              float(bv[1]), float(bv[2]), float(bv.dot(P0)), float(-d)};
         const float eps = 1e-4f;
         const float lu = float(p.lu), lv = float(p.lv), r2 = float(p.lu * p.lu);
+        const bool disc = p.disc;
         const auto id = static_cast<std::uint16_t>(pi);
+        const PrimFrame pf = f;  // a local copy: the float stores below could alias `f`
+        const float* const rx_p = rx.data();
+        const float* const ry_p = ry.data();
+        float* const w_p = wbuf.data();
+        float* const u_p = ubuf.data();
+        float* const v_p = vbuf.data();
+        std::uint16_t* const id_p = ids.data();
 
         for (int by = cy0; by <= cy1; ++by)
             for (int bx = cx0; bx <= cx1; ++bx) {
@@ -415,21 +432,21 @@ struct Renderer::Impl {
                     const std::size_t row = std::size_t(y) * std::size_t(W);
                     for (int x = px0; x < px1; ++x) {
                         const std::size_t i = row + std::size_t(x);
-                        const float X = rx[i], Y = ry[i];
-                        const float w = f.a0 * X + f.a1 * Y + f.a2;
-                        if (!(w > wbuf[i])) continue;
+                        const float X = rx_p[i], Y = ry_p[i];
+                        const float w = pf.a0 * X + pf.a1 * Y + pf.a2;
+                        if (!(w > w_p[i])) continue;
                         const float z = 1.0f / w;
-                        const float um = z * (f.b0 * X + f.b1 * Y + f.b2) - f.bo;
-                        const float vm = z * (f.c0 * X + f.c1 * Y + f.c2) - f.co;
-                        if (p.disc) {
+                        const float um = z * (pf.b0 * X + pf.b1 * Y + pf.b2) - pf.bo;
+                        const float vm = z * (pf.c0 * X + pf.c1 * Y + pf.c2) - pf.co;
+                        if (disc) {
                             if (um * um + vm * vm > r2) continue;
                         } else if (um < -eps || vm < -eps || um > lu + eps || vm > lv + eps) {
                             continue;
                         }
-                        wbuf[i] = w;
-                        ubuf[i] = um;
-                        vbuf[i] = vm;
-                        ids[i] = id;
+                        w_p[i] = w;
+                        u_p[i] = um;
+                        v_p[i] = vm;
+                        id_p[i] = id;
                     }
                 }
             }
@@ -437,35 +454,59 @@ struct Renderer::Impl {
 
     void shade(cv::Mat& out) {
         const float bias = float(options.lod_bias);
+        std::uint16_t last = kNoPrim;
+        // Per-primitive values, reloaded only when the primitive changes along a row.
+        float tu = 1, tv = 1, ou = 0, ov = 0, shade_k = 1, abs_d = 1, tu2 = 1;
+        const Texture* t = nullptr;
+        int max_level = 0;
+        // Local pointers: the byte stores below may alias anything, members would be reloaded.
+        const std::uint16_t* const id_p = ids.data();
+        const float* const w_p = wbuf.data();
+        const float* const u_p = ubuf.data();
+        const float* const v_p = vbuf.data();
+        const float* const ir_p = inv_r.data();
+        const float* const f2_p = foot2.data();
+        const float* const vig_p = vig.data();
+        const std::array<float, 16> lscale = level_scale;
+        const std::uint32_t* levels[16] = {};
         for (int y = 0; y < H; ++y) {
             auto* o = out.ptr<std::uint8_t>(y);
             const std::size_t row = std::size_t(y) * std::size_t(W);
             for (int x = 0; x < W; ++x) {
                 const std::size_t i = row + std::size_t(x);
-                const std::uint16_t id = ids[i];
+                const std::uint16_t id = id_p[i];
                 if (id == kNoPrim) {
                     o[3 * x] = o[3 * x + 1] = o[3 * x + 2] = 128;
                     continue;
                 }
-                const Prim& p = prims[id];
-                const PrimFrame& f = frames[id];
-                const Texture& t = textures[std::size_t(p.tex)];
-                const float w = wbuf[i];
+                if (id != last) {
+                    const Prim& p = prims[id];
+                    t = &textures[std::size_t(p.tex)];
+                    tu = float(p.tu);
+                    tv = float(p.tv);
+                    tu2 = tu * tu;
+                    ou = float(p.ou);
+                    ov = float(p.ov);
+                    shade_k = p.shade * 256.0f;
+                    abs_d = frames[id].abs_d;
+                    max_level = std::min(15, int(t->levels.size()) - 1);
+                    for (int l = 0; l <= max_level; ++l)
+                        levels[l] = t->levels[std::size_t(l)].data();
+                    last = id;
+                }
+                const float w = w_p[i];
                 const float z = 1.0f / w;
-                // Texel footprint: depth x pixel footprint, stretched on oblique surfaces (the
-                // geometric mean of the two axes' stretch, a compromise between blur and alias).
-                const float cosi = std::max(0.02f, f.abs_d * w * inv_r[i]);
-                const float rho = float(p.tu) * z * foot[i] / std::sqrt(cosi);
-                const float lod = std::log2(std::max(rho, 1e-6f)) + bias;
-                const int level = std::clamp(int(lod + 0.5f), 0, int(t.levels.size()) - 1);
-                const int side = t.size >> level;
-                const float scale = 1.0f / float(1 << level);
-                const float u = (ubuf[i] * float(p.tu) + float(p.ou)) * scale;
-                const float v = (vbuf[i] * float(p.tv) + float(p.ov)) * scale;
-                const std::uint32_t c =
-                    sample_bilinear(t.levels[std::size_t(level)].data(), side, u, v);
-                const auto gain =
-                    static_cast<std::uint32_t>(std::max(0.0f, p.shade * vig[i]) * 256.0f);
+                // Texel footprint: depth x pixel footprint, stretched on oblique surfaces (by the
+                // geometric mean of the two axes' stretch: a compromise between blur and alias).
+                const float cosi = std::max(0.02f, abs_d * w * ir_p[i]);
+                const float rho2 = tu2 * z * z * f2_p[i] / cosi;
+                const float lod = 0.5f * fast_log2(rho2) + bias;
+                const int level = std::clamp(int(lod + 0.5f), 0, max_level);
+                const float scale = lscale[std::size_t(level)];
+                const float u = (u_p[i] * tu + ou) * scale;
+                const float v = (v_p[i] * tv + ov) * scale;
+                const std::uint32_t c = sample_bilinear(levels[level], t->size >> level, u, v);
+                const auto gain = static_cast<std::uint32_t>(shade_k * vig_p[i]);
                 o[3 * x] = std::uint8_t(std::min<std::uint32_t>(255, ((c & 0xFF) * gain) >> 8));
                 o[3 * x + 1] =
                     std::uint8_t(std::min<std::uint32_t>(255, (((c >> 8) & 0xFF) * gain) >> 8));
