@@ -107,6 +107,17 @@ double homography_scale(const cv::Matx33d& h) {
     return std::sqrt(a * a + b * b);
 }
 
+double homography_local_scale(const cv::Matx33d& h) {
+    const double h33 = h(2, 2);
+    if (!(std::abs(h33) > 1e-12)) return kNaN;
+    // x' = (A x + t) / (p.x + 1) after normalising: J(0) = A - t p^T.
+    const double a = h(0, 0) / h33, b = h(0, 1) / h33, c = h(1, 0) / h33, d = h(1, 1) / h33;
+    const double tx = h(0, 2) / h33, ty = h(1, 2) / h33;
+    const double px = h(2, 0) / h33, py = h(2, 1) / h33;
+    const double j11 = a - tx * px, j12 = b - tx * py, j21 = c - ty * px, j22 = d - ty * py;
+    return std::sqrt(std::abs(j11 * j22 - j12 * j21));
+}
+
 double median_inplace(std::span<double> v) {
     if (v.empty()) return kNaN;
     const std::size_t mid = v.size() / 2;

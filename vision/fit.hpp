@@ -34,6 +34,11 @@ QuadFit fit_quadratic_indexed(std::span<const double> y);
 // NaN when H is empty or H33 is zero.
 double homography_scale(const cv::Matx33d& h);
 
+// Area scale of H at the coordinate origin, sqrt(|det J|) with J the Jacobian of the mapping
+// there: unlike eq. 3.23 it does not depend on rotation and is not biased by the projective terms
+// a plane at an angle adds (those only vanish at the origin, so centre the points first).
+double homography_local_scale(const cv::Matx33d& h);
+
 // Median of values (reorders them). NaN when empty.
 double median_inplace(std::span<double> values);
 // k-th largest (k = 1 is the maximum), reorders. NaN when k > size or k < 1.

@@ -161,13 +161,15 @@ void FlowClassifier::classify_centre(const FrameInput& in) {
     src_.clear();
     dst_.clear();
     centre_tracks_.clear();
+    const cv::Point2f pp(static_cast<float>(calib_.cx), static_cast<float>(calib_.cy));
     for (std::size_t i = 0; i < tracks.size(); ++i) {
         const Trajectory& t = tracks[i];
         if (t.length < 2 || region_of(t.at_back(0).stab.x) != Region::Centre) continue;
         // Previous position as it would look after the attitude change: the homography between
         // these and the current points is then the translational one only.
-        src_.push_back(apply_homography(derot_, t.undist_prev));
-        dst_.push_back(t.undist);
+        // Centred on the principal point, where the local scale is read.
+        src_.push_back(apply_homography(derot_, t.undist_prev) - pp);
+        dst_.push_back(t.undist - pp);
         centre_tracks_.push_back(i);
     }
     const double now_s = static_cast<double>(in.t_ns) * 1e-9;
@@ -179,7 +181,7 @@ void FlowClassifier::classify_centre(const FrameInput& in) {
         const cv::Mat hm = cv::findHomography(src_, dst_, cv::RANSAC, p_.homography_ransac_px,
                                               inliers_, 2000, 0.995);
         if (!hm.empty()) {
-            scale = homography_scale(cv::Matx33d(hm));
+            scale = homography_local_scale(cv::Matx33d(hm));
             const auto inl = static_cast<double>(cv::countNonZero(inliers_));
             const double ratio = inl / static_cast<double>(src_.size());
             if (std::isnan(scale) || std::abs(scale - 1) > p_.max_scale_step ||

@@ -13,6 +13,10 @@ constexpr double kDeg = CV_PI / 180.0;
 const cv::Matx33d kCamFromBody(0, 1, 0, 0, 0, 1, 1, 0, 0);
 }  // namespace
 
+const cv::Matx33d& camera_from_body() {
+    return kCamFromBody;
+}
+
 cv::Matx33d body_rotation(double roll_deg, double pitch_deg, double yaw_deg) {
     const double cr = std::cos(roll_deg * kDeg), sr = std::sin(roll_deg * kDeg);
     const double cp = std::cos(pitch_deg * kDeg), sp = std::sin(pitch_deg * kDeg);

@@ -25,6 +25,9 @@ struct Attitude {
     }
 };
 
+// Camera-from-body axes permutation (x_c = y_b, y_c = z_b, z_c = x_b).
+const cv::Matx33d& camera_from_body();
+
 // World-from-body rotation, ZYX (yaw, pitch, roll).
 cv::Matx33d body_rotation(double roll_deg, double pitch_deg, double yaw_deg);
 
