@@ -36,8 +36,12 @@ const ParamTable<FlowParams>& FlowParams::table() {
                  "fewest centre points for a scale sample")
             .add("min_inlier_ratio", &P::min_inlier_ratio, 0, 1,
                  "reject a centre scale with fewer RANSAC inliers than this")
-            .add("max_scale_step", &P::max_scale_step, 0.001, 2,
-                 "reject a centre scale further than this from 1 (per frame)")
+            .add("max_inv_ttc", &P::max_inv_ttc, 0.1, 100,
+                 "reject a centre rate above this (1/s) as implausible")
+            .add("max_rate_jump", &P::max_rate_jump, 0.01, 100,
+                 "reject a centre rate this far from the recent median (1/s) ...")
+            .add("max_rejections", &P::max_rejections, 0, 100,
+                 "... unless that many in a row were rejected already")
             .add("centre_window", &P::centre_window, 1, 64,
                  "centre score: median of the last n accepted rates")
             .add("centre_max_age_s", &P::centre_max_age_s, 0.05, 10,
@@ -81,6 +85,7 @@ ParamMapErrors FlowClassifier::params_from_map(const ParamMap& m) {
 void FlowClassifier::on_reset() {
     centre_rates_.clear();
     streak_ = {};
+    rejections_ = 0;
     derot_ = cv::Matx33d::eye();
 }
 
@@ -154,6 +159,17 @@ void FlowClassifier::classify_sides() {
     }
 }
 
+double FlowClassifier::recent_median(double now_s) {
+    scratch_.clear();
+    for (std::size_t k = centre_rates_.size(); k-- > 0;) {
+        const RateSample& s = centre_rates_[k];
+        if (now_s - s.t_s > p_.centre_max_age_s) break;
+        scratch_.push_back(s.rate);
+        if (static_cast<int>(scratch_.size()) >= p_.centre_window) break;
+    }
+    return median_inplace(scratch_);  // NaN when empty; scratch_ keeps the samples
+}
+
 void FlowClassifier::classify_centre(const FrameInput& in) {
     RegionDecision& d = result_.regions[1];
     d.threshold = p_.centre_inv_ttc_threshold;
@@ -184,11 +200,17 @@ void FlowClassifier::classify_centre(const FrameInput& in) {
             scale = homography_local_scale(cv::Matx33d(hm));
             const auto inl = static_cast<double>(cv::countNonZero(inliers_));
             const double ratio = inl / static_cast<double>(src_.size());
-            if (std::isnan(scale) || std::abs(scale - 1) > p_.max_scale_step ||
-                ratio < p_.min_inlier_ratio) {
+            const double r = (scale - 1) / dt;
+            const double ref = recent_median(now_s);
+            const bool jump = !std::isnan(ref) && std::abs(r - ref) > p_.max_rate_jump &&
+                              rejections_ < p_.max_rejections;
+            if (std::isnan(r) || std::abs(r) > p_.max_inv_ttc || ratio < p_.min_inlier_ratio ||
+                jump) {
                 rejected = true;
+                ++rejections_;
             } else {
-                rate = (scale - 1) / dt;
+                rate = r;
+                rejections_ = 0;
                 centre_rates_.push({now_s, rate});
             }
         }
@@ -197,17 +219,11 @@ void FlowClassifier::classify_centre(const FrameInput& in) {
     plot(s_rate_raw_, rate);
     plot(s_rejected_, rejected ? 1.0 : 0.0);
 
-    scratch_.clear();
-    for (std::size_t k = centre_rates_.size(); k-- > 0;) {
-        const RateSample& s = centre_rates_[k];
-        if (now_s - s.t_s > p_.centre_max_age_s) break;
-        scratch_.push_back(s.rate);
-        if (static_cast<int>(scratch_.size()) >= p_.centre_window) break;
-    }
+    const double med = recent_median(now_s);
     d.support = static_cast<int>(src_.size());
     // Half the window at least, so one lucky sample cannot decide.
     d.valid = static_cast<int>(scratch_.size()) >= std::max(1, (p_.centre_window + 1) / 2);
-    d.score = d.valid ? median_inplace(scratch_) : kNaN;
+    d.score = d.valid ? med : kNaN;
     confirm(Region::Centre, d.valid && d.score > d.threshold);
 }
 

@@ -23,7 +23,13 @@ struct FlowParams : TrackerParams {
     double homography_ransac_px = 2;
     int homography_min_points = 8;
     double min_inlier_ratio = 0.5;  // fewer inliers: reject the scale sample
-    double max_scale_step = 0.12;   // |S - 1| per frame above this: implausible, rejected
+    // Implausible centre scales (thesis fig. 6.15: single-sample spikes) are rejected: a rate
+    // faster than max_inv_ttc, or one that jumps from the recent median by more than
+    // max_rate_jump. A real approach grows the rate smoothly (d(1/TTC)/dt = 1/TTC^2 at constant
+    // speed), so a jump that persists is accepted after max_rejections samples.
+    double max_inv_ttc = 5;      // 1/s (TTC 0.2 s)
+    double max_rate_jump = 1.0;  // 1/s between a sample and the recent median
+    int max_rejections = 2;
     int centre_window = 7;          // centre score = median of the last n accepted rates
     double centre_max_age_s = 1.0;  // accepted rates older than this are forgotten
     int confirm_frames = 2;         // raw decision must hold this many frames
@@ -59,6 +65,7 @@ private:
     void classify_sides();
     void classify_centre(const FrameInput& in);
     void confirm(Region r, bool raw);
+    double recent_median(double now_s);
 
     struct RateSample {
         double t_s;
@@ -75,6 +82,7 @@ private:
     RingBuffer<RateSample> centre_rates_{64};
     std::vector<double> scratch_;
     std::array<int, 3> streak_{};
+    int rejections_ = 0;
     std::size_t s_left_, s_left_thr_, s_right_, s_right_thr_, s_centre_, s_centre_thr_;
     std::size_t s_scale_raw_, s_rate_raw_, s_rejected_;
 };
