@@ -8,6 +8,18 @@
 namespace gs::vision {
 
 struct ThesisParams : TrackerParams {
+    // The reference tracks like the thesis: full resolution, every frame, a few hundred points
+    // (its clusters need more than 8 steep trajectories within 20 px). "flow" keeps the fast
+    // tracker defaults; this one costs ~10x more per frame (bench/vision_bench.cpp).
+    ThesisParams() {
+        max_tracks = 400;
+        lk_window_px = 21;
+        lk_levels = 3;
+        lk_iterations = 20;
+        track_scale = 1.0;
+        detect_interval = 1;
+    }
+
     double centre_band_px = 80;  // centre region: |x - width/2| <= this (§3.2.4)
     int slope_window = 30;       // slope over the last n points, only with >= n points
     double edge_scale = 3;       // position scale at the image edges (fig. 3.26)
