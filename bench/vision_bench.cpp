@@ -3,7 +3,7 @@
 // and yaw wobble), one thread. Prints wall-time percentiles per stage and the thread's CPU time
 // per frame (the honest number on a shared machine).
 //
-// Usage: bench_vision_bench [frames=300] [classifier=all] [track_scale=1] [key=value ...]
+// Usage: bench_vision_bench [frames=300] [classifier=all] [track_scale=0 (default)] [key=value ...]
 
 #include "vision/classifier.hpp"
 #include "vision/synthetic_scene.hpp"
@@ -102,8 +102,8 @@ double pct(std::vector<double> v, double p) {
 int main(int argc, char** argv) {
     const int n = argc > 1 ? std::atoi(argv[1]) : 300;
     const std::string which = argc > 2 ? argv[2] : "all";
-    const double scale = argc > 3 ? std::atof(argv[3]) : 1.0;
-    cv::setNumThreads(1);  // the budget is one core
+    const double scale = argc > 3 ? std::atof(argv[3]) : 0.0;  // 0: the classifier's default
+    cv::setNumThreads(1);                                      // the budget is one core
     const CameraCalibration calib = ardrone_front();
     std::printf("rendering %d frames 640x360 ...\n", n);
     const std::vector<Frame> frames = render(n, calib);
@@ -111,7 +111,7 @@ int main(int argc, char** argv) {
     for (std::string_view name : classifier_names()) {
         if (which != "all" && which != name) continue;
         auto c = make_classifier(name, calib);
-        if (c->set_param("track.track_scale", scale) != ParamStatus::Ok) return 2;
+        if (scale > 0 && c->set_param("track.track_scale", scale) != ParamStatus::Ok) return 2;
         ParamMap overrides;
         for (int a = 4; a < argc; ++a) {
             const std::string kv = argv[a];
@@ -143,7 +143,12 @@ int main(int argc, char** argv) {
         }
         std::printf(
             "\n%s (track_scale %.2f, max_tracks %d), %d frames, ms per frame:\n",
-            std::string(name).c_str(), scale,
+            std::string(name).c_str(),
+            [&] {
+                double v = 0;
+                (void)c->get_param("track.track_scale", v);
+                return v;
+            }(),
             [&] {
                 double v = 0;
                 (void)c->get_param("track.max_tracks", v);
