@@ -1,0 +1,111 @@
+#include "vision/fit.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+using namespace gs::vision;
+
+TEST(Fit, LineSlopeOfExactLine) {
+    const std::vector<double> y{1, 3, 5, 7};
+    const LineFit f = fit_line_indexed(y);
+    ASSERT_TRUE(f.ok);
+    EXPECT_DOUBLE_EQ(f.slope, 2.0);
+    EXPECT_DOUBLE_EQ(f.intercept, 1.0);
+}
+
+TEST(Fit, LineSlopeLeastSquaresByHand) {
+    // mean x 1.5, mean y 1, Sxy = 3, Sxx = 5: slope 0.6, intercept 1 - 0.6 * 1.5 = 0.1.
+    const std::vector<double> x{0, 1, 2, 3}, y{0, 1, 1, 2};
+    const LineFit f = fit_line(x, y);
+    ASSERT_TRUE(f.ok);
+    EXPECT_NEAR(f.slope, 0.6, 1e-12);
+    EXPECT_NEAR(f.intercept, 0.1, 1e-12);
+    const LineFit g = fit_line_indexed(y);
+    EXPECT_NEAR(g.slope, 0.6, 1e-12);
+}
+
+TEST(Fit, LineRejectsDegenerateInput) {
+    const std::vector<double> one{4};
+    EXPECT_FALSE(fit_line_indexed(one).ok);
+    const std::vector<double> x{2, 2, 2}, y{1, 2, 3};
+    EXPECT_FALSE(fit_line(x, y).ok);
+}
+
+TEST(Fit, QuadraticRecoversExactParabola) {
+    const std::vector<double> y{0, 3, 10, 21, 36};  // 2x^2 - 3x + 1 at x = 1..5
+    const QuadFit f = fit_quadratic_indexed(y);
+    ASSERT_TRUE(f.ok);
+    EXPECT_NEAR(f.a, 2, 1e-9);
+    EXPECT_NEAR(f.b, -3, 1e-9);
+    EXPECT_NEAR(f.c, 1, 1e-9);
+    EXPECT_NEAR(f.slope_at(5), 17, 1e-9);  // thesis eq. 3.26 with n = 5
+}
+
+TEST(Fit, QuadraticLeastSquaresByHand) {
+    // Normal equations solved exactly in fractions: a = 3/14, b = -11/14, c = 7/5.
+    const std::vector<double> y{1, 0, 2, 1, 3};
+    const QuadFit f = fit_quadratic_indexed(y);
+    ASSERT_TRUE(f.ok);
+    EXPECT_NEAR(f.a, 3.0 / 14, 1e-12);
+    EXPECT_NEAR(f.b, -11.0 / 14, 1e-12);
+    EXPECT_NEAR(f.c, 7.0 / 5, 1e-12);
+}
+
+TEST(Fit, QuadraticTangentAtSampleThirty) {
+    // Scales 1 + 1e-4 * x^2 over 30 samples: tangent 2 * 1e-4 * 30 = 0.006 at the newest.
+    std::vector<double> y(30);
+    for (int i = 0; i < 30; ++i) y[static_cast<std::size_t>(i)] = 1 + 1e-4 * (i + 1) * (i + 1);
+    const QuadFit f = fit_quadratic_indexed(y);
+    ASSERT_TRUE(f.ok);
+    EXPECT_NEAR(f.slope_at(30), 0.006, 1e-10);
+}
+
+TEST(Fit, HomographyScaleOfThesisExample) {
+    // Thesis eq. 3.11: sqrt(0.9598^2 + 0.0337^2).
+    const cv::Matx33d h(0.9598, -0.0337, 52.8250, 0.0182, 0.9659, 12.0100, 0, 0, 1);
+    EXPECT_NEAR(homography_scale(h), 0.9603914462, 1e-9);
+    EXPECT_NEAR(homography_scale(h * 2.0), 0.9603914462, 1e-9);  // scale-invariant
+}
+
+TEST(Fit, HomographyScaleOfRotatedExpansion) {
+    const double s = 1.1, a = 30 * CV_PI / 180;
+    const cv::Matx33d h(s * std::cos(a), -s * std::sin(a), 5, s * std::sin(a), s * std::cos(a), -7,
+                        0, 0, 1);
+    EXPECT_NEAR(homography_scale(h), 1.1, 1e-12);
+    EXPECT_NEAR(homography_local_scale(h), 1.1, 1e-12);
+    EXPECT_TRUE(std::isnan(homography_scale(cv::Matx33d(1, 0, 0, 0, 1, 0, 0, 0, 0))));
+}
+
+TEST(Fit, LocalScaleIgnoresProjectiveTermsAtOrigin) {
+    // A wall parallel to the flight seen in centred coordinates: x' = x / (1 - a x), no scale at 0.
+    const cv::Matx33d h(1, 0, 0, 0, 1, 0, -0.001, 0, 1);
+    EXPECT_NEAR(homography_local_scale(h), 1.0, 1e-12);
+    // The same map in pixel coordinates (origin at the corner, centre at 320, 180) biases eq. 3.23.
+    const cv::Matx33d t(1, 0, 320, 0, 1, 180, 0, 0, 1);
+    const cv::Matx33d hp = t * h * t.inv();
+    // H11 = 1 - 0.32, H33 = 1 + 0.32 (row 3 = (-0.001, 0, 1.32)), H12 = 0.
+    EXPECT_NEAR(homography_scale(hp), 0.68 / 1.32, 1e-9);
+}
+
+TEST(Fit, PositionScaleIsThreeOneThree) {
+    EXPECT_DOUBLE_EQ(position_scale(0, 640, 3, 1), 3);
+    EXPECT_DOUBLE_EQ(position_scale(160, 640, 3, 1), 2);
+    EXPECT_DOUBLE_EQ(position_scale(320, 640, 3, 1), 1);
+    EXPECT_DOUBLE_EQ(position_scale(480, 640, 3, 1), 2);
+    EXPECT_DOUBLE_EQ(position_scale(640, 640, 3, 1), 3);
+}
+
+TEST(Fit, RobustStatistics) {
+    std::vector<double> v{5, 1, 4, 2, 3};
+    EXPECT_DOUBLE_EQ(median_inplace(v), 3);
+    std::vector<double> e{4, 1, 3, 2};
+    EXPECT_DOUBLE_EQ(median_inplace(e), 2.5);
+    std::vector<double> k{0.1, 0.9, 0.5, 0.7, 100};
+    EXPECT_DOUBLE_EQ(kth_largest_inplace(k, 1), 100);
+    EXPECT_DOUBLE_EQ(kth_largest_inplace(k, 3), 0.7);
+    EXPECT_TRUE(std::isnan(kth_largest_inplace(k, 6)));
+    std::vector<double> none;
+    EXPECT_TRUE(std::isnan(median_inplace(none)));
+}

@@ -1,0 +1,109 @@
+#include "synthetic_helpers.hpp"
+
+#include <cmath>
+
+namespace gs::vision::test {
+
+CameraCalibration synthetic_calibration() {
+    return CameraCalibration::ideal(640, 360, 60);
+}
+
+namespace {
+constexpr double kSpeed = 1.0;  // m/s
+}
+
+Flight make_flight(Motion m) {
+    Flight f;
+    f.motion = m;
+    switch (m) {
+        case Motion::SidePass:
+            f.frames = 75;  // 3 m at 1 m/s
+            f.planes.push_back(make_plane({0, 0, 30}, {1, 0, 0}, {0, 1, 0}, 44, 26, 0.08, 11));
+            // Wall on the right, 0.6 m from the flight line, from 4 m to 16 m ahead.
+            f.planes.push_back(make_plane({0.6, 0, 10}, {0, 0, 1}, {0, 1, 0}, 12, 3, 0.02, 12));
+            break;
+        case Motion::Approach:
+            f.frames = 110;  // 5 m -> 0.64 m
+            f.planes.push_back(make_plane({0, 0, 5}, {1, 0, 0}, {0, 1, 0}, 6.4, 3.8, 0.01, 21));
+            break;
+        case Motion::Roll:
+        case Motion::Yaw:
+            f.frames = 75;
+            f.planes.push_back(make_plane({0, 0, 8}, {1, 0, 0}, {0, 1, 0}, 20, 7, 0.02, 31));
+            break;
+    }
+    return f;
+}
+
+CameraPose Flight::pose_at(int i) const {
+    const double t = i / fps;
+    CameraPose p;
+    p.pitch_deg = 0;
+    p.roll_deg = 0;
+    p.yaw_deg = 0;
+    switch (motion) {
+        case Motion::SidePass:
+        case Motion::Approach:
+            p.position = {0, 0, kSpeed * t};
+            break;
+        case Motion::Roll:
+            p.roll_deg = 10 * std::sin(2 * CV_PI * 0.5 * t);
+            break;
+        case Motion::Yaw:
+            p.yaw_deg = -18 + 15 * t;
+            break;
+    }
+    return p;
+}
+
+double Flight::distance_at(int i) const {
+    const double z = kSpeed * i / fps;
+    if (motion == Motion::Approach) return 5 - z;
+    if (motion == Motion::SidePass) return 4 - z;  // to the near end of the wall
+    return 8;
+}
+
+std::vector<FrameRecord> fly(const Flight& f, ObstacleClassifier& c) {
+    const CameraCalibration calib = synthetic_calibration();
+    std::vector<FrameRecord> out;
+    cv::Mat img;
+    for (int i = 0; i < f.frames; ++i) {
+        const CameraPose pose = f.pose_at(i);
+        render_scene(f.planes, calib, pose, img);
+        FrameInput in;
+        in.image = img;
+        in.t_ns = static_cast<std::int64_t>(std::llround(i * 1e9 / f.fps));
+        in.attitude = {pose.roll_deg, pose.pitch_deg, pose.yaw_deg};
+        const FrameResult& r = c.process(in);
+        FrameRecord rec;
+        for (std::size_t k = 0; k < 3; ++k) {
+            rec.unsafe[k] = r.regions[k].unsafe;
+            rec.valid[k] = r.regions[k].valid;
+            rec.score[k] = r.regions[k].score;
+        }
+        rec.distance_m = f.distance_at(i);
+        out.push_back(rec);
+    }
+    return out;
+}
+
+int first_unsafe(const std::vector<FrameRecord>& rec, Region r) {
+    const auto k = static_cast<std::size_t>(r);
+    int first = -1;
+    for (std::size_t i = 0; i < rec.size(); ++i) {
+        if (rec[i].unsafe[k]) {
+            if (first < 0) first = static_cast<int>(i);
+        } else {
+            first = -1;
+        }
+    }
+    return first;
+}
+
+int count_unsafe(const std::vector<FrameRecord>& rec, Region r) {
+    int n = 0;
+    for (const FrameRecord& f : rec) n += f.unsafe[static_cast<std::size_t>(r)] ? 1 : 0;
+    return n;
+}
+
+}  // namespace gs::vision::test

@@ -1,0 +1,45 @@
+#pragma once
+// Synthetic flights for the classifier tests: rendered frames under known camera motion.
+
+#include "vision/classifier.hpp"
+#include "vision/synthetic_scene.hpp"
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace gs::vision::test {
+
+enum class Motion {
+    SidePass,  // forward at 1 m/s past a wall 0.6 m to the right, far background
+    Approach,  // forward at 1 m/s toward a fronto-parallel wall filling the view
+    Roll,      // hovering, rolling +-10 degrees, far wall
+    Yaw,       // hovering, yawing at 15 degrees/s, far wall
+};
+
+struct FrameRecord {
+    std::array<bool, 3> unsafe{};
+    std::array<bool, 3> valid{};
+    std::array<double, 3> score{};
+    double distance_m = 0;  // to the wall ahead (Approach) / along the wall (SidePass)
+};
+
+CameraCalibration synthetic_calibration();  // 640x360, 60 degree HFOV, no distortion
+
+struct Flight {
+    Motion motion;
+    int frames;
+    double fps = 25;
+    std::vector<TexturedPlane> planes;
+    CameraPose pose_at(int i) const;
+    double distance_at(int i) const;
+};
+Flight make_flight(Motion m);
+
+std::vector<FrameRecord> fly(const Flight& f, ObstacleClassifier& c);
+
+// First frame index from which region r is unsafe in every later frame, -1 if never.
+int first_unsafe(const std::vector<FrameRecord>& rec, Region r);
+int count_unsafe(const std::vector<FrameRecord>& rec, Region r);
+
+}  // namespace gs::vision::test

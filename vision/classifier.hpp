@@ -1,0 +1,144 @@
+#pragma once
+// The obstacle classifier interface: per frame, an image with its capture time and attitude in;
+// left / centre / right decisions with scores, overlay primitives, plot series and stage timings
+// out. Two implementations behind a factory: "thesis" (the reference method, thesis §3.2) and
+// "flow" (attitude-derotated expansion rates with robust statistics).
+
+#include "vision/camera_model.hpp"
+#include "vision/geometry.hpp"
+#include "vision/overlay.hpp"
+#include "vision/params.hpp"
+#include "vision/plot_series.hpp"
+#include "vision/tracker.hpp"
+
+#include <opencv2/core.hpp>
+
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace gs::vision {
+
+inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+struct FrameInput {
+    cv::Mat image;          // grey or BGR8; a header, never deep-copied
+    std::int64_t t_ns = 0;  // capture time, monotonic
+    Attitude attitude;      // at capture time; NaN = unknown
+    // Optional body-frame velocity (forward, right, down), NaN = unknown. Only "flow" uses it.
+    double vx_mps = kNaN, vy_mps = kNaN, vz_mps = kNaN;
+};
+
+enum class Region : int { Left = 0, Centre = 1, Right = 2 };
+inline constexpr std::array<Region, 3> kRegions{Region::Left, Region::Centre, Region::Right};
+const char* to_string(Region r);
+
+struct RegionDecision {
+    bool unsafe = false;
+    bool valid = false;   // enough evidence for a score this frame
+    double score = kNaN;  // unsafe when score > threshold (and valid)
+    double threshold = kNaN;
+    int support = 0;  // trajectories / points behind the score
+};
+
+struct StageTimings {
+    double grey_ms = 0, pyramid_ms = 0, lk_ms = 0, geometry_ms = 0, detect_ms = 0;
+    double classify_ms = 0, overlay_ms = 0, total_ms = 0;
+};
+
+// x over frames of one trajectory (thesis fig. 3.25), stabilised pixels, oldest first.
+struct TrajectoryTrace {
+    std::uint32_t id = 0;
+    Region region = Region::Centre;
+    double score = kNaN;  // the classifier's per-trajectory score (scaled slope, 1/TTC)
+    std::int64_t last_frame = 0;
+    int count = 0;
+    std::array<float, Trajectory::kHistory> x{};
+};
+
+struct FrameResult {
+    std::int64_t frame_index = 0;
+    std::int64_t t_ns = 0;
+    std::array<RegionDecision, 3> regions{};
+    int tracks = 0, tracks_added = 0, tracks_ended = 0;
+    Overlay overlay;
+    std::vector<PlotSeries> series;       // fixed set per classifier, x = frame index
+    std::vector<TrajectoryTrace> traces;  // the longest live trajectories
+    StageTimings timings;
+
+    const RegionDecision& region(Region r) const { return regions[static_cast<int>(r)]; }
+    const PlotSeries* find_series(std::string_view name) const;
+};
+
+class ObstacleClassifier {
+public:
+    virtual ~ObstacleClassifier() = default;
+    virtual std::string_view name() const = 0;
+    // The returned reference stays valid (and is overwritten) until the next process()/reset().
+    virtual const FrameResult& process(const FrameInput& in) = 0;
+    virtual void reset() = 0;
+    virtual void set_calibration(const CameraCalibration& calib) = 0;
+
+    virtual std::vector<ParamInfo> params() const = 0;
+    [[nodiscard]] virtual ParamStatus set_param(std::string_view name, double value) = 0;
+    [[nodiscard]] virtual bool get_param(std::string_view name, double& value) const = 0;
+    virtual ParamMap params_to_map() const = 0;
+    [[nodiscard]] virtual ParamMapErrors params_from_map(const ParamMap& m) = 0;
+};
+
+// "thesis" or "flow"; nullptr for an unknown name.
+std::unique_ptr<ObstacleClassifier> make_classifier(std::string_view name,
+                                                    const CameraCalibration& calib);
+std::vector<std::string_view> classifier_names();
+// The reference stays the default until the evaluation suite shows "flow" is better on flights.
+inline constexpr std::string_view kDefaultClassifier = "thesis";
+
+// Shared frame loop: calibration handling, tracking, timings, traces, overlay scaffolding.
+// Subclasses implement the per-frame decision.
+class TrackingClassifier : public ObstacleClassifier {
+public:
+    const FrameResult& process(const FrameInput& in) override;
+    void reset() override;
+    void set_calibration(const CameraCalibration& calib) override;
+
+protected:
+    explicit TrackingClassifier(const CameraCalibration& calib) : base_calib_(calib) {}
+    // Called once after construction and whenever a state-resetting parameter changed.
+    void reconfigure();
+    virtual const TrackerParams& tracker_params() const = 0;
+    virtual bool wants_derotation() const = 0;
+    virtual double centre_band_px() const = 0;
+    virtual void classify(const FrameInput& in) = 0;  // fills result_.regions, track_score_
+    virtual void on_reset() = 0;
+    virtual void add_overlay_points() = 0;
+
+    // Index of a named series in result_.series (created once in the constructor).
+    std::size_t add_series(std::string name);
+    void plot(std::size_t series, double y);
+
+    Region region_of(float stab_x) const;
+    cv::Point2f stab_to_raw(cv::Point2f stab) const;
+
+    static constexpr std::size_t kSeriesCapacity = 1024;
+    static constexpr std::size_t kMaxTraces = 48;
+
+    CameraCalibration base_calib_;
+    CameraCalibration calib_;  // base_calib_ scaled to the image size in use
+    TrajectoryTracker tracker_;
+    FrameResult result_;
+    std::vector<double> track_score_;  // parallel to tracker_.tracks()
+    Attitude prev_attitude_;
+    std::int64_t prev_t_ns_ = 0;
+    bool have_prev_ = false;
+
+private:
+    void fill_traces();
+    void build_overlay();
+    std::vector<std::size_t> order_;
+};
+
+}  // namespace gs::vision

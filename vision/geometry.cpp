@@ -1,0 +1,98 @@
+#include "vision/geometry.hpp"
+
+#include <opencv2/imgproc.hpp>
+
+#include <array>
+#include <vector>
+
+namespace gs::vision {
+
+namespace {
+constexpr double kDeg = CV_PI / 180.0;
+// camera <- body: x_c = y_b, y_c = z_b, z_c = x_b.
+const cv::Matx33d kCamFromBody(0, 1, 0, 0, 0, 1, 1, 0, 0);
+}  // namespace
+
+const cv::Matx33d& camera_from_body() {
+    return kCamFromBody;
+}
+
+cv::Matx33d body_rotation(double roll_deg, double pitch_deg, double yaw_deg) {
+    const double cr = std::cos(roll_deg * kDeg), sr = std::sin(roll_deg * kDeg);
+    const double cp = std::cos(pitch_deg * kDeg), sp = std::sin(pitch_deg * kDeg);
+    const double cy = std::cos(yaw_deg * kDeg), sy = std::sin(yaw_deg * kDeg);
+    const cv::Matx33d rz(cy, -sy, 0, sy, cy, 0, 0, 0, 1);
+    const cv::Matx33d ry(cp, 0, sp, 0, 1, 0, -sp, 0, cp);
+    const cv::Matx33d rx(1, 0, 0, 0, cr, -sr, 0, sr, cr);
+    return rz * ry * rx;
+}
+
+cv::Matx33d rotation_homography(const CameraCalibration& calib, const Attitude& prev,
+                                const Attitude& cur) {
+    if (!prev.complete() || !cur.complete()) return cv::Matx33d::eye();
+    // Only the yaw difference matters; taking it wrapped keeps 359 -> 1 a 2 degree turn.
+    double dyaw = std::remainder(cur.yaw_deg - prev.yaw_deg, 360.0);
+    const cv::Matx33d rp = body_rotation(prev.roll_deg, prev.pitch_deg, 0);
+    const cv::Matx33d rc = body_rotation(cur.roll_deg, cur.pitch_deg, dyaw);
+    const cv::Matx33d k = calib.camera_matrix();
+    const cv::Matx33d r = kCamFromBody * rc.t() * rp * kCamFromBody.t();
+    cv::Matx33d h = k * r * k.inv();
+    return h * (1.0 / h(2, 2));
+}
+
+cv::Point2f focus_of_expansion(const CameraCalibration& calib, double roll_deg, double pitch_deg,
+                               double v_forward, double v_right, double v_down) {
+    cv::Vec3d v(1, 0, 0);
+    if (!std::isnan(v_forward) && !std::isnan(v_right))
+        v = cv::Vec3d(v_forward, v_right, std::isnan(v_down) ? 0.0 : v_down);
+    const double r = std::isnan(roll_deg) ? 0.0 : roll_deg;
+    const double p = std::isnan(pitch_deg) ? 0.0 : pitch_deg;
+    const cv::Vec3d c = kCamFromBody * (body_rotation(r, p, 0).t() * v);
+    if (!(c[2] > 1e-3 * cv::norm(c))) {
+        const float nan = std::numeric_limits<float>::quiet_NaN();
+        return {nan, nan};
+    }
+    return {static_cast<float>(calib.fx * c[0] / c[2] + calib.cx),
+            static_cast<float>(calib.fy * c[1] / c[2] + calib.cy)};
+}
+
+void detection_mask(const CameraCalibration& calib, const RollStabiliser& stab, double margin_px,
+                    double scale, cv::Mat& mask) {
+    const int w = static_cast<int>(std::lround(calib.width * scale));
+    const int h = static_cast<int>(std::lround(calib.height * scale));
+    mask.create(h, w, CV_8UC1);
+    mask.setTo(0);
+    const float m = static_cast<float>(margin_px);
+    const float x1 = static_cast<float>(calib.width - 1) - m;
+    const float y1 = static_cast<float>(calib.height - 1) - m;
+    if (x1 <= m || y1 <= m) return;
+    // Undistorted image (cropped like cv::undistort with the same K) ...
+    const std::array<cv::Point2f, 4> img{cv::Point2f(m, m), cv::Point2f(x1, m), cv::Point2f(x1, y1),
+                                         cv::Point2f(m, y1)};
+    // ... intersected with the preimage of the stabilised image.
+    std::array<cv::Point2f, 4> rot{};
+    for (std::size_t i = 0; i < 4; ++i) rot[i] = stab.inverse(img[i]);
+    std::vector<cv::Point2f> region;
+    cv::intersectConvexConvex(img, rot, region, true);
+    if (region.size() < 3) return;
+    // Distort the boundary, sampled densely because distortion bends straight edges.
+    std::vector<cv::Point> poly;
+    poly.reserve(256);
+    constexpr float kStep = 8.f;
+    for (std::size_t i = 0; i < region.size(); ++i) {
+        const cv::Point2f a = region[i], b = region[(i + 1) % region.size()];
+        const int n = std::max(1, static_cast<int>(cv::norm(b - a) / double{kStep}));
+        for (int k = 0; k < n; ++k) {
+            const cv::Point2f u = a + (b - a) * (static_cast<float>(k) / static_cast<float>(n));
+            const cv::Point2f d = calib.distort_point(u);
+            poly.emplace_back(
+                static_cast<int>(std::lround((static_cast<double>(d.x) + 0.5) * scale - 0.5)),
+                static_cast<int>(std::lround((static_cast<double>(d.y) + 0.5) * scale - 0.5)));
+        }
+    }
+    const cv::Point* pts = poly.data();
+    const int npts = static_cast<int>(poly.size());
+    cv::fillPoly(mask, &pts, &npts, 1, cv::Scalar(255));
+}
+
+}  // namespace gs::vision

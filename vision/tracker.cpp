@@ -1,0 +1,192 @@
+#include "vision/tracker.hpp"
+
+#include <opencv2/imgproc.hpp>
+#include <opencv2/video/tracking.hpp>
+
+#include <chrono>
+
+namespace gs::vision {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t0) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+bool inside(cv::Point2f p, float w, float h, float m) {
+    return p.x >= m && p.y >= m && p.x <= w - 1 - m && p.y <= h - 1 - m;
+}
+}  // namespace
+
+void TrajectoryTracker::configure(const CameraCalibration& calib, const TrackerParams& p) {
+    calib_ = calib;
+    p_ = p;
+    centre_ = p_.rotate_about_principal_point
+                  ? cv::Point2f(static_cast<float>(calib.cx), static_cast<float>(calib.cy))
+                  : cv::Point2f(static_cast<float>(calib.width - 1) / 2.f,
+                                static_cast<float>(calib.height - 1) / 2.f);
+    const auto n = static_cast<std::size_t>(std::max(1, p_.max_tracks));
+    tracks_.reserve(n);
+    prev_pts_.reserve(n);
+    cur_pts_.reserve(n);
+    raw_.reserve(n);
+    und_.reserve(n);
+    status_.reserve(n);
+    err_.reserve(n);
+    corners_.reserve(n);
+    reset();
+}
+
+void TrajectoryTracker::reset() {
+    tracks_.clear();
+    prev_pts_.clear();
+    have_prev_ = false;
+    frame_ = 0;
+    next_id_ = 1;
+    ended_ = added_ = 0;
+    mask_roll_deg_ = std::numeric_limits<double>::quiet_NaN();
+}
+
+cv::Point2f TrajectoryTracker::to_full(cv::Point2f p) const {
+    if (p_.track_scale == 1.0) return p;
+    const auto s = static_cast<float>(p_.track_scale);
+    return {(p.x + 0.5f) / s - 0.5f, (p.y + 0.5f) / s - 0.5f};
+}
+cv::Point2f TrajectoryTracker::to_track(cv::Point2f p) const {
+    if (p_.track_scale == 1.0) return p;
+    const auto s = static_cast<float>(p_.track_scale);
+    return {(p.x + 0.5f) * s - 0.5f, (p.y + 0.5f) * s - 0.5f};
+}
+
+void TrajectoryTracker::update(const cv::Mat& image, std::int64_t t_ns, double roll_deg,
+                               const cv::Matx33d& derot_h) {
+    timings_ = {};
+    ended_ = added_ = 0;
+    const double roll = std::isnan(roll_deg) ? 0.0 : roll_deg;
+    stab_.set(centre_, p_.roll_sign * roll);
+    const double t_s = static_cast<double>(t_ns) * 1e-9;
+    now_s_ = t_s;
+    const auto w = static_cast<float>(calib_.width);
+    const auto h = static_cast<float>(calib_.height);
+
+    auto t0 = Clock::now();
+    const cv::Mat* grey = &image;
+    if (image.channels() != 1) {
+        cv::cvtColor(image, grey_full_, cv::COLOR_BGR2GRAY);
+        grey = &grey_full_;
+    }
+    if (p_.track_scale != 1.0) {
+        const cv::Size ts(static_cast<int>(std::lround(calib_.width * p_.track_scale)),
+                          static_cast<int>(std::lround(calib_.height * p_.track_scale)));
+        cv::resize(*grey, grey_track_, ts, 0, 0, cv::INTER_AREA);
+    } else {
+        grey_track_ = *grey;  // header only
+    }
+    timings_.grey_ms = ms_since(t0);
+
+    t0 = Clock::now();
+    const cv::Size win(p_.lk_window_px, p_.lk_window_px);
+    cv::buildOpticalFlowPyramid(grey_track_, pyr_cur_, win, p_.lk_levels, false);
+    timings_.pyramid_ms = ms_since(t0);
+
+    // Track: survivors are compacted in place, in the order of tracks_.
+    std::size_t n = 0;
+    if (have_prev_ && !tracks_.empty()) {
+        t0 = Clock::now();
+        cv::calcOpticalFlowPyrLK(pyr_prev_, pyr_cur_, prev_pts_, cur_pts_, status_, err_, win,
+                                 p_.lk_levels,
+                                 cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS,
+                                                  p_.lk_iterations, p_.lk_epsilon),
+                                 0, p_.lk_min_eig);
+        timings_.lk_ms = ms_since(t0);
+
+        t0 = Clock::now();
+        raw_.resize(tracks_.size());
+        for (std::size_t i = 0; i < tracks_.size(); ++i) {
+            if (!status_[i]) continue;
+            const cv::Point2f full = to_full(cur_pts_[i]);
+            if (!inside(full, w, h, 0)) continue;
+            if (n != i) tracks_[n] = tracks_[i];
+            raw_[n] = full;
+            ++n;
+        }
+        raw_.resize(n);
+        und_.resize(n);
+        calib_.undistort_points(raw_, und_);
+        std::size_t m = 0;
+        for (std::size_t i = 0; i < n; ++i) {
+            const cv::Point2f s = stab_.apply(und_[i]);
+            // Thesis: a trajectory ends when it leaves the (stabilised, cropped) image.
+            if (!inside(s, w, h, 0)) continue;
+            Trajectory& tr = tracks_[m];
+            if (m != i) tr = tracks_[i];
+            const cv::Point2f predicted = apply_homography(derot_h, tr.undist);
+            const cv::Point2f derot = tr.at_back(0).derot + (und_[i] - predicted);
+            tr.raw = raw_[i];
+            tr.undist_prev = tr.undist;
+            tr.undist = und_[i];
+            tr.push({s, derot, t_s});
+            ++m;
+        }
+        ended_ = static_cast<int>(tracks_.size() - m);
+        tracks_.resize(m);
+        timings_.geometry_ms = ms_since(t0);
+    } else {
+        ended_ = static_cast<int>(tracks_.size());
+        tracks_.clear();
+    }
+
+    if (frame_ % std::max(1, p_.detect_interval) == 0 &&
+        static_cast<int>(tracks_.size()) < p_.max_tracks) {
+        t0 = Clock::now();
+        detect(roll);
+        timings_.detect_ms = ms_since(t0);
+    }
+
+    prev_pts_.resize(tracks_.size());
+    for (std::size_t i = 0; i < tracks_.size(); ++i) prev_pts_[i] = to_track(tracks_[i].raw);
+    std::swap(pyr_prev_, pyr_cur_);
+    have_prev_ = true;
+    ++frame_;
+}
+
+void TrajectoryTracker::detect(double roll) {
+    if (std::isnan(mask_roll_deg_) || std::abs(roll - mask_roll_deg_) >= p_.mask_roll_step_deg) {
+        detection_mask(calib_, stab_, p_.border_margin_px, p_.track_scale, mask_base_);
+        mask_roll_deg_ = roll;
+    }
+    mask_base_.copyTo(mask_);
+    const int r = static_cast<int>(std::lround(p_.new_point_min_distance_px * p_.track_scale));
+    if (r > 0)
+        for (const Trajectory& t : tracks_) {
+            const cv::Point2f q = to_track(t.raw);
+            cv::circle(
+                mask_,
+                cv::Point(static_cast<int>(std::lround(q.x)), static_cast<int>(std::lround(q.y))),
+                r, cv::Scalar(0), cv::FILLED);
+        }
+    const int want = p_.max_tracks - static_cast<int>(tracks_.size());
+    cv::goodFeaturesToTrack(grey_track_, corners_, want, p_.quality_level,
+                            std::max(1.0, p_.min_corner_distance_px * p_.track_scale), mask_,
+                            p_.block_size);
+    if (corners_.empty()) return;
+    raw_.resize(corners_.size());
+    for (std::size_t i = 0; i < corners_.size(); ++i) raw_[i] = to_full(corners_[i]);
+    und_.resize(raw_.size());
+    calib_.undistort_points(raw_, und_);
+    const auto w = static_cast<float>(calib_.width);
+    const auto h = static_cast<float>(calib_.height);
+    for (std::size_t i = 0; i < raw_.size(); ++i) {
+        const cv::Point2f s = stab_.apply(und_[i]);
+        if (!inside(s, w, h, 0)) continue;  // the mask is conservative, this is exact
+        Trajectory& t = tracks_.emplace_back();
+        t.id = next_id_++;
+        t.first_frame = frame_;
+        t.raw = raw_[i];
+        t.undist = und_[i];
+        t.undist_prev = und_[i];
+        t.push({s, und_[i], now_s_});
+        ++added_;
+    }
+}
+
+}  // namespace gs::vision
