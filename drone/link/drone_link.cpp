@@ -1,0 +1,677 @@
+#include "drone/link/drone_link.hpp"
+
+#include "drone/h264_decoder.hpp"
+#include "drone/net.hpp"
+#include "drone/pave.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+namespace gs::link {
+namespace {
+constexpr std::size_t kNavdataMax = 4096;  // NAVDATA_MAX_SIZE (PROTOCOL.md §1.4)
+constexpr std::uint32_t kBitFly = 1u << 0;
+constexpr std::uint32_t kBitVbatLow = 1u << 15;
+constexpr std::uint32_t kBitAnglesOut = 1u << 19;
+constexpr std::uint32_t kBitEmergency = 1u << 31;
+constexpr std::array<std::uint8_t, 4> kWakeUp = {1, 0, 0, 0};
+constexpr std::size_t kFramePool = 6;
+
+std::future<CommandResult> ready(ResultCode code, std::string reason = {}) {
+    std::promise<CommandResult> p;
+    p.set_value({code, std::move(reason)});
+    return p.get_future();
+}
+
+template <class T>
+void fan_out(const std::vector<std::shared_ptr<BoundedQueue<T>>>& subs, const T& v) {
+    for (const auto& q : subs) q->push(v);
+}
+}  // namespace
+
+void RateMeter::tick(TimeNs now) {
+    if (window_start_ == 0) window_start_ = now;
+    ++count_;
+    const TimeNs span = now - window_start_;
+    if (span >= ms_to_ns(1000)) {
+        last_rate_ = static_cast<double>(count_) * 1e9 / static_cast<double>(span);
+        count_ = 0;
+        window_start_ = now;
+    }
+}
+
+double RateMeter::rate_hz(TimeNs now) const {
+    // A stream that stopped reads 0 after two seconds instead of its last rate.
+    return window_start_ != 0 && now - window_start_ > ms_to_ns(2000) ? 0.0 : last_rate_;
+}
+
+struct DroneLink::Sockets {
+    net::UdpSocket at;
+    net::UdpSocket navdata;
+    net::Endpoint at_to, navdata_to, video_to, control_to;
+};
+
+DroneLink::DroneLink(LinkConfig config, Clock& clock) : config_(std::move(config)), clock_(clock) {}
+
+DroneLink::~DroneLink() {
+    stop();
+}
+
+Expected<bool, std::string> DroneLink::start() {
+    if (running_) return true;
+    auto drone = net::Endpoint::parse(config_.drone_address + ":0");
+    if (!drone) return Unexpected{"bad drone address '" + config_.drone_address + "'"};
+    auto local = net::Endpoint::parse(config_.bind_address + ":0");
+    if (!local) return Unexpected{"bad bind address '" + config_.bind_address + "'"};
+    auto s = std::make_unique<Sockets>();
+    auto with_port = [&](std::uint16_t port) {
+        net::Endpoint e = *drone;
+        e.port = port;
+        return e;
+    };
+    s->at_to = with_port(config_.at_port);
+    s->navdata_to = with_port(config_.navdata_port);
+    s->video_to = with_port(config_.video_port);
+    s->control_to = with_port(config_.control_port);
+    auto at = net::UdpSocket::bind(*local);
+    if (!at) return Unexpected{"AT socket: " + at.error().message()};
+    (void)at->set_send_buffer(4096);
+    auto nav = net::UdpSocket::bind(*local);
+    if (!nav) return Unexpected{"navdata socket: " + nav.error().message()};
+    s->at = std::move(*at);
+    s->navdata = std::move(*nav);
+    sockets_ = std::move(s);
+
+    start_ns_ = clock_.now_ns();
+    at_queue_.reopen();
+    nav_queue_.reopen();
+    dump_queue_.reopen();
+    running_ = true;
+    threads_.emplace_back([this] { navdata_loop(); });
+    threads_.emplace_back([this] { at_loop(); });
+    if (config_.video) threads_.emplace_back([this] { video_loop(); });
+    if (config_.control) threads_.emplace_back([this] { control_loop(); });
+    return true;
+}
+
+void DroneLink::stop() {
+    if (!running_.exchange(false)) return;
+    at_queue_.close();
+    nav_queue_.close();
+    dump_queue_.close();
+    for (auto& t : threads_) t.join();
+    threads_.clear();
+    // Requests still queued get an answer.
+    while (auto r = nav_queue_.try_pop())
+        r->done.set_value({ResultCode::NotConnected, "link stopped"});
+    sockets_.reset();
+    MachineSnapshot m;
+    m.state = ConnectionState::Disconnected;
+    m.reason = "stopped";
+    if (auto prev = machine_slot_.latest()) m.counters = prev->counters;
+    machine_slot_.publish(std::move(m));
+}
+
+std::uint16_t DroneLink::navdata_local_port() const {
+    if (!sockets_) return 0;
+    auto e = sockets_->navdata.local_endpoint();
+    return e ? e->port : 0;
+}
+
+ConnectionState DroneLink::state() const {
+    auto m = machine_slot_.latest();
+    return m ? m->state : ConnectionState::Disconnected;
+}
+
+LinkStatus DroneLink::status() const {
+    LinkStatus st;
+    if (auto m = machine_slot_.latest()) {
+        st.state = m->state;
+        st.reason = m->reason;
+        st.machine = m->counters;
+        st.config_dumps = m->config_dumps;
+    } else {
+        st.reason = "not started";
+    }
+    st.control_connected = control_connected_slot_.latest().value_or(false);
+    if (auto n = nav_stats_slot_.latest()) st.navdata = *n;
+    if (auto v = video_stats_slot_.latest()) st.video = *v;
+    if (auto a = at_stats_slot_.latest()) st.at = *a;
+    st.now_ns = clock_.now_ns();
+    return st;
+}
+
+std::shared_ptr<BoundedQueue<FrameSample>> DroneLink::subscribe_frames(std::size_t capacity) {
+    auto q = std::make_shared<BoundedQueue<FrameSample>>(capacity, QueueFull::DropOldest);
+    subscribers_.update([&](Subscribers& s) { s.frames.push_back(q); });
+    return q;
+}
+std::shared_ptr<BoundedQueue<NavSample>> DroneLink::subscribe_navdata(std::size_t capacity) {
+    auto q = std::make_shared<BoundedQueue<NavSample>>(capacity, QueueFull::DropOldest);
+    subscribers_.update([&](Subscribers& s) { s.navdata.push_back(q); });
+    return q;
+}
+std::shared_ptr<BoundedQueue<RawEvent>> DroneLink::subscribe_raw(std::size_t capacity) {
+    auto q = std::make_shared<BoundedQueue<RawEvent>>(capacity, QueueFull::RejectNew);
+    subscribers_.update([&](Subscribers& s) { s.raw.push_back(q); });
+    return q;
+}
+
+void DroneLink::push_at(AtRequest r) {
+    if (!at_queue_.push(std::move(r))) {
+        // The sender drains its queue every 30 ms; a full queue means a flood of commands.
+        // Dropping one is counted by the queue and is safe: the next Move or Fly supersedes it.
+    }
+}
+
+// ---- Commands ----------------------------------------------------------------------------
+
+std::future<CommandResult> DroneLink::submit(Command c) {
+    if (!running_) return ready(ResultCode::NotConnected, "link not started");
+    const ConnectionState st = state();
+    const bool connected = st == ConnectionState::Connected;
+    auto nav = nav_slot_.latest();
+    const std::uint32_t bits =
+        nav && nav->data.header.drone_state.raw ? nav->data.header.drone_state.raw : 0;
+    const double battery = nav ? nav->state.battery_pct : kUnknown;
+    const std::string not_connected = std::string("link is ") + to_string(st);
+
+    struct V {
+        DroneLink& link;
+        bool connected;
+        std::uint32_t bits;
+        double battery;
+        const std::string& nc;
+
+        std::future<CommandResult> operator()(const Takeoff&) {
+            if (!connected) return ready(ResultCode::NotConnected, nc);
+            if (bits & kBitEmergency) {
+                return ready(
+                    ResultCode::Rejected,
+                    "the drone reports an emergency (motors cut): send Emergency to reset it");
+            }
+            if (known(battery) && battery < link.config_.min_takeoff_battery_pct) {
+                return ready(
+                    ResultCode::Rejected,
+                    "battery " + std::to_string(static_cast<int>(battery)) + " % is below the " +
+                        std::to_string(static_cast<int>(link.config_.min_takeoff_battery_pct)) +
+                        " % take-off minimum");
+            }
+            if (bits & kBitVbatLow)
+                return ready(ResultCode::Rejected, "the drone reports a low battery");
+            if (bits & kBitAnglesOut) {
+                return ready(
+                    ResultCode::Rejected,
+                    "the drone reports its angles out of range: put it level on the ground");
+            }
+            AtRequest r;
+            r.kind = AtRequest::Kind::Fly;
+            r.fly = true;
+            link.push_at(std::move(r));
+            return ready(ResultCode::Sent);
+        }
+        std::future<CommandResult> operator()(const Land&) {
+            AtRequest r;  // landing is always taken into the intent
+            r.kind = AtRequest::Kind::Fly;
+            r.fly = false;
+            link.push_at(std::move(r));
+            return connected ? ready(ResultCode::Sent) : ready(ResultCode::NotConnected, nc);
+        }
+        std::future<CommandResult> operator()(const Emergency&) {
+            AtRequest r;
+            r.kind = AtRequest::Kind::Emergency;
+            r.drone_emergency = bits & kBitEmergency;
+            link.push_at(std::move(r));
+            return connected ? ready(ResultCode::Sent) : ready(ResultCode::NotConnected, nc);
+        }
+        std::future<CommandResult> operator()(const Move& m) {
+            if (!connected) return ready(ResultCode::NotConnected, nc);
+            AtRequest r;
+            r.kind = AtRequest::Kind::Move;
+            r.move = m;
+            link.push_at(std::move(r));
+            return ready(ResultCode::Sent);
+        }
+        std::future<CommandResult> operator()(const Hover&) {
+            AtRequest r;
+            r.kind = AtRequest::Kind::Hover;
+            link.push_at(std::move(r));
+            return connected ? ready(ResultCode::Sent) : ready(ResultCode::NotConnected, nc);
+        }
+        std::future<CommandResult> operator()(const FlatTrim&) {
+            if (!connected) return ready(ResultCode::NotConnected, nc);
+            if (bits & kBitFly)
+                return ready(ResultCode::Rejected, "flat trim needs the drone landed");
+            return oneshot(OneShot::Kind::Ftrim);
+        }
+        std::future<CommandResult> operator()(const Calibrate&) {
+            if (!connected) return ready(ResultCode::NotConnected, nc);
+            if (!(bits & kBitFly)) {
+                return ready(ResultCode::Rejected,
+                             "magnetometer calibration needs the drone flying");
+            }
+            return oneshot(OneShot::Kind::Calib);
+        }
+        std::future<CommandResult> operator()(const SetConfig& s) {
+            if (!config_text_ok(s.key) || !config_text_ok(s.value) || s.key.empty()) {
+                return ready(
+                    ResultCode::Rejected,
+                    "configuration key and value may not contain quotes or control characters");
+            }
+            if (!connected) return ready(ResultCode::NotConnected, nc);
+            NavRequest r;
+            r.write = s;
+            auto f = r.done.get_future();
+            if (!link.nav_queue_.push(std::move(r))) {
+                return ready(ResultCode::Rejected, "too many configuration writes pending");
+            }
+            return f;
+        }
+        std::future<CommandResult> operator()(const SwitchCamera& s) {
+            if (s.channel != 0 && s.channel != 1) {
+                return ready(ResultCode::Rejected,
+                             "camera channel must be 0 (front) or 1 (bottom)");
+            }
+            return (*this)(SetConfig{"video:video_channel", std::to_string(s.channel), true});
+        }
+        std::future<CommandResult> operator()(const Led& l) {
+            if (!connected) return ready(ResultCode::NotConnected, nc);
+            OneShot o;
+            o.kind = OneShot::Kind::Led;
+            o.a = l.anim_id;
+            o.f = l.freq_hz;
+            o.b = l.duration_s;
+            return push(std::move(o));
+        }
+        std::future<CommandResult> operator()(const Anim& a) {
+            if (!connected) return ready(ResultCode::NotConnected, nc);
+            OneShot o;
+            o.kind = OneShot::Kind::Anim;
+            o.a = a.anim_id;
+            o.b = a.duration_ms;
+            return push(std::move(o));
+        }
+        std::future<CommandResult> oneshot(OneShot::Kind k) {
+            OneShot o;
+            o.kind = k;
+            return push(std::move(o));
+        }
+        std::future<CommandResult> push(OneShot o) {
+            AtRequest r;
+            r.kind = AtRequest::Kind::OneShot;
+            r.oneshot = std::move(o);
+            link.push_at(std::move(r));
+            return ready(ResultCode::Sent);
+        }
+    };
+    return std::visit(V{*this, connected, bits, battery, not_connected}, c);
+}
+
+CommandResult DroneLink::execute(Command c, std::chrono::milliseconds timeout) {
+    auto f = submit(std::move(c));
+    if (f.wait_for(timeout) != std::future_status::ready) {
+        return {ResultCode::Timeout, "no answer within " + std::to_string(timeout.count()) + " ms"};
+    }
+    return f.get();
+}
+
+// ---- Threads -----------------------------------------------------------------------------
+
+void DroneLink::publish_raw(RawEvent::Kind kind, TimeNs t, std::span<const std::uint8_t> bytes) {
+    auto subs = subscribers_.latest();
+    if (!subs || subs->raw.empty()) return;
+    RawEvent e{kind, t, std::vector<std::uint8_t>(bytes.begin(), bytes.end())};
+    fan_out(subs->raw, e);
+}
+
+void DroneLink::navdata_loop() {
+    LinkStateMachine sm(config_.setup);
+    LinkActions actions;
+    NavdataStats stats;
+    RateMeter rate;
+    std::vector<std::pair<std::uint64_t, NavRequest>> pending;  // awaiting the machine's verdict
+    std::array<std::uint8_t, kNavdataMax + 1> buf{};
+    std::uint64_t dumps = 0;
+    std::uint64_t subs_gen = 0;
+    Subscribers subs;
+    TimeNs last_publish = 0;
+
+    auto publish_machine = [&] {
+        MachineSnapshot m;
+        m.state = sm.state();
+        m.reason = sm.state_reason();
+        m.counters = sm.counters();
+        m.config_dumps = dumps;
+        machine_slot_.publish(std::move(m));
+    };
+    auto apply = [&](TimeNs now) {
+        if (actions.send_trigger) {
+            (void)sockets_->navdata.send_to(std::span<const std::uint8_t>(kWakeUp),
+                                            sockets_->navdata_to);
+        }
+        auto oneshot = [&](OneShot o) {
+            AtRequest r;
+            r.kind = AtRequest::Kind::OneShot;
+            r.oneshot = std::move(o);
+            push_at(std::move(r));
+        };
+        for (auto& [k, v] : actions.configs) {
+            OneShot o;
+            o.kind = OneShot::Kind::Config;
+            o.key = k;
+            o.value = v;
+            oneshot(std::move(o));
+        }
+        if (actions.send_ctrl_ack) oneshot({OneShot::Kind::Ctrl, {}, {}, 5, 0, 0});
+        if (actions.send_ctrl_get_config) oneshot({OneShot::Kind::Ctrl, {}, {}, 4, 0, 0});
+        if (actions.send_comwdg) oneshot({OneShot::Kind::Comwdg, {}, {}, 0, 0, 0});
+        if (actions.link_lost) {
+            AtRequest r;
+            r.kind = AtRequest::Kind::LinkLost;
+            push_at(std::move(r));
+        }
+        for (auto& d : actions.done) {
+            auto it = std::find_if(pending.begin(), pending.end(),
+                                   [&](auto& p) { return p.first == d.id; });
+            if (it == pending.end()) continue;
+            CommandResult res;
+            switch (d.outcome) {
+                case ConfigOutcome::Acked:
+                case ConfigOutcome::Verified:
+                    res = {ResultCode::Sent, d.detail};
+                    break;
+                case ConfigOutcome::Ignored:
+                    res = {ResultCode::Rejected, d.detail};
+                    break;
+                case ConfigOutcome::Timeout:
+                    res = {ResultCode::Timeout, d.detail};
+                    break;
+                case ConfigOutcome::Cancelled:
+                    res = {ResultCode::NotConnected, d.detail};
+                    break;
+            }
+            it->second.done.set_value(std::move(res));
+            pending.erase(it);
+        }
+        (void)now;
+        actions.clear();
+    };
+
+    TimeNs now = clock_.now_ns();
+    sm.start(now, actions);
+    apply(now);
+    publish_machine();
+
+    while (running_) {
+        if (subscribers_.read_if_newer(subs_gen, subs)) {
+        }
+        while (auto r = nav_queue_.try_pop()) {
+            if (r->read_dump) {
+                sm.request_config_dump();
+                r->done.set_value({ResultCode::Sent, {}});
+                continue;
+            }
+            const auto id = sm.write_config(r->write.key, r->write.value, r->write.verify);
+            pending.emplace_back(id, std::move(*r));
+        }
+        while (auto d = dump_queue_.try_pop()) {
+            ++dumps;
+            sm.on_config_dump(*d, clock_.now_ns(), actions);
+        }
+
+        auto got = sockets_->navdata.recv_from(std::span<std::uint8_t>(buf), net::Millis{5});
+        now = clock_.now_ns();
+        if (got) {
+            const std::span<const std::uint8_t> bytes(buf.data(), got->size);
+            if (got->from != sockets_->navdata_to) {
+                ++stats.foreign_dropped;
+            } else if (got->truncated || got->size > kNavdataMax) {
+                ++stats.datagrams;
+                ++stats.oversize;
+                stats.last_error = "datagram larger than 4096 bytes";
+            } else {
+                ++stats.datagrams;
+                if (!subs.raw.empty())
+                    fan_out(subs.raw,
+                            RawEvent{RawEvent::Kind::Navdata, now, {bytes.begin(), bytes.end()}});
+                auto nd = navdata::parse_navdata(bytes);
+                if (!nd) {
+                    if (nd.error().code == navdata::NavdataErrc::BadChecksum)
+                        ++stats.checksum_failures;
+                    else
+                        ++stats.parse_errors;
+                    stats.last_error = navdata::to_string(nd.error());
+                } else if (sm.on_navdata({nd->header.drone_state.raw, nd->header.sequence}, now,
+                                         actions)) {
+                    ++stats.accepted;
+                    rate.tick(now);
+                    stats.last_ns = now;
+                    NavSample s;
+                    s.recv_ns = now;
+                    s.seq = nd->header.sequence;
+                    if (nd->time) {
+                        s.drone_time_s =
+                            nd->time->time.seconds() + nd->time->time.microseconds() * 1e-6;
+                    }
+                    s.state = navdata::to_nav_state(*nd, now - start_ns_);
+                    s.data = std::move(*nd);
+                    if (!subs.navdata.empty()) fan_out(subs.navdata, s);
+                    nav_slot_.publish(std::move(s));
+                }
+            }
+        } else if (got.error().code != net::NetErrc::Timeout) {
+            stats.last_error = got.error().message();
+        }
+        sm.tick(now, actions);
+        apply(now);
+        if (now - last_publish >= ms_to_ns(20)) {
+            stats.rate_hz = rate.rate_hz(now);
+            nav_stats_slot_.publish(stats);
+            publish_machine();
+            last_publish = now;
+        }
+    }
+    LinkActions final_actions;
+    sm.stop(final_actions);
+    for (auto& [id, r] : pending) r.done.set_value({ResultCode::NotConnected, "link stopped"});
+}
+
+void DroneLink::at_loop() {
+    AtScheduler sched(config_.setup.ids);
+    AtStats stats;
+    std::vector<std::string> datagrams;
+    std::uint64_t subs_gen = 0;
+    Subscribers subs;
+    TimeNs next = clock_.now_ns();
+    TimeNs last_cycle = 0;
+    while (running_) {
+        // Sleep until the next cycle on the steady clock, waking for queued commands only at the
+        // cycle (commands are sent on the 30 ms beat, as the drone expects).
+        const TimeNs wait = next - clock_.now_ns();
+        if (wait > 0) std::this_thread::sleep_for(std::chrono::nanoseconds(wait));
+        next += config_.at_period_ns;
+        TimeNs now = clock_.now_ns();
+        if (next < now) next = now + config_.at_period_ns;  // fell far behind: do not burst
+
+        while (auto r = at_queue_.try_pop()) {
+            switch (r->kind) {
+                case AtRequest::Kind::Fly:
+                    sched.set_fly(r->fly);
+                    break;
+                case AtRequest::Kind::Move:
+                    sched.set_move(r->move);
+                    break;
+                case AtRequest::Kind::Hover:
+                    sched.hover();
+                    break;
+                case AtRequest::Kind::Emergency:
+                    sched.request_emergency(r->drone_emergency, now);
+                    break;
+                case AtRequest::Kind::OneShot:
+                    sched.queue(std::move(r->oneshot));
+                    break;
+                case AtRequest::Kind::LinkLost:
+                    sched.on_link_lost();
+                    break;
+            }
+        }
+        std::optional<std::uint32_t> drone_state;
+        if (auto n = nav_slot_.latest()) drone_state = n->data.header.drone_state.raw;
+        sched.build(now, drone_state, datagrams);
+        subscribers_.read_if_newer(subs_gen, subs);
+        for (const auto& d : datagrams) {
+            auto sent = sockets_->at.send_to(d, sockets_->at_to, net::Millis{5});
+            if (!sent) ++stats.send_errors;
+            if (!subs.raw.empty()) {
+                const auto* p = reinterpret_cast<const std::uint8_t*>(d.data());
+                fan_out(subs.raw, RawEvent{RawEvent::Kind::At, now, {p, p + d.size()}});
+            }
+        }
+        if (last_cycle != 0) {
+            stats.period_ms_last = ns_to_ms(now - last_cycle);
+            stats.period_ms_max = std::max(stats.period_ms_max, stats.period_ms_last);
+        }
+        last_cycle = now;
+        stats.counters = sched.counters();
+        at_stats_slot_.publish(stats);
+    }
+}
+
+void DroneLink::video_loop() {
+    VideoStats stats;
+    RateMeter rate;
+    PaveFramer framer;
+    H264Decoder decoder;
+    std::array<cv::Mat, kFramePool> pool;
+    std::vector<std::uint8_t> buf(64 * 1024);
+    std::int64_t index = 0;
+    std::uint64_t subs_gen = 0;
+    Subscribers subs;
+    TimeNs last_publish = 0;
+
+    auto free_slot = [&]() -> cv::Mat& {
+        for (auto& m : pool) {
+            if (m.empty() || (m.u != nullptr && m.u->refcount == 1)) return m;
+        }
+        ++stats.pool_exhausted;
+        pool[0] = cv::Mat();  // everyone still holds a frame: give up the oldest slot's reuse
+        return pool[0];
+    };
+
+    while (running_) {
+        auto stream = net::TcpStream::connect(sockets_->video_to, net::Millis{500});
+        if (!stream) {
+            stats.last_error = stream.error().message();
+            video_stats_slot_.publish(stats);
+            std::this_thread::sleep_for(std::chrono::nanoseconds(config_.reconnect_delay_ns));
+            continue;
+        }
+        ++stats.connects;
+        stats.connected = true;
+        framer.reset();
+        decoder.reset();
+        TimeNs last_data = clock_.now_ns();
+        while (running_) {
+            auto got = stream->read_some(std::span<std::uint8_t>(buf), net::Millis{20});
+            const TimeNs now = clock_.now_ns();
+            subscribers_.read_if_newer(subs_gen, subs);
+            if (!got) {
+                if (got.error().code == net::NetErrc::Timeout) {
+                    if (now - last_data > config_.video_silence_reconnect_ns) {
+                        stats.last_error =
+                            "no video for " + std::to_string((now - last_data) / 1'000'000) + " ms";
+                        break;
+                    }
+                    continue;
+                }
+                stats.last_error = got.error().message();
+                break;
+            }
+            last_data = now;
+            stats.bytes += *got;
+            const std::span<const std::uint8_t> chunk(buf.data(), *got);
+            if (!subs.raw.empty())
+                fan_out(subs.raw,
+                        RawEvent{RawEvent::Kind::Video, now, {chunk.begin(), chunk.end()}});
+            framer.push(chunk);
+            while (auto ev = framer.next()) {
+                auto* frame = std::get_if<PaveFrame>(&*ev);
+                if (frame == nullptr) continue;  // resync events are counted by the framer
+                ++stats.pave_frames;
+                if (frame->header.video_codec != PaveCodec::H264) continue;
+                AccessUnit au;
+                au.data = frame->payload;
+                au.frame_number = frame->header.frame_number;
+                au.display_width = frame->header.display_width;
+                au.display_height = frame->header.display_height;
+                au.stream_id = frame->header.stream_id;
+                cv::Mat& out = free_slot();
+                const TimeNs t0 = clock_.now_ns();
+                auto res = decoder.decode(au, out);
+                stats.decode_ms_last = ns_to_ms(clock_.now_ns() - t0);
+                if (!res || *res != DecodeStatus::Frame) continue;
+                FrameSample fs;
+                fs.index = index++;
+                fs.recv_ns = now;
+                fs.t_ns = now - start_ns_;
+                fs.frame_number = frame->header.frame_number;
+                fs.image = out;  // shares the pooled buffer; the pool skips it while held
+                if (auto n = nav_slot_.latest()) {
+                    fs.nav = n->state;
+                    fs.nav.t_ns = fs.t_ns;
+                }
+                rate.tick(now);
+                stats.last_frame_ns = now;
+                if (!subs.frames.empty()) fan_out(subs.frames, fs);
+                frame_slot_.publish(std::move(fs));
+            }
+            const auto& fst = framer.stats();
+            stats.resyncs = fst.resyncs;
+            stats.bytes_skipped = fst.bytes_skipped;
+            const auto& dst = decoder.stats();
+            stats.decoded = dst.decoded;
+            stats.decode_errors = dst.decode_errors;
+            stats.idr_waits = dst.skipped_waiting_idr;
+            stats.frame_gaps = dst.frame_gaps;
+            if (now - last_publish >= ms_to_ns(50)) {
+                stats.fps = rate.rate_hz(now);
+                video_stats_slot_.publish(stats);
+                last_publish = now;
+            }
+        }
+        stats.connected = false;
+        ++stats.disconnects;
+        video_stats_slot_.publish(stats);
+    }
+}
+
+void DroneLink::control_loop() {
+    std::vector<std::uint8_t> buf(8192);
+    auto set_connected = [&](bool on) { control_connected_slot_.publish(on); };
+    while (running_) {
+        auto stream = net::TcpStream::connect(sockets_->control_to, net::Millis{500});
+        if (!stream) {
+            std::this_thread::sleep_for(std::chrono::nanoseconds(config_.reconnect_delay_ns));
+            continue;
+        }
+        set_connected(true);
+        ConfigDumpReader reader;
+        while (running_) {
+            auto got = stream->read_some(std::span<std::uint8_t>(buf), net::Millis{50});
+            if (!got) {
+                if (got.error().code == net::NetErrc::Timeout) continue;
+                break;
+            }
+            if (auto dump = reader.push(std::span<const std::uint8_t>(buf.data(), *got))) {
+                if (*dump) {
+                    config_slot_.publish(**dump);
+                    dump_queue_.push(std::move(**dump));
+                }
+            }
+        }
+        set_connected(false);
+    }
+}
+
+}  // namespace gs::link

@@ -1,0 +1,220 @@
+#pragma once
+// The live link to an AR.Drone 2 (or the virtual one): one object owns the sockets and threads.
+//   AT sender      UDP 5556, the current command set every 30 ms (at_scheduler)
+//   navdata        UDP 5554, wake-up, parsing, the connection state machine (link_state)
+//   video          TCP 5555, PaVE framer → H.264 decoder → frames
+//   control        TCP 5559, configuration dumps for read-back
+// Threads share data only through latest-value slots and bounded queues. Every stream publishes
+// a snapshot and counters; commands are typed values with typed results.
+
+#include "drone/clock.hpp"
+#include "drone/config.hpp"
+#include "drone/link/at_scheduler.hpp"
+#include "drone/link/commands.hpp"
+#include "drone/link/link_state.hpp"
+#include "drone/navdata.hpp"
+#include "drone/sample.hpp"
+#include "drone/sync.hpp"
+
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <future>
+#include <memory>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace gs::link {
+
+struct LinkConfig {
+    std::string drone_address = "192.168.1.1";
+    std::uint16_t at_port = 5556;
+    std::uint16_t navdata_port = 5554;
+    std::uint16_t video_port = 5555;
+    std::uint16_t control_port = 5559;
+    std::string bind_address = "0.0.0.0";  // local address for the UDP sockets
+    LinkSetup setup;                       // navdata mode, ids, timing of the state machine
+    TimeNs at_period_ns = ms_to_ns(30);
+    double min_takeoff_battery_pct = 20.0;
+    bool video = true;    // connect the video port
+    bool control = true;  // connect the control port (config read-back)
+    TimeNs video_silence_reconnect_ns = ms_to_ns(1000);
+    TimeNs reconnect_delay_ns = ms_to_ns(300);
+};
+
+// One accepted navdata packet.
+struct NavSample {
+    TimeNs recv_ns = 0;  // monotonic receive time
+    std::uint32_t seq = 0;
+    double drone_time_s = kUnknown;  // from the time option, when sent
+    NavState state;                  // units of DATASET.md, t_ns from the link's start
+    navdata::Navdata data;           // every decoded option
+};
+
+// Raw bytes as they crossed the wire, for recording (DATASET.md raw/).
+struct RawEvent {
+    enum class Kind : std::uint8_t { Navdata, Video, At };
+    Kind kind = Kind::Navdata;
+    TimeNs t_ns = 0;  // monotonic receive / send time
+    std::vector<std::uint8_t> bytes;
+};
+
+// Events per second over the last second.
+class RateMeter {
+public:
+    void tick(TimeNs now);
+    double rate_hz(TimeNs now) const;
+
+private:
+    TimeNs window_start_ = 0;
+    std::uint64_t count_ = 0;
+    double last_rate_ = 0;
+};
+
+struct NavdataStats {
+    std::uint64_t datagrams = 0;  // received from the drone's address
+    std::uint64_t accepted = 0;
+    std::uint64_t parse_errors = 0;  // malformed (bad magic, truncated, sizes)
+    std::uint64_t checksum_failures = 0;
+    std::uint64_t foreign_dropped = 0;  // from any other address or port
+    std::uint64_t oversize = 0;         // datagrams larger than the 4096-byte maximum
+    double rate_hz = 0;
+    TimeNs last_ns = 0;
+    std::string last_error;
+};
+
+struct VideoStats {
+    bool connected = false;
+    std::uint64_t bytes = 0;
+    std::uint64_t pave_frames = 0;
+    std::uint64_t decoded = 0;
+    std::uint64_t decode_errors = 0;
+    std::uint64_t idr_waits = 0;  // access units skipped waiting for an IDR
+    std::uint64_t frame_gaps = 0;
+    std::uint64_t resyncs = 0;  // PaVE resynchronisations
+    std::uint64_t bytes_skipped = 0;
+    std::uint64_t connects = 0;
+    std::uint64_t disconnects = 0;     // resets, silences, errors
+    std::uint64_t pool_exhausted = 0;  // every pooled frame still in use: one allocated
+    double fps = 0;
+    double decode_ms_last = 0;
+    TimeNs last_frame_ns = 0;
+    std::string last_error;
+};
+
+struct AtStats {
+    AtCounters counters;
+    std::uint64_t send_errors = 0;
+    double period_ms_last = 0;
+    double period_ms_max = 0;  // worst gap between two cycles since start
+};
+
+struct LinkStatus {
+    ConnectionState state = ConnectionState::Disconnected;
+    std::string reason;
+    LinkCounters machine;
+    NavdataStats navdata;
+    VideoStats video;
+    AtStats at;
+    bool control_connected = false;
+    std::uint64_t config_dumps = 0;
+    TimeNs now_ns = 0;  // when this status was assembled (age = now_ns - navdata.last_ns)
+};
+
+class DroneLink {
+public:
+    explicit DroneLink(LinkConfig config, Clock& clock = SteadyClock::instance());
+    ~DroneLink();
+    DroneLink(const DroneLink&) = delete;
+    DroneLink& operator=(const DroneLink&) = delete;
+
+    // Opens the sockets and starts the threads. Fails with a message when a socket cannot be
+    // opened (the drone need not be reachable yet).
+    [[nodiscard]] Expected<bool, std::string> start();
+    void stop();
+    bool running() const { return running_.load(); }
+
+    // Non-blocking: the result arrives through the future (at once for most commands; after the
+    // drone acknowledged and the read-back for configuration writes).
+    std::future<CommandResult> submit(Command c);
+    // Blocking helper for the command line.
+    CommandResult execute(Command c, std::chrono::milliseconds timeout);
+
+    const LatestValue<NavSample>& navdata() const { return nav_slot_; }
+    const LatestValue<FrameSample>& video() const { return frame_slot_; }
+    const LatestValue<ConfigMap>& config() const { return config_slot_; }
+    LinkStatus status() const;
+    ConnectionState state() const;
+
+    // Every decoded frame, for a consumer that must not miss frames or wants to wait on them
+    // (the pipeline, the recorder). Bounded; overflow drops the oldest and is counted there.
+    std::shared_ptr<BoundedQueue<FrameSample>> subscribe_frames(std::size_t capacity);
+    std::shared_ptr<BoundedQueue<NavSample>> subscribe_navdata(std::size_t capacity);
+    // Raw bytes of every stream (navdata datagrams, video TCP chunks, AT datagrams) for raw/.
+    std::shared_ptr<BoundedQueue<RawEvent>> subscribe_raw(std::size_t capacity);
+
+    const LinkConfig& config_used() const { return config_; }
+    // The local port navdata arrives on (after start; 0 before).
+    std::uint16_t navdata_local_port() const;
+    TimeNs start_ns() const { return start_ns_; }
+
+private:
+    struct NavRequest {
+        SetConfig write;
+        bool read_dump = false;
+        std::promise<CommandResult> done;
+    };
+    struct AtRequest {
+        enum class Kind { Fly, Move, Hover, Emergency, OneShot, LinkLost };
+        Kind kind = Kind::Hover;
+        bool fly = false;
+        Move move;
+        bool drone_emergency = false;
+        OneShot oneshot;
+    };
+
+    void navdata_loop();
+    void at_loop();
+    void video_loop();
+    void control_loop();
+    void push_at(AtRequest r);
+    void publish_raw(RawEvent::Kind kind, TimeNs t, std::span<const std::uint8_t> bytes);
+
+    LinkConfig config_;
+    Clock& clock_;
+    std::atomic<bool> running_{false};
+    TimeNs start_ns_ = 0;
+
+    struct Sockets;
+    std::unique_ptr<Sockets> sockets_;
+    std::vector<std::thread> threads_;
+
+    BoundedQueue<AtRequest> at_queue_{256};
+    BoundedQueue<NavRequest> nav_queue_{64};
+    BoundedQueue<ConfigMap> dump_queue_{4};
+
+    LatestValue<NavSample> nav_slot_;
+    LatestValue<FrameSample> frame_slot_;
+    LatestValue<ConfigMap> config_slot_;
+    LatestValue<NavdataStats> nav_stats_slot_;
+    LatestValue<VideoStats> video_stats_slot_;
+    LatestValue<AtStats> at_stats_slot_;
+    struct MachineSnapshot {
+        ConnectionState state = ConnectionState::Disconnected;
+        std::string reason = "not started";
+        LinkCounters counters;
+        std::uint64_t config_dumps = 0;
+    };
+    LatestValue<bool> control_connected_slot_;
+    LatestValue<MachineSnapshot> machine_slot_;
+
+    struct Subscribers {
+        std::vector<std::shared_ptr<BoundedQueue<FrameSample>>> frames;
+        std::vector<std::shared_ptr<BoundedQueue<NavSample>>> navdata;
+        std::vector<std::shared_ptr<BoundedQueue<RawEvent>>> raw;
+    };
+    LatestValue<Subscribers> subscribers_;
+};
+
+}  // namespace gs::link

@@ -1,0 +1,512 @@
+#include "drone/sim/drone_core.hpp"
+
+#include "drone/navdata_writer.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace gs::sim {
+namespace {
+constexpr TimeNs kStepNs = ms_to_ns(5);
+constexpr double kStepS = 0.005;
+constexpr double kDeg = 180.0 / std::numbers::pi;
+
+enum Bit : std::uint32_t {
+    kFly = 1u << 0,
+    kVideo = 1u << 1,
+    kVision = 1u << 2,
+    kAltitude = 1u << 4,
+    kUserStart = 1u << 5,
+    kCommand = 1u << 6,
+    kCamera = 1u << 7,
+    kDemo = 1u << 10,
+    kBootstrap = 1u << 11,
+    kComLost = 1u << 13,
+    kVbatLow = 1u << 15,
+    kCutout = 1u << 22,
+    kThreads = 0x0F800000u,  // PIC version + AT codec, navdata, video, acquisition threads
+    kComWatchdog = 1u << 30,
+    kEmergency = 1u << 31,
+};
+
+double config_number(const ConfigMap& c, const char* key, double fallback) {
+    auto v = c.get(key);
+    if (!v) return fallback;
+    auto f = config_float(*v);
+    return f ? *f : fallback;
+}
+}  // namespace
+
+ConfigMap default_drone_config() {
+    ConfigMap c;
+    auto f = [](double v) { return config_format_float(v); };
+    c.set("general:num_version_config", "1");
+    c.set("general:num_version_mb", "33");
+    c.set("general:num_version_soft", "2.4.8");
+    c.set("general:drone_serial", "VIRTUAL000001");
+    c.set("general:soft_build_date", "2026-11-22 00:00");
+    c.set("general:ardrone_name", "ardrone-gs virtual drone");
+    c.set("general:flying_time", "0");
+    c.set("general:navdata_demo", "FALSE");
+    c.set("general:navdata_options", "65537");
+    c.set("general:com_watchdog", "2");
+    c.set("general:video_enable", "TRUE");
+    c.set("general:vision_enable", "TRUE");
+    c.set("general:vbat_min", "9000");
+    c.set("control:altitude_max", "3000");
+    c.set("control:altitude_min", "50");
+    c.set("control:euler_angle_max", f(0.2094395));
+    c.set("control:control_vz_max", f(700.0));
+    c.set("control:control_yaw", f(1.745329));
+    c.set("control:control_iphone_tilt", f(0.3490659));
+    c.set("control:control_level", "0");
+    c.set("control:outdoor", "FALSE");
+    c.set("control:flight_without_shell", "FALSE");
+    c.set("control:indoor_euler_angle_max", f(0.2094395));
+    c.set("control:indoor_control_vz_max", f(700.0));
+    c.set("control:indoor_control_yaw", f(1.745329));
+    c.set("control:outdoor_euler_angle_max", f(0.3490659));
+    c.set("control:outdoor_control_vz_max", f(1000.0));
+    c.set("control:outdoor_control_yaw", f(3.490659));
+    c.set("control:manual_trim", "FALSE");
+    c.set("control:autonomous_flight", "FALSE");
+    c.set("control:flying_mode", "0");
+    c.set("control:hovering_range", "1000");
+    c.set("control:flight_anim", "0,0");
+    c.set("network:ssid_single_player", "ardrone2_virtual");
+    c.set("network:wifi_mode", "0");
+    c.set("network:owner_mac", "00:00:00:00:00:00");
+    c.set("pic:ultrasound_freq", "8");
+    c.set("pic:ultrasound_watchdog", "3");
+    c.set("video:video_codec", "129");
+    c.set("video:codec_fps", "30");
+    c.set("video:bitrate", "1000");
+    c.set("video:max_bitrate", "1000");
+    c.set("video:bitrate_ctrl_mode", "0");
+    c.set("video:bitrate_storage", "4000");
+    c.set("video:video_channel", "0");
+    c.set("video:video_on_usb", "TRUE");
+    c.set("video:video_file_index", "1");
+    c.set("leds:leds_anim", "0,0,0");
+    c.set("detect:detect_type", "3");
+    c.set("detect:enemy_colors", "1");
+    c.set("detect:enemy_without_shell", "0");
+    c.set("userbox:userbox_cmd", "0");
+    c.set("gps:latitude", f(500.0));
+    c.set("gps:longitude", f(500.0));
+    c.set("gps:altitude", f(0.0));
+    c.set("custom:application_id", "00000000");
+    c.set("custom:profile_id", "00000000");
+    c.set("custom:session_id", "00000000");
+    c.set("custom:application_desc", "Default application configuration");
+    c.set("custom:profile_desc", "Default profile configuration");
+    c.set("custom:session_desc", "Default session configuration");
+    c.set("syslog:output", "7");
+    c.set("syslog:max_size", "102400");
+    c.set("syslog:nb_files", "5");
+    return c;
+}
+
+DroneCore::DroneCore(DroneCoreOptions options)
+    : options_(std::move(options)), model_(options_.flight), rng_(options_.seed) {
+    config_ = default_drone_config();
+    model_.set_pose(options_.start.x_m, options_.start.y_m, options_.start.z_m,
+                    options_.start.yaw_deg);
+    model_.set_battery(options_.battery_pct);
+    navdata_options_ = 65537;
+    ap_active_ = options_.autopilot_enabled && !options_.autopilot.empty();
+    apply_config("control:euler_angle_max", *config_.get("control:euler_angle_max"));
+    update_bits();
+}
+
+Pose DroneCore::pose() const {
+    const FlightState& s = model_.state();
+    return {s.x_m, s.y_m, s.z_m, s.roll_deg, s.pitch_deg, s.yaw_deg};
+}
+
+int DroneCore::video_channel() const {
+    auto v = config_.get("video:video_channel");
+    auto n = v ? config_int(*v) : std::nullopt;
+    return n && *n == 1 ? 1 : 0;
+}
+
+bool DroneCore::autopilot_done() const {
+    return !options_.autopilot.empty() && ap_step_ >= options_.autopilot.size();
+}
+
+void DroneCore::on_navdata_trigger(const net::Endpoint& from, TimeNs now) {
+    navdata_client_ = from;
+    now_ = std::max(now_, now);
+}
+
+void DroneCore::on_at(std::span<const std::uint8_t> datagram, const net::Endpoint& from,
+                      TimeNs now) {
+    ++counters_.at_datagrams;
+    last_at_ns_ = now;
+    auto parsed = at::parse_datagram(datagram);
+    if (!parsed) {
+        ++counters_.at_too_long;
+        return;
+    }
+    counters_.at_skipped += parsed->skipped.size();
+    for (const at::Command& c : parsed->commands) {
+        if (!seq_filter_.accept(from, c.seq)) {
+            ++counters_.at_rejected_seq;
+            continue;
+        }
+        ++counters_.at_commands;
+        apply_command(c, now);
+    }
+    update_bits();
+}
+
+void DroneCore::apply_command(const at::Command& c, TimeNs now) {
+    (void)now;
+    struct V {
+        DroneCore& d;
+        void operator()(const at::Ref& r) {
+            d.input_.start = r.input & at::kRefTakeoffBit;
+            d.input_.emergency = r.input & at::kRefEmergencyBit;
+        }
+        void operator()(const at::Pcmd& p) { set(p.flags, p.roll, p.pitch, p.gaz, p.yaw); }
+        void operator()(const at::PcmdMag& p) { set(p.flags, p.roll, p.pitch, p.gaz, p.yaw); }
+        void set(std::int32_t flags, float roll, float pitch, float gaz, float yaw) {
+            d.input_.progressive = flags & at::kPcmdProgressive;
+            d.input_.roll = roll;
+            d.input_.pitch = pitch;
+            d.input_.gaz = gaz;
+            d.input_.yaw = yaw;
+        }
+        void operator()(const at::Ftrim&) {
+            if (!d.model_.state().flying()) ++d.counters_.ftrims;
+        }
+        void operator()(const at::Calib&) {
+            if (d.model_.state().flying()) {
+                ++d.counters_.calibrations;
+                d.calibration_yaw_left_deg_ = 360.0;
+            }
+        }
+        void operator()(const at::Config& c) {
+            ++d.counters_.configs;
+            d.apply_config(c.key, c.value);
+            d.ack_ = true;
+        }
+        void operator()(const at::ConfigIds&) {}
+        void operator()(const at::Comwdg&) {
+            ++d.counters_.comwdg;
+            d.com_watchdog_ = false;
+        }
+        void operator()(const at::Ctrl& c) {
+            if (c.mode == static_cast<std::int32_t>(at::CtrlMode::Ack)) {
+                d.ack_ = false;
+            } else if (c.mode == static_cast<std::int32_t>(at::CtrlMode::CfgGet)) {
+                d.pending_dump_ = format_config_dump(d.config_);
+                d.ack_ = true;
+            }
+        }
+        void operator()(const at::Led& l) {
+            ++d.counters_.leds;
+            d.config_.set("leds:leds_anim",
+                          at::leds_anim_value(l.anim_id, l.freq_hz, l.duration_s));
+        }
+        void operator()(const at::Anim& a) {
+            ++d.counters_.anims;
+            d.config_.set("control:flight_anim", at::flight_anim_value(a.anim_id, a.duration_ms));
+        }
+    };
+    std::visit(V{*this}, c.body);
+}
+
+void DroneCore::apply_config(const std::string& key, const std::string& value) {
+    auto current = config_.get(key);
+    if (!current) {
+        ++counters_.configs_unknown;  // acknowledged, silently ignored: as a real drone does
+        return;
+    }
+    // Typed keys keep their type: a value that does not parse is ignored.
+    const bool is_bool = config_bool(*current).has_value();
+    const bool is_number = config_float(*current).has_value();
+    if (is_bool && !config_bool(value)) return;
+    if (!is_bool && is_number && !config_float(value)) return;
+    config_.set(key, value);
+
+    if (key == "general:navdata_demo") {
+        demo_ = *config_bool(value);
+        bootstrap_ = false;
+    } else if (key == "general:navdata_options") {
+        navdata_options_ = static_cast<std::uint32_t>(config_int(value).value_or(65537));
+    }
+    FlightLimits l;
+    l.euler_angle_max_rad = config_number(config_, "control:euler_angle_max", 0.2094);
+    l.control_vz_max_mm_s = config_number(config_, "control:control_vz_max", 700);
+    l.control_yaw_rad_s = config_number(config_, "control:control_yaw", 1.745);
+    l.altitude_max_mm = config_number(config_, "control:altitude_max", 3000);
+    model_.set_limits(l);
+}
+
+std::optional<std::string> DroneCore::take_config_dump() {
+    auto d = std::move(pending_dump_);
+    pending_dump_.reset();
+    return d;
+}
+
+void DroneCore::blackout(TimeNs from, TimeNs until) {
+    blackout_from_ = from;
+    blackout_until_ = until;
+}
+
+void DroneCore::reboot(TimeNs now) {
+    ++counters_.reboots;
+    config_ = default_drone_config();
+    seq_filter_ = at::SeqFilter{};
+    navdata_client_.reset();
+    pending_dump_.reset();
+    held_.reset();
+    seq_ = 0;
+    bootstrap_ = true;
+    demo_ = false;
+    navdata_options_ = 65537;
+    ack_ = com_watchdog_ = com_lost_ = false;
+    input_ = {};
+    last_at_ns_ = 0;
+    boot_ns_ = now;
+    // The drone comes back on the ground where it was.
+    const FlightState s = model_.state();
+    FlightModel fresh(options_.flight);
+    fresh.set_pose(s.x_m, s.y_m, 0.0, s.yaw_deg);
+    fresh.set_battery(s.battery_pct);
+    model_ = fresh;
+    apply_config("control:euler_angle_max", *config_.get("control:euler_angle_max"));
+    update_bits();
+}
+
+FlightInput DroneCore::autopilot_input() {
+    FlightInput in;
+    in.start = true;
+    const FlightState& s = model_.state();
+    while (ap_step_ < options_.autopilot.size()) {
+        const AutopilotStep& st = options_.autopilot[ap_step_];
+        bool done = false;
+        if (st.action == "takeoff") {
+            done = s.major == CtrlMajor::Hovering || s.major == CtrlMajor::Flying;
+        } else if (st.action == "land") {
+            in.start = false;
+            done = s.major == CtrlMajor::Landed;
+        } else {
+            done = ap_step_time_s_ >= st.duration_s;
+        }
+        if (!done) break;
+        ++ap_step_;
+        ap_step_time_s_ = 0;
+    }
+    if (ap_step_ >= options_.autopilot.size()) {
+        const bool landed_last =
+            !options_.autopilot.empty() && options_.autopilot.back().action == "land";
+        in.start = !landed_last;
+        return in;  // script over: hover (or stay landed)
+    }
+    const AutopilotStep& st = options_.autopilot[ap_step_];
+    if (st.action == "land") in.start = false;
+    if (st.action != "move") return in;
+
+    // Velocity tracking as the drone's own optical-flow velocity loop would: feed-forward tilt
+    // for the drag at the target speed plus a proportional term.
+    const FlightLimits& l = model_.limits();
+    const double max_tilt_deg = l.euler_angle_max_rad * kDeg;
+    const double drag = options_.flight.drag_per_s;
+    auto ff = [&](double v) { return std::atan(drag * v / 9.81) * kDeg; };
+    const double k = 8.0;  // deg per m/s of error
+    const double pitch_deg = -(ff(st.vx_mps) + k * (st.vx_mps - s.vx_body_mps()));
+    const double roll_deg = ff(st.vy_mps) + k * (st.vy_mps - s.vy_body_mps());
+    in.progressive = true;
+    in.pitch = std::clamp(pitch_deg / max_tilt_deg, -1.0, 1.0);
+    in.roll = std::clamp(roll_deg / max_tilt_deg, -1.0, 1.0);
+    in.gaz = std::clamp(st.vz_mps / (l.control_vz_max_mm_s / 1000.0), -1.0, 1.0);
+    in.yaw = std::clamp(st.yaw_rate_dps / (l.control_yaw_rad_s * kDeg), -1.0, 1.0);
+    return in;
+}
+
+void DroneCore::advance(TimeNs now, std::vector<OutDatagram>& out) {
+    if (!started_) {
+        started_ = true;
+        boot_ns_ = now;
+        sim_ns_ = now;
+        last_nav_ns_ = now;
+    }
+    now_ = std::max(now_, now);
+    while (sim_ns_ + kStepNs <= now) {
+        sim_ns_ += kStepNs;
+        if (last_at_ns_ != 0) {
+            const TimeNs silent = sim_ns_ - last_at_ns_;
+            if (silent > options_.watchdog_after_ns && !com_watchdog_) {
+                com_watchdog_ = true;
+                ++counters_.watchdog_events;
+            }
+            const double limit_s = config_number(config_, "general:com_watchdog", 2.0);
+            com_lost_ = static_cast<double>(silent) > limit_s * 1e9;
+        }
+        FlightInput in = ap_active_ ? autopilot_input() : input_;
+        if (ap_active_) {
+            in.emergency = input_.emergency;  // a pilot's emergency always wins
+            ap_step_time_s_ += kStepS;
+        } else if (com_watchdog_) {
+            in.progressive = false;  // watchdog: hover until AT*COMWDG
+        }
+        in.com_lost = com_lost_ && !ap_active_;
+        if (calibration_yaw_left_deg_ > 0) {
+            in.progressive = true;
+            in.roll = in.pitch = in.gaz = 0;
+            in.yaw = 0.5f;
+            calibration_yaw_left_deg_ -= std::abs(model_.state().yaw_rate_deg_s) * kStepS;
+        }
+        model_.step(in, kStepS);
+        update_bits();
+
+        if (!navdata_client_) continue;
+        const TimeNs period =
+            (bootstrap_ || demo_) ? options_.bootstrap_period_ns : options_.full_period_ns;
+        if (sim_ns_ - last_nav_ns_ >= period) {
+            last_nav_ns_ = sim_ns_;
+            emit_navdata(out);
+        }
+    }
+}
+
+void DroneCore::update_bits() {
+    const FlightState& s = model_.state();
+    std::uint32_t b = kThreads | kVideo | kVision | kCamera;
+    if (s.flying()) b |= kFly | kAltitude;
+    if (s.user_start) b |= kUserStart;
+    if (ack_) b |= kCommand;
+    if (demo_) b |= kDemo;
+    if (bootstrap_) b |= kBootstrap;
+    if (com_lost_) b |= kComLost;
+    if (s.battery_low) b |= kVbatLow;
+    if (s.emergency) b |= kEmergency | kCutout;
+    if (com_watchdog_) b |= kComWatchdog;
+    state_bits_ = b;
+}
+
+void DroneCore::emit_navdata(std::vector<OutDatagram>& out) {
+    ++seq_;
+    if (sim_ns_ >= blackout_from_ && sim_ns_ < blackout_until_) return;  // lost in the air
+    navdata::Header h;
+    h.drone_state.raw = state_bits_;
+    h.sequence = seq_;
+    h.vision_defined = 1;
+    std::vector<std::uint8_t> bytes;
+    if (bootstrap_) {
+        navdata::write_bootstrap(h, bytes);
+        send(std::move(bytes), out);
+        return;
+    }
+    const FlightState& s = model_.state();
+    nav_ = navdata::Navdata{};
+    nav_.header = h;
+    auto want = [&](int tag) {
+        return demo_ ? (tag == 0 || tag == 16) : (navdata_options_ >> tag) & 1u;
+    };
+    if (want(0)) {
+        navdata::Demo d;
+        d.ctrl_state.raw = s.ctrl_state();
+        d.vbat_flying_percentage = static_cast<std::uint32_t>(std::lround(s.battery_pct));
+        d.theta_mdeg = static_cast<float>(s.pitch_deg * 1000.0);
+        d.phi_mdeg = static_cast<float>(s.roll_deg * 1000.0);
+        d.psi_mdeg = static_cast<float>(s.yaw_deg * 1000.0);
+        d.altitude_mm = static_cast<std::int32_t>(std::lround(s.z_m * 1000.0));
+        d.vx_mm_s = static_cast<float>(s.vx_body_mps() * 1000.0);
+        d.vy_mm_s = static_cast<float>(s.vy_body_mps() * 1000.0);
+        d.vz_mm_s = static_cast<float>(-s.vz_mps * 1000.0);  // navdata z is down
+        d.num_frames = video_frame_number_;
+        d.detection_camera_type = 3;
+        nav_.demo = d;
+    }
+    if (want(1)) {
+        const TimeNs up = sim_ns_ - boot_ns_;
+        const auto secs = static_cast<std::uint32_t>(up / 1'000'000'000) & 0x7FFu;
+        const auto usecs = static_cast<std::uint32_t>((up / 1000) % 1'000'000);
+        nav_.time = navdata::Time{navdata::DroneTime{(secs << 21) | usecs}};
+    }
+    if (want(2)) {
+        navdata::RawMeasures r;
+        r.vbat_raw_mv = static_cast<std::uint32_t>(10200 + s.battery_pct * 22.0);
+        r.alt_temp_raw_mm = static_cast<std::int32_t>(std::lround(s.z_m * 1000.0));
+        nav_.raw_measures = r;
+    }
+    if (want(5)) {
+        navdata::EulerAngles e;
+        e.theta_a = static_cast<float>(s.pitch_deg * 1000.0);
+        e.phi_a = static_cast<float>(s.roll_deg * 1000.0);
+        nav_.euler_angles = e;
+    }
+    if (want(9)) {
+        navdata::Pwm p;
+        const std::uint8_t m = s.motors_on ? 180 : 0;
+        p.motor = {m, m, m, m};
+        nav_.pwm = p;
+    }
+    if (want(10)) {
+        navdata::Altitude a;
+        a.altitude_vision_mm = static_cast<std::int32_t>(std::lround(s.z_m * 1000.0));
+        a.altitude_raw_mm = a.altitude_vision_mm;
+        a.altitude_vz_mm_s = static_cast<float>(s.vz_mps * 1000.0);
+        nav_.altitude = a;
+    }
+    if (want(16)) nav_.vision_detect = navdata::VisionDetect{};
+    if (want(17)) nav_.watchdog = navdata::Watchdog{};
+    if (want(19)) {
+        navdata::VideoStream v;
+        v.frame_number = video_frame_number_;
+        v.frame_size_bytes = video_frame_size_;
+        nav_.video_stream = v;
+    }
+    if (want(21)) {
+        navdata::PressureRaw p;
+        p.Pression_meas_Pa = static_cast<std::int32_t>(101325 - 12 * s.z_m);
+        p.Temperature_meas_0_1C = 250;
+        nav_.pressure_raw = p;
+    }
+    if (want(22)) {
+        navdata::Magneto m;
+        m.heading_fusion_unwrapped_deg = static_cast<float>(s.yaw_deg);
+        m.magneto_calibration_ok = 1;
+        nav_.magneto = m;
+    }
+    if (want(26)) nav_.wifi = navdata::Wifi{};
+    navdata::write_navdata(nav_, bytes);
+    send(std::move(bytes), out);
+}
+
+void DroneCore::send(std::vector<std::uint8_t> bytes, std::vector<OutDatagram>& out) {
+    const NavdataFaults& f = options_.faults;
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    const net::Endpoint to = *navdata_client_;
+    if (f.loss > 0 && u(rng_) < f.loss) {
+        ++counters_.navdata_dropped;
+        return;
+    }
+    if (f.corrupt_checksum > 0 && u(rng_) < f.corrupt_checksum && bytes.size() >= 4) {
+        ++bytes[bytes.size() - 4];  // low byte of the cks value
+        ++counters_.navdata_corrupted;
+    }
+    if (f.reorder > 0 && !held_ && u(rng_) < f.reorder) {
+        held_ = OutDatagram{to, std::move(bytes)};
+        ++counters_.navdata_reordered;
+        return;
+    }
+    const bool dup = f.duplicate > 0 && u(rng_) < f.duplicate;
+    out.push_back({to, bytes});
+    ++counters_.navdata_sent;
+    if (dup) {
+        out.push_back({to, std::move(bytes)});
+        ++counters_.navdata_duplicated;
+    }
+    if (held_) {
+        out.push_back(std::move(*held_));
+        held_.reset();
+        ++counters_.navdata_sent;
+    }
+}
+
+}  // namespace gs::sim

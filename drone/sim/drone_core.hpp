@@ -1,0 +1,152 @@
+#pragma once
+// The virtual AR.Drone's brain, as pure logic: AT datagrams and navdata wake-ups go in with their
+// time and sender, navdata datagrams come out, and the drone behaves as PROTOCOL.md describes a
+// real one: bootstrap navdata until configured; demo (15 Hz) or full (200 Hz) navdata with valid
+// checksums; every drone_state bit maintained; navdata sent to the address and port the wake-up
+// came from; AT sequence rules; a configuration store with the ACK bit; the communication
+// watchdog; emergency cut-off. Faults for tests (loss, reordering, duplication, corrupt checksums,
+// blackout, reboot) are applied here from a seeded generator, so a run is reproducible.
+// The sockets and the video live in virtual_drone.hpp.
+
+#include "drone/at_parser.hpp"
+#include "drone/clock.hpp"
+#include "drone/config.hpp"
+#include "drone/endpoint.hpp"
+#include "drone/navdata.hpp"
+#include "drone/sim/flight_model.hpp"
+#include "drone/sim/scene.hpp"
+
+#include <cstdint>
+#include <optional>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace gs::sim {
+
+struct NavdataFaults {
+    double loss = 0;              // probability a datagram is not sent
+    double reorder = 0;           // probability a datagram is held back and sent after the next one
+    double duplicate = 0;         // probability a datagram is sent twice
+    double corrupt_checksum = 0;  // probability its checksum is off by one
+};
+
+struct DroneCoreOptions {
+    FlightParams flight;
+    Pose start;                            // where the drone sits at boot (z = 0: on the ground)
+    std::vector<AutopilotStep> autopilot;  // flown after the first take-off when non-empty
+    bool autopilot_enabled = false;
+    NavdataFaults faults;
+    std::uint64_t seed = 1;
+    TimeNs watchdog_after_ns = ms_to_ns(50);    // no AT this long → COM_WATCHDOG bit, hover
+    TimeNs bootstrap_period_ns = ms_to_ns(65);  // bootstrap and demo navdata ≈ 15 Hz
+    TimeNs full_period_ns = ms_to_ns(5);        // full navdata 200 Hz
+    double battery_pct = 100.0;
+};
+
+struct OutDatagram {
+    net::Endpoint to;
+    std::vector<std::uint8_t> bytes;
+};
+
+struct DroneCoreCounters {
+    std::uint64_t at_datagrams = 0;
+    std::uint64_t at_commands = 0;
+    std::uint64_t at_skipped = 0;       // malformed commands (ignored, as the drone does)
+    std::uint64_t at_rejected_seq = 0;  // older sequence numbers
+    std::uint64_t at_too_long = 0;      // datagrams over 1024 bytes
+    std::uint64_t configs = 0;
+    std::uint64_t configs_unknown = 0;  // acknowledged but not stored
+    std::uint64_t comwdg = 0;
+    std::uint64_t watchdog_events = 0;
+    std::uint64_t navdata_sent = 0;
+    std::uint64_t navdata_dropped = 0;  // by the loss fault
+    std::uint64_t navdata_reordered = 0, navdata_duplicated = 0, navdata_corrupted = 0;
+    std::uint64_t reboots = 0;
+    std::uint64_t ftrims = 0, calibrations = 0, leds = 0, anims = 0;
+};
+
+class DroneCore {
+public:
+    explicit DroneCore(DroneCoreOptions options = {});
+
+    // Any datagram on the navdata port wakes navdata up towards its sender.
+    void on_navdata_trigger(const net::Endpoint& from, TimeNs now);
+    void on_at(std::span<const std::uint8_t> datagram, const net::Endpoint& from, TimeNs now);
+    // Runs the drone up to `now` (fixed 5 ms physics steps) and appends the navdata due.
+    void advance(TimeNs now, std::vector<OutDatagram>& out);
+
+    // A configuration dump requested with AT*CTRL=…,4,0, to be written on the control port.
+    std::optional<std::string> take_config_dump();
+
+    // Faults.
+    void set_faults(const NavdataFaults& f) { options_.faults = f; }
+    void blackout(TimeNs from, TimeNs until);  // no navdata at all in [from, until)
+    void reboot(TimeNs now);                   // sequences, configuration and client forgotten
+
+    const FlightState& flight() const { return model_.state(); }
+    Pose pose() const;  // the drone body pose in the world (DATASET.md frame)
+    std::uint32_t drone_state() const { return state_bits_; }
+    bool navdata_demo() const { return demo_; }
+    bool bootstrap() const { return bootstrap_; }
+    int video_channel() const;
+    std::uint32_t video_frame_number() const { return video_frame_number_; }
+    void set_video_frame(std::uint32_t number, std::uint32_t size_bytes) {
+        video_frame_number_ = number;
+        video_frame_size_ = size_bytes;
+    }
+    const ConfigMap& config() const { return config_; }
+    const DroneCoreCounters& counters() const { return counters_; }
+    std::optional<net::Endpoint> navdata_client() const { return navdata_client_; }
+    std::uint32_t navdata_sequence() const { return seq_; }
+    TimeNs now() const { return now_; }
+    bool autopilot_done() const;
+
+private:
+    void apply_command(const at::Command& c, TimeNs now);
+    void apply_config(const std::string& key, const std::string& value);
+    void update_bits();
+    void emit_navdata(std::vector<OutDatagram>& out);
+    void send(std::vector<std::uint8_t> bytes, std::vector<OutDatagram>& out);
+    FlightInput autopilot_input();
+
+    DroneCoreOptions options_;
+    FlightModel model_;
+    ConfigMap config_;
+    at::SeqFilter seq_filter_;
+    std::optional<net::Endpoint> navdata_client_;
+    std::optional<std::string> pending_dump_;
+    std::mt19937_64 rng_;
+    std::optional<OutDatagram> held_;  // reorder fault: sent after the next datagram
+
+    TimeNs now_ = 0;
+    TimeNs boot_ns_ = 0;
+    TimeNs sim_ns_ = 0;  // physics time reached
+    TimeNs last_at_ns_ = 0;
+    TimeNs last_nav_ns_ = 0;
+    TimeNs blackout_from_ = 0, blackout_until_ = 0;
+    bool started_ = false;  // advance() has run once
+    std::uint32_t seq_ = 0;
+    std::uint32_t state_bits_ = 0;
+    bool bootstrap_ = true;
+    bool demo_ = false;
+    std::uint32_t navdata_options_ = 0;
+    bool ack_ = false;
+    bool com_watchdog_ = false;
+    bool com_lost_ = false;
+    FlightInput input_;  // from REF and PCMD
+    std::uint32_t video_frame_number_ = 0;
+    std::uint32_t video_frame_size_ = 0;
+    double calibration_yaw_left_deg_ = 0;
+    // Autopilot
+    std::size_t ap_step_ = 0;
+    double ap_step_time_s_ = 0;
+    bool ap_active_ = false;
+    DroneCoreCounters counters_;
+    navdata::Navdata nav_;  // reused packet contents
+};
+
+// The configuration a factory-fresh AR.Drone 2 reports (PROTOCOL.md §5.4 defaults).
+ConfigMap default_drone_config();
+
+}  // namespace gs::sim

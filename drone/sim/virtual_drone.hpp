@@ -1,0 +1,123 @@
+#pragma once
+// The virtual AR.Drone 2 on sockets: AT on UDP 5556, navdata on UDP 5554 (sent from that port to
+// whoever woke it up), PaVE-framed H.264 of the rendered camera on TCP 5555, configuration dumps
+// on TCP 5559. Runs standalone (`ardrone-gs sim`) or inside the GUI and the tests, on loopback.
+// Threads: one owns the DroneCore (UDP I/O + physics), one renders/encodes/serves video, one
+// serves the control port; they share data only through latest-value slots and bounded queues.
+
+#include "drone/sim/drone_core.hpp"
+#include "drone/sim/renderer.hpp"
+#include "drone/sim/scene.hpp"
+#include "drone/sync.hpp"
+
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <thread>
+#include <variant>
+#include <vector>
+
+namespace gs::sim {
+
+struct VirtualDroneOptions {
+    std::string bind_address = "127.0.0.1";
+    std::uint16_t at_port = 5556, navdata_port = 5554, video_port = 5555, control_port = 5559;
+    Scene scene;             // the world (its start pose and autopilot are used)
+    bool autopilot = false;  // fly the scene's script after boot
+    DroneCoreOptions core;   // start/autopilot are taken from the scene
+    bool video = true;
+    int fps = 30;
+    int gop = 15;
+    int bitrate_bps = 1'500'000;
+};
+
+// Faults injected while running (tests and the GUI's fault panel).
+struct FaultNavdata {
+    NavdataFaults faults;
+};
+struct FaultBlackout {
+    int ms = 1000;  // no navdata at all for this long, from now
+};
+struct FaultVideoStall {
+    int ms = 1000;  // no video bytes for this long
+};
+struct FaultVideoReset {};  // reset the video TCP connection in the middle of a frame
+struct FaultReboot {};      // the drone restarts: sequences and configuration reset
+using Fault =
+    std::variant<FaultNavdata, FaultBlackout, FaultVideoStall, FaultVideoReset, FaultReboot>;
+
+struct VirtualDroneStatus {
+    FlightState flight;
+    std::uint32_t drone_state = 0;
+    DroneCoreCounters counters;
+    std::uint64_t video_frames_sent = 0;
+    std::uint64_t video_clients = 0;
+    std::uint64_t video_resets = 0;
+    double render_ms_last = 0, encode_ms_last = 0;
+    bool autopilot_done = false;
+    std::string last_error;
+};
+
+// Ground truth at one instant, for labels and tests.
+struct GroundTruth {
+    TimeNs t_ns = 0;  // monotonic
+    Pose pose;
+    std::uint32_t frame_number = 0;  // last video frame rendered
+};
+
+class VirtualDrone {
+public:
+    explicit VirtualDrone(VirtualDroneOptions options);
+    ~VirtualDrone();
+    VirtualDrone(const VirtualDrone&) = delete;
+    VirtualDrone& operator=(const VirtualDrone&) = delete;
+
+    // Binds every port (0 = ephemeral; see the bound ports below) and starts the threads.
+    [[nodiscard]] Expected<bool, std::string> start();
+    void stop();
+
+    std::uint16_t at_port() const { return ports_[0]; }
+    std::uint16_t navdata_port() const { return ports_[1]; }
+    std::uint16_t video_port() const { return ports_[2]; }
+    std::uint16_t control_port() const { return ports_[3]; }
+
+    void inject(Fault f) { faults_.push(std::move(f)); }
+    VirtualDroneStatus status() const { return status_.latest().value_or(VirtualDroneStatus{}); }
+    GroundTruth ground_truth() const { return truth_.latest().value_or(GroundTruth{}); }
+    const Scene& scene() const { return options_.scene; }
+
+private:
+    void core_loop();
+    void video_loop();
+    void control_loop();
+
+    VirtualDroneOptions options_;
+    std::atomic<bool> running_{false};
+    std::uint16_t ports_[4] = {0, 0, 0, 0};
+    struct Sockets;
+    std::unique_ptr<Sockets> sockets_;
+    std::vector<std::thread> threads_;
+
+    BoundedQueue<Fault> faults_{64};
+    BoundedQueue<FaultVideoStall> video_stalls_{8};
+    BoundedQueue<FaultVideoReset> video_resets_{8};
+    BoundedQueue<std::string> dumps_{8};
+    struct CameraState {
+        Pose pose;
+        int channel = 0;
+        TimeNs t_ns = 0;
+    };
+    LatestValue<CameraState> camera_;
+    struct VideoReport {
+        std::uint32_t frame_number = 0, size = 0;
+        std::uint64_t frames_sent = 0, clients = 0, resets = 0;
+        double render_ms = 0, encode_ms = 0;
+        std::string error;
+    };
+    LatestValue<VideoReport> video_report_;
+    LatestValue<VirtualDroneStatus> status_;
+    LatestValue<GroundTruth> truth_;
+};
+
+}  // namespace gs::sim

@@ -1,0 +1,318 @@
+#include "drone/sim/drone_core.hpp"
+#include "drone/at.hpp"
+#include "drone/navdata.hpp"
+
+#include <gtest/gtest.h>
+
+#include <functional>
+
+using namespace gs;
+using namespace gs::sim;
+
+namespace {
+constexpr std::uint32_t kFly = 1u << 0;
+constexpr std::uint32_t kAck = 1u << 6;
+constexpr std::uint32_t kDemo = 1u << 10;
+constexpr std::uint32_t kBootstrap = 1u << 11;
+constexpr std::uint32_t kComLost = 1u << 13;
+constexpr std::uint32_t kVbatLow = 1u << 15;
+constexpr std::uint32_t kComWdg = 1u << 30;
+constexpr std::uint32_t kEmergency = 1u << 31;
+
+net::Endpoint client(std::uint16_t port = 40000) {
+    return *net::Endpoint::parse("127.0.0.1:" + std::to_string(port));
+}
+
+std::span<const std::uint8_t> bytes(const std::string& s) {
+    return {reinterpret_cast<const std::uint8_t*>(s.data()), s.size()};
+}
+
+// A scripted ground station: keeps the AT stream alive every 30 ms and collects navdata.
+struct Station {
+    DroneCore core;
+    TimeNs now = ms_to_ns(1000);
+    at::SeqCounter seq;
+    bool fly = false, emergency = false;
+    at::Pcmd pcmd;
+    // Extra commands for the next datagram, numbered when sent (after REF and PCMD).
+    std::vector<std::function<std::string(at::SeqCounter&)>> extra;
+    std::vector<OutDatagram> out;
+    std::vector<navdata::Navdata> received;
+    bool keepalive = true;
+
+    explicit Station(DroneCoreOptions o = {}) : core(std::move(o)) { core.advance(now, out); }
+
+    void send_now() {
+        std::string d = at::ref(seq.next(), at::ref_input(fly, emergency));
+        d += pcmd.flags
+                 ? at::pcmd(seq.next(), pcmd.flags, pcmd.roll, pcmd.pitch, pcmd.gaz, pcmd.yaw)
+                 : at::hover(seq.next());
+        for (auto& e : extra) d += e(seq);
+        extra.clear();
+        core.on_at(bytes(d), client(), now);
+    }
+    void run(int ms) {
+        for (int t = 0; t < ms; t += 5) {
+            now += ms_to_ns(5);
+            if (keepalive && (t % 30) == 0) send_now();
+            out.clear();
+            core.advance(now, out);
+            for (auto& d : out) {
+                EXPECT_EQ(d.to, client());
+                auto nd = navdata::parse_navdata(d.bytes);
+                if (nd) received.push_back(std::move(*nd));
+            }
+        }
+    }
+    void config(const std::string& key, const std::string& value) {
+        extra.push_back([](at::SeqCounter& sq) {
+            return *at::config_ids(sq.next(), "00000000", "00000000", "00000000");
+        });
+        extra.push_back(
+            [key, value](at::SeqCounter& sq) { return *at::config(sq.next(), key, value); });
+    }
+    std::uint32_t last_state() const {
+        if (received.empty()) {
+            ADD_FAILURE() << "no navdata received";
+            return 0;
+        }
+        return received.back().header.drone_state.raw;
+    }
+    void wake() { core.on_navdata_trigger(client(), now); }
+    void configure_demo() {
+        wake();
+        config("general:navdata_demo", "TRUE");
+        run(100);
+        ASSERT_TRUE(last_state() & kAck);
+        extra.push_back([](at::SeqCounter& sq) { return at::ctrl(sq.next(), at::CtrlMode::Ack); });
+        run(100);
+        ASSERT_FALSE(last_state() & kAck);
+    }
+};
+}  // namespace
+
+TEST(DroneCore, SendsNothingUntilWokenThenBootstrapPacketsToTheWakerAt15Hz) {
+    Station s;
+    s.run(500);
+    EXPECT_TRUE(s.received.empty());
+    s.wake();
+    s.run(1000);
+    ASSERT_GE(s.received.size(), 14u);
+    ASSERT_LE(s.received.size(), 16u);
+    for (const auto& nd : s.received) {
+        EXPECT_TRUE(nd.header.drone_state.raw & kBootstrap);
+        EXPECT_FALSE(nd.demo.has_value());
+        EXPECT_EQ(nd.options.size(), 1u);  // only the checksum
+    }
+    EXPECT_EQ(s.received.front().header.sequence + s.received.size() - 1,
+              s.received.back().header.sequence);
+}
+
+TEST(DroneCore, DemoConfigurationAcksThenSendsDemoNavdataMatchingTheFlight) {
+    Station s;
+    s.configure_demo();
+    s.received.clear();
+    s.run(1000);
+    ASSERT_GE(s.received.size(), 14u);
+    const auto& nd = s.received.back();
+    EXPECT_TRUE(nd.header.drone_state.raw & kDemo);
+    EXPECT_FALSE(nd.header.drone_state.raw & kBootstrap);
+    ASSERT_TRUE(nd.demo);
+    ASSERT_TRUE(nd.vision_detect);
+    EXPECT_EQ(nd.demo->ctrl_state.major(), 2);  // landed
+    EXPECT_EQ(nd.demo->vbat_flying_percentage, 100u);
+    EXPECT_EQ(s.core.config().get("general:navdata_demo"), "TRUE");
+}
+
+TEST(DroneCore, FullModeSendsTheRequestedOptionsAt200Hz) {
+    Station s;
+    s.wake();
+    s.config("general:navdata_demo", "FALSE");
+    s.run(50);
+    s.extra.push_back([](at::SeqCounter& sq) { return at::ctrl(sq.next(), at::CtrlMode::Ack); });
+    s.config("general:navdata_options",
+             std::to_string((1 << 0) | (1 << 1) | (1 << 10) | (1 << 19)));
+    s.run(50);
+    s.extra.push_back([](at::SeqCounter& sq) { return at::ctrl(sq.next(), at::CtrlMode::Ack); });
+    s.run(50);
+    s.received.clear();
+    s.run(1000);
+    EXPECT_NEAR(static_cast<double>(s.received.size()), 200.0, 2.0);
+    const auto& nd = s.received.back();
+    EXPECT_FALSE(nd.header.drone_state.raw & kDemo);
+    EXPECT_TRUE(nd.demo && nd.time && nd.altitude && nd.video_stream);
+    EXPECT_FALSE(nd.vision_detect.has_value());
+    EXPECT_FALSE(nd.magneto.has_value());
+}
+
+TEST(DroneCore, TakesOffFliesForwardAndReportsItInNavdata) {
+    Station s;
+    s.configure_demo();
+    s.fly = true;
+    s.run(4000);
+    ASSERT_TRUE(s.last_state() & kFly);
+    EXPECT_EQ(s.received.back().demo->ctrl_state.major(), 4);  // hovering
+    EXPECT_NEAR(s.received.back().demo->altitude_mm, 1000, 60);
+    s.pcmd = {at::kPcmdProgressive, 0, -0.5f, 0, 0};
+    s.run(3000);
+    const auto& d = *s.received.back().demo;
+    EXPECT_EQ(d.ctrl_state.major(), 3);     // flying
+    EXPECT_NEAR(d.theta_mdeg, -6000, 200);  // half of 12 degrees, nose down
+    EXPECT_GT(d.vx_mm_s, 500);
+    EXPECT_GT(s.core.flight().x_m, 1.5);
+    s.pcmd = {};
+    s.fly = false;
+    s.run(4000);
+    EXPECT_EQ(s.received.back().demo->ctrl_state.major(), 2);
+    EXPECT_FALSE(s.last_state() & kFly);
+}
+
+TEST(DroneCore, CommandsWithOldSequenceNumbersAreIgnoredUntilTheCounterResets) {
+    Station s;
+    s.configure_demo();
+    s.keepalive = false;
+    const net::Endpoint c = client();
+    s.core.on_at(bytes(at::ref(1000, at::ref_input(false, false))), c, s.now);
+    s.core.on_at(bytes(at::ref(999, at::ref_input(true, false))), c, s.now);  // stale: ignored
+    s.run(10);
+    EXPECT_FALSE(s.core.flight().user_start);
+    EXPECT_EQ(s.core.counters().at_rejected_seq, 1u);
+    s.core.on_at(bytes(at::ref(1, at::ref_input(true, false))), c, s.now);  // 1 restarts
+    s.run(10);
+    EXPECT_TRUE(s.core.flight().user_start);
+}
+
+TEST(DroneCore, SilenceRaisesTheWatchdogBitAndHoversUntilComwdg) {
+    Station s;
+    s.configure_demo();
+    s.fly = true;
+    s.run(4000);
+    s.pcmd = {at::kPcmdProgressive, 0, -1.0f, 0, 0};
+    s.run(500);
+    s.keepalive = false;
+    s.run(300);
+    EXPECT_TRUE(s.last_state() & kComWdg);
+    EXPECT_EQ(s.core.counters().watchdog_events, 1u);
+    s.keepalive = true;
+    s.run(1500);  // commands flow again, but without COMWDG the drone keeps hovering
+    EXPECT_TRUE(s.last_state() & kComWdg);
+    EXPECT_LT(std::abs(s.core.flight().vx_body_mps()), 0.2);
+    s.extra.push_back([](at::SeqCounter& sq) { return at::comwdg(sq.next()); });
+    s.run(1000);
+    EXPECT_FALSE(s.last_state() & kComWdg);
+    EXPECT_GT(s.core.flight().vx_body_mps(), 0.5);
+}
+
+TEST(DroneCore, TwoSecondsWithoutCommandsIsComLostHover) {
+    Station s;
+    s.configure_demo();
+    s.fly = true;
+    s.run(4000);
+    s.keepalive = false;
+    s.run(2200);
+    EXPECT_TRUE(s.last_state() & kComLost);
+    EXPECT_EQ(s.received.back().demo->ctrl_state.major(), 4);
+    EXPECT_EQ(s.received.back().demo->ctrl_state.minor(), 8);  // LOST_COM
+}
+
+TEST(DroneCore, ConfigDumpOnRequestAndUnknownKeysAreAckedButIgnored) {
+    Station s;
+    s.configure_demo();
+    s.config("control:altitude_max", "2500");
+    s.config("video:no_such_key", "1");
+    s.extra.push_back([](at::SeqCounter& sq) { return at::ctrl(sq.next(), at::CtrlMode::CfgGet); });
+    s.run(60);
+    auto dump = s.core.take_config_dump();
+    ASSERT_TRUE(dump);
+    EXPECT_EQ(dump->back(), '\0');
+    auto parsed = parse_config_dump(*dump);
+    ASSERT_TRUE(parsed);
+    EXPECT_EQ(parsed->get("control:altitude_max"), "2500");
+    EXPECT_EQ(parsed->get("general:navdata_demo"), "TRUE");
+    EXPECT_FALSE(parsed->contains("video:no_such_key"));
+    EXPECT_EQ(s.core.counters().configs_unknown, 1u);
+    EXPECT_FALSE(s.core.take_config_dump());  // handed out once
+}
+
+TEST(DroneCore, EmergencyCutsTheMotorsAndShowsInTheState) {
+    Station s;
+    s.configure_demo();
+    s.fly = true;
+    s.run(4000);
+    s.emergency = true;
+    s.run(100);
+    EXPECT_TRUE(s.last_state() & kEmergency);
+    EXPECT_FALSE(s.core.flight().motors_on);
+}
+
+TEST(DroneCore, LowBatteryIsReportedAndTakeOffRefused) {
+    DroneCoreOptions o;
+    o.battery_pct = 15;
+    Station s(o);
+    s.configure_demo();
+    s.fly = true;
+    s.run(2000);
+    EXPECT_TRUE(s.last_state() & kVbatLow);
+    EXPECT_FALSE(s.last_state() & kFly);
+}
+
+TEST(DroneCore, FaultsAreSeededAndCounted) {
+    auto run_with = [](NavdataFaults f, std::uint64_t seed) {
+        DroneCoreOptions o;
+        o.seed = seed;
+        Station s(o);
+        s.configure_demo();
+        s.core.set_faults(f);
+        s.received.clear();
+        s.run(10000);
+        return std::make_pair(s.received.size(), s.core.counters());
+    };
+    NavdataFaults loss;
+    loss.loss = 0.3;
+    auto [n1, c1] = run_with(loss, 7);
+    auto [n2, c2] = run_with(loss, 7);
+    EXPECT_EQ(n1, n2);  // same seed, same run
+    const double sent_plus_lost = static_cast<double>(c1.navdata_sent + c1.navdata_dropped);
+    EXPECT_NEAR(static_cast<double>(c1.navdata_dropped) / sent_plus_lost, 0.3, 0.06);
+
+    NavdataFaults corrupt;
+    corrupt.corrupt_checksum = 1.0;
+    auto [n3, c3] = run_with(corrupt, 1);
+    EXPECT_EQ(n3, 0u);  // every packet fails its checksum
+    EXPECT_GT(c3.navdata_corrupted, 100u);
+}
+
+TEST(DroneCore, ARebootStartsSequencesAgainInBootstrapAndForgetsTheClient) {
+    Station s;
+    s.configure_demo();
+    s.core.reboot(s.now);
+    s.received.clear();
+    s.run(300);
+    EXPECT_TRUE(s.received.empty());  // must be woken again
+    s.wake();
+    s.run(300);
+    ASSERT_FALSE(s.received.empty());
+    EXPECT_EQ(s.received.front().header.sequence, 1u);
+    EXPECT_TRUE(s.last_state() & kBootstrap);
+    EXPECT_EQ(s.core.config().get("general:navdata_demo"), "FALSE");
+}
+
+TEST(DroneCore, TheAutopilotFliesTheScriptedSegment) {
+    DroneCoreOptions o;
+    o.autopilot_enabled = true;
+    o.autopilot = {
+        {"takeoff", 0, 0, 0, 0, 0}, {"move", 7.0, 1.0, 0, 0, 0}, {"hover", 1.0, 0, 0, 0, 0}};
+    Station s(o);
+    s.keepalive = false;  // no ground station: the script flies on its own
+    s.run(3500);
+    EXPECT_TRUE(s.core.flight().flying());
+    EXPECT_NEAR(s.core.flight().z_m, 1.0, 0.1);
+    s.run(3000);
+    EXPECT_EQ(s.core.flight().major, CtrlMajor::Flying);
+    EXPECT_NEAR(s.core.flight().vx_body_mps(), 1.0, 0.05);
+    s.run(6000);
+    EXPECT_TRUE(s.core.autopilot_done());
+    EXPECT_EQ(s.core.flight().major, CtrlMajor::Hovering);
+    EXPECT_NEAR(s.core.flight().x_m, 7.0, 0.7);
+    EXPECT_NEAR(s.core.flight().y_m, 0.0, 0.01);
+}
