@@ -83,7 +83,8 @@ Expected<std::vector<AccessUnitSpan>, DatasetError> index_annexb_file(
     const std::filesystem::path& path, const std::string& name, std::uint64_t max_unit_bytes) {
     std::ifstream in(path, std::ios::binary);
     if (!in) {
-        return Unexpected(DatasetError{DatasetErrorCode::Io, name, 0, 0, "cannot open for reading"});
+        return Unexpected(
+            DatasetError{DatasetErrorCode::Io, name, 0, 0, "cannot open for reading"});
     }
     AnnexBScanner s;
     std::vector<std::uint8_t> buf(1u << 20);

@@ -16,7 +16,7 @@ namespace gs {
 struct AccessUnitSpan {
     std::uint64_t offset = 0;  // of its first start code
     std::uint64_t size = 0;
-    bool idr = false;          // holds an IDR slice (NAL type 5)
+    bool idr = false;  // holds an IDR slice (NAL type 5)
 };
 
 // Feed bytes in order (any chunking); finish() closes the last access unit.

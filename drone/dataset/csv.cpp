@@ -109,11 +109,11 @@ Expected<Table, DatasetError> Table::parse(std::string text, std::string file) {
             continue;
         }
         if (fields.size() != t.header_.size()) {
-            return Unexpected(DatasetError{
-                DatasetErrorCode::Malformed, t.file_, line_no,
-                static_cast<int>(std::min(fields.size(), t.header_.size()) + 1),
-                "expected " + std::to_string(t.header_.size()) + " fields, got " +
-                    std::to_string(fields.size())});
+            return Unexpected(
+                DatasetError{DatasetErrorCode::Malformed, t.file_, line_no,
+                             static_cast<int>(std::min(fields.size(), t.header_.size()) + 1),
+                             "expected " + std::to_string(t.header_.size()) + " fields, got " +
+                                 std::to_string(fields.size())});
         }
         t.rows_.push_back(Row{line_no, fields});
     }
@@ -209,7 +209,8 @@ std::string format_ms(std::int64_t t_ns) {
 std::int64_t ms_to_ns_rounded(double ms) {
     const double ns = ms * 1e6;
     constexpr double kLim = 9.0e18;
-    if (!(ns > -kLim && ns < kLim)) return ns < 0 ? -static_cast<std::int64_t>(kLim) : static_cast<std::int64_t>(kLim);
+    if (!(ns > -kLim && ns < kLim))
+        return ns < 0 ? -static_cast<std::int64_t>(kLim) : static_cast<std::int64_t>(kLim);
     return std::llround(ns);
 }
 

@@ -29,7 +29,9 @@ public:
     std::optional<std::size_t> column(std::string_view name) const;
     const std::vector<std::string>& header() const { return header_; }
     std::size_t rows() const { return rows_.size(); }
-    std::string_view field(std::size_t row, std::size_t col) const { return rows_[row].fields[col]; }
+    std::string_view field(std::size_t row, std::size_t col) const {
+        return rows_[row].fields[col];
+    }
     int line_of(std::size_t row) const { return rows_[row].line; }
     const std::string& file() const { return file_; }
 

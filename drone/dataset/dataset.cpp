@@ -16,14 +16,20 @@ namespace gs {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-std::string to_string(CameraId c) { return c == CameraId::Front ? "front" : "bottom"; }
+std::string to_string(CameraId c) {
+    return c == CameraId::Front ? "front" : "bottom";
+}
 
 std::string to_string(Scenario s) {
     switch (s) {
-        case Scenario::Left: return "left";
-        case Scenario::Right: return "right";
-        case Scenario::Center: return "center";
-        case Scenario::None: return "none";
+        case Scenario::Left:
+            return "left";
+        case Scenario::Right:
+            return "right";
+        case Scenario::Center:
+            return "center";
+        case Scenario::None:
+            return "none";
     }
     return "none";
 }
@@ -75,7 +81,8 @@ public:
     JsonFields(const json& obj, const std::string& text, std::string file, std::string prefix = {})
         : obj_(obj), text_(text), file_(std::move(file)), prefix_(std::move(prefix)) {}
 
-    DatasetError error(DatasetErrorCode code, const std::string& key, const std::string& msg) const {
+    DatasetError error(DatasetErrorCode code, const std::string& key,
+                       const std::string& msg) const {
         auto [l, c] = locate_key(text_, key);
         return err(code, file_, "'" + prefix_ + key + "': " + msg, l, c);
     }
@@ -105,8 +112,8 @@ public:
             return static_cast<std::int64_t>(u);
         }
         if (!v->is_number_integer())
-            return Unexpected(error(DatasetErrorCode::Malformed, key,
-                                    "expected an integer, got " + v->dump()));
+            return Unexpected(
+                error(DatasetErrorCode::Malformed, key, "expected an integer, got " + v->dump()));
         const auto i = v->get<std::int64_t>();
         if (i < lo || i > hi) return Unexpected(range_error(key, std::to_string(i), lo, hi));
         return i;
@@ -126,9 +133,9 @@ public:
 private:
     DatasetError range_error(const std::string& key, const std::string& got, std::int64_t lo,
                              std::int64_t hi) const {
-        return error(DatasetErrorCode::OutOfRange, key,
-                     got + " is out of range [" + std::to_string(lo) + ", " + std::to_string(hi) +
-                         "]");
+        return error(
+            DatasetErrorCode::OutOfRange, key,
+            got + " is out of range [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
     }
     const json& obj_;
     const std::string& text_;
@@ -151,8 +158,8 @@ Expected<CameraCalibration, DatasetError> parse_calibration(const json& obj,
         *dst = *v;
     }
     if (!(c.fx > 0) || !(c.fy > 0))
-        return Unexpected(f.error(DatasetErrorCode::OutOfRange, "fx",
-                                  "focal lengths must be positive"));
+        return Unexpected(
+            f.error(DatasetErrorCode::OutOfRange, "fx", "focal lengths must be positive"));
     if (const json* d = f.find("dist")) {
         if (!d->is_array() || (d->size() != 4 && d->size() != 5))
             return Unexpected(f.error(DatasetErrorCode::Malformed, "dist",
@@ -214,7 +221,8 @@ Expected<std::string, DatasetError> read_text_file(const fs::path& path, const s
                                                    std::uintmax_t max_bytes) {
     std::error_code ec;
     const auto st = fs::status(path, ec);
-    if (ec || !fs::exists(st)) return Unexpected(err(DatasetErrorCode::Missing, name, "file not found"));
+    if (ec || !fs::exists(st))
+        return Unexpected(err(DatasetErrorCode::Missing, name, "file not found"));
     if (!fs::is_regular_file(st))
         return Unexpected(err(DatasetErrorCode::Malformed, name, "not a regular file"));
     const auto size = fs::file_size(path, ec);
@@ -239,7 +247,8 @@ Expected<CameraCalibration, DatasetError> load_calibration_file(const fs::path& 
     auto j = parse_json(*text, file.string());
     if (!j) return Unexpected(j.error());
     if (!j->is_object())
-        return Unexpected(err(DatasetErrorCode::Malformed, file.string(), "expected a JSON object"));
+        return Unexpected(
+            err(DatasetErrorCode::Malformed, file.string(), "expected a JSON object"));
     return parse_calibration(*j, *text, file.string(), "");
 }
 
@@ -320,17 +329,16 @@ Expected<DatasetInfo, DatasetError> parse_flight_json(const std::string& text,
         if (!frames) return Unexpected(frames.error());
         info.frames = *frames;
     }
-    for (auto [key, dst] : {std::pair<const char*, std::string*>{"video", &info.video},
-                            {"images", &info.images}}) {
+    for (auto [key, dst] :
+         {std::pair<const char*, std::string*>{"video", &info.video}, {"images", &info.images}}) {
         if (!f.find(key)) continue;
         auto s = f.string(key);
         if (!s) return Unexpected(s.error());
-        if (s->empty())
-            return Unexpected(f.error(DatasetErrorCode::Malformed, key, "empty path"));
+        if (s->empty()) return Unexpected(f.error(DatasetErrorCode::Malformed, key, "empty path"));
         if (has_dotdot_or_root(fs::path(*s)))
-            return Unexpected(f.error(DatasetErrorCode::UnsafePath, key,
-                                      "must be a relative path inside the dataset, got '" + *s +
-                                          "'"));
+            return Unexpected(
+                f.error(DatasetErrorCode::UnsafePath, key,
+                        "must be a relative path inside the dataset, got '" + *s + "'"));
         *dst = *s;
     }
     if (const json* c = f.find("calibration")) {
@@ -349,8 +357,8 @@ Expected<DatasetInfo, DatasetError> parse_flight_json(const std::string& text,
             return Unexpected(f.error(DatasetErrorCode::Malformed, "source", "expected a string"));
         info.source = s->get<std::string>();
     }
-    static const std::set<std::string> known = {"format", "version", "camera", "width",
-                                                "height", "fps",     "frames", "video",
+    static const std::set<std::string> known = {"format", "version",     "camera", "width",
+                                                "height", "fps",         "frames", "video",
                                                 "images", "calibration", "source"};
     std::string unknown;
     for (auto it = j.begin(); it != j.end(); ++it) {
@@ -370,8 +378,8 @@ struct NavColumns {
 };
 
 NavColumns nav_columns(const csv::Table& t) {
-    return {t.column("t_ms"),   t.column("roll_deg"), t.column("pitch_deg"),
-            t.column("yaw_deg"), t.column("vx_mps"),   t.column("vy_mps"),
+    return {t.column("t_ms"),    t.column("roll_deg"),  t.column("pitch_deg"),
+            t.column("yaw_deg"), t.column("vx_mps"),    t.column("vy_mps"),
             t.column("vz_mps"),  t.column("altitude_m")};
 }
 
@@ -393,8 +401,9 @@ std::optional<DatasetError> read_nav(const csv::Table& t, const NavColumns& c, s
     if (!std::isfinite(*tv)) return t.error_at(r, *c.t_ms, "expected a time, got an empty field");
     s.t_ns = csv::ms_to_ns_rounded(*tv);
     if (r > 0 && s.t_ns < prev_t_ns) {
-        auto e = t.error_at(r, *c.t_ms, "time goes backwards (" + std::string(t.field(r, *c.t_ms)) +
-                                            " after " + csv::format_ms(prev_t_ns) + ")");
+        auto e = t.error_at(r, *c.t_ms,
+                            "time goes backwards (" + std::string(t.field(r, *c.t_ms)) + " after " +
+                                csv::format_ms(prev_t_ns) + ")");
         e.code = DatasetErrorCode::Inconsistent;
         return e;
     }
@@ -432,9 +441,10 @@ Expected<std::vector<FrameRow>, DatasetError> parse_frames_csv(std::string text)
         auto fi = t.integer(r, frame_col);
         if (!fi) return Unexpected(fi.error());
         if (*fi != static_cast<std::int64_t>(r)) {
-            auto e = t.error_at(r, frame_col,
-                                "expected frame " + std::to_string(r) + ", got " +
-                                    std::to_string(*fi) + " (rows are frames 0, 1, 2 ... in order)");
+            auto e =
+                t.error_at(r, frame_col,
+                           "expected frame " + std::to_string(r) + ", got " + std::to_string(*fi) +
+                               " (rows are frames 0, 1, 2 ... in order)");
             e.code = DatasetErrorCode::Inconsistent;
             return Unexpected(e);
         }
@@ -553,9 +563,9 @@ Expected<fs::path, DatasetError> resolve_inside(const fs::path& dir, const std::
                                                 const std::string& what) {
     const fs::path rel(relative);
     if (relative.empty() || has_dotdot_or_root(rel))
-        return Unexpected(err(DatasetErrorCode::UnsafePath, "flight.json",
-                              "'" + what + "' must be a relative path inside the dataset, got '" +
-                                  relative + "'"));
+        return Unexpected(err(
+            DatasetErrorCode::UnsafePath, "flight.json",
+            "'" + what + "' must be a relative path inside the dataset, got '" + relative + "'"));
     const fs::path p = dir / rel;
     std::error_code ec;
     if (!fs::exists(fs::symlink_status(p, ec))) return p;  // absent: nothing to escape through
@@ -564,9 +574,9 @@ Expected<fs::path, DatasetError> resolve_inside(const fs::path& dir, const std::
     const fs::path real = fs::weakly_canonical(p, ec);
     if (ec) return Unexpected(err(DatasetErrorCode::Io, relative, ec.message()));
     if (!is_inside(root, real))
-        return Unexpected(err(DatasetErrorCode::UnsafePath, "flight.json",
-                              "'" + what + "' (" + relative +
-                                  ") resolves outside the dataset directory"));
+        return Unexpected(
+            err(DatasetErrorCode::UnsafePath, "flight.json",
+                "'" + what + "' (" + relative + ") resolves outside the dataset directory"));
     return p;
 }
 
@@ -609,9 +619,9 @@ Expected<Dataset, DatasetError> Dataset::open(const fs::path& dir, const Dataset
     d.frames_ = std::move(*frames);
     const auto rows = static_cast<std::int64_t>(d.frames_.size());
     if (rows > lim.max_frames)
-        return Unexpected(err(DatasetErrorCode::OutOfRange, "frames.csv",
-                              std::to_string(rows) + " rows (limit " +
-                                  std::to_string(lim.max_frames) + ")"));
+        return Unexpected(
+            err(DatasetErrorCode::OutOfRange, "frames.csv",
+                std::to_string(rows) + " rows (limit " + std::to_string(lim.max_frames) + ")"));
     if (d.info_.frames && *d.info_.frames != rows) {
         auto [l, c] = locate_key(*flight_text, "frames");
         return Unexpected(err(DatasetErrorCode::Inconsistent, "flight.json",
@@ -674,15 +684,16 @@ Expected<Dataset, DatasetError> Dataset::open(const fs::path& dir, const Dataset
             while (found.count(first_missing)) ++first_missing;
             char name[32];
             std::snprintf(name, sizeof name, "%06lld", static_cast<long long>(first_missing));
-            problem = err(DatasetErrorCode::Inconsistent, images_name,
-                          "holds " + std::to_string(found.size()) + " of the " +
-                              std::to_string(rows) + " frames in frames.csv; frame " +
-                              std::to_string(first_missing) + " (" + name +
-                              ".png or .jpg) is missing");
+            problem =
+                err(DatasetErrorCode::Inconsistent, images_name,
+                    "holds " + std::to_string(found.size()) + " of the " + std::to_string(rows) +
+                        " frames in frames.csv; frame " + std::to_string(first_missing) + " (" +
+                        name + ".png or .jpg) is missing");
         }
         if (problem) {
             if (!d.video_path_) return Unexpected(*problem);
-            d.warnings_.push_back(to_string(*problem) + " (ignored: " + video_name + " is present)");
+            d.warnings_.push_back(to_string(*problem) + " (ignored: " + video_name +
+                                  " is present)");
         } else {
             d.image_files_.reserve(found.size());
             for (auto& [i, p] : found) d.image_files_.push_back(std::move(p));
@@ -692,9 +703,9 @@ Expected<Dataset, DatasetError> Dataset::open(const fs::path& dir, const Dataset
         }
     }
     if (!d.video_path_ && d.image_files_.empty() && rows > 0)
-        return Unexpected(err(DatasetErrorCode::Missing, "flight.json",
-                              "neither '" + video_name + "' nor '" + images_name +
-                                  "' is present in the dataset"));
+        return Unexpected(err(
+            DatasetErrorCode::Missing, "flight.json",
+            "neither '" + video_name + "' nor '" + images_name + "' is present in the dataset"));
 
     // Calibration: flight.json, else the shipped default of that camera.
     if (d.info_.calibration) {

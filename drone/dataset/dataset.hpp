@@ -34,8 +34,8 @@ struct CameraCalibration {
 // Loads a calibration file in the assets/ shape {fx, fy, cx, cy, dist[5], width, height, source}.
 Expected<CameraCalibration, DatasetError> load_calibration_file(const std::filesystem::path& file);
 // The camera's default shipped in `assets_dir`/calibration/ardrone2_{front,bottom}.json.
-Expected<CameraCalibration, DatasetError> default_calibration(CameraId camera,
-                                                              const std::filesystem::path& assets_dir);
+Expected<CameraCalibration, DatasetError> default_calibration(
+    CameraId camera, const std::filesystem::path& assets_dir);
 // Same intrinsics for another image size (scales focal lengths and centre; same field of view).
 CameraCalibration scaled_to(const CameraCalibration& c, int width, int height);
 
@@ -46,7 +46,7 @@ struct DatasetInfo {
     int width = 0, height = 0;
     double fps = 0;
     std::optional<std::int64_t> frames;  // declared row count of frames.csv
-    std::string video = "video.h264";     // relative to the dataset directory
+    std::string video = "video.h264";    // relative to the dataset directory
     std::string images = "frames";
     std::optional<CameraCalibration> calibration;  // as stored in the file
     std::string source;
@@ -82,7 +82,7 @@ struct LabelRow {
 
 // Upper bounds that make a dataset "absurd" rather than big.
 struct DatasetLimits {
-    int max_dimension = 8192;                    // width, height
+    int max_dimension = 8192;  // width, height
     double max_fps = 1000;
     std::int64_t max_frames = 10'000'000;
     std::uintmax_t max_json_bytes = 4u << 20;
@@ -128,7 +128,8 @@ public:
 
     // Assembles a dataset in memory (thesis import, tests); no file is read.
     static Dataset from_parts(std::filesystem::path dir, DatasetInfo info, CameraCalibration calib,
-                              std::vector<FrameRow> frames, std::vector<std::filesystem::path> images);
+                              std::vector<FrameRow> frames,
+                              std::vector<std::filesystem::path> images);
 
 private:
     std::filesystem::path dir_;

@@ -30,8 +30,9 @@ TimeNs DatasetSource::media_now() {
     if (paused_) return paused_media_ns_;
     if (!anchored_) {
         const auto& rows = dataset_.frames();
-        anchor(next_frame_ < dataset_.frame_count() ? rows[static_cast<std::size_t>(next_frame_)].nav.t_ns
-                                                    : (rows.empty() ? 0 : rows.back().nav.t_ns));
+        anchor(next_frame_ < dataset_.frame_count()
+                   ? rows[static_cast<std::size_t>(next_frame_)].nav.t_ns
+                   : (rows.empty() ? 0 : rows.back().nav.t_ns));
     }
     const double elapsed = static_cast<double>(clock_.now_ns() - anchor_wall_ns_);
     return anchor_media_ns_ + static_cast<TimeNs>(elapsed * pacing_.speed);

@@ -4,13 +4,20 @@ namespace gs {
 
 std::string to_string(DatasetErrorCode c) {
     switch (c) {
-        case DatasetErrorCode::Missing: return "missing";
-        case DatasetErrorCode::Malformed: return "malformed";
-        case DatasetErrorCode::Inconsistent: return "inconsistent";
-        case DatasetErrorCode::OutOfRange: return "out of range";
-        case DatasetErrorCode::UnsafePath: return "unsafe path";
-        case DatasetErrorCode::Io: return "i/o error";
-        case DatasetErrorCode::Unsupported: return "unsupported";
+        case DatasetErrorCode::Missing:
+            return "missing";
+        case DatasetErrorCode::Malformed:
+            return "malformed";
+        case DatasetErrorCode::Inconsistent:
+            return "inconsistent";
+        case DatasetErrorCode::OutOfRange:
+            return "out of range";
+        case DatasetErrorCode::UnsafePath:
+            return "unsafe path";
+        case DatasetErrorCode::Io:
+            return "i/o error";
+        case DatasetErrorCode::Unsupported:
+            return "unsupported";
     }
     return "unknown";
 }

@@ -61,7 +61,7 @@ void append_at_line(std::string& out, std::int64_t t_us, std::string_view datagr
 }
 
 Expected<RawReadResult, DatasetError> parse_navdata_bin(std::span<const std::uint8_t> bytes,
-                                                       const std::string& name) {
+                                                        const std::string& name) {
     RawReadResult r;
     std::size_t pos = 0;
     std::int64_t prev = 0;
@@ -88,15 +88,16 @@ Expected<RawReadResult, DatasetError> parse_navdata_bin(std::span<const std::uin
             break;
         }
         prev = t;
-        r.records.push_back({t, std::vector<std::uint8_t>(bytes.begin() + static_cast<std::ptrdiff_t>(pos + 12),
-                                                          bytes.begin() + static_cast<std::ptrdiff_t>(pos + 12 + len))});
+        r.records.push_back({t, std::vector<std::uint8_t>(
+                                    bytes.begin() + static_cast<std::ptrdiff_t>(pos + 12),
+                                    bytes.begin() + static_cast<std::ptrdiff_t>(pos + 12 + len))});
         pos += 12 + len;
     }
     return r;
 }
 
-Expected<std::vector<RawChunk>, DatasetError> parse_video_chunks(std::span<const std::uint8_t> bytes,
-                                                                const std::string& name) {
+Expected<std::vector<RawChunk>, DatasetError> parse_video_chunks(
+    std::span<const std::uint8_t> bytes, const std::string& name) {
     std::vector<RawChunk> out;
     std::uint64_t offset = 0;
     for (std::size_t pos = 0; pos + 12 <= bytes.size(); pos += 12) {
@@ -105,9 +106,9 @@ Expected<std::vector<RawChunk>, DatasetError> parse_video_chunks(std::span<const
         c.length = static_cast<std::uint32_t>(get_le(bytes.data() + pos + 8, 4));
         c.offset = offset;
         if (!out.empty() && c.t_us < out.back().t_us)
-            return Unexpected(DatasetError{DatasetErrorCode::Inconsistent, name, 0, 0,
-                                           "record " + std::to_string(out.size()) +
-                                               ": time goes backwards"});
+            return Unexpected(
+                DatasetError{DatasetErrorCode::Inconsistent, name, 0, 0,
+                             "record " + std::to_string(out.size()) + ": time goes backwards"});
         offset += c.length;
         out.push_back(c);
     }
@@ -115,7 +116,7 @@ Expected<std::vector<RawChunk>, DatasetError> parse_video_chunks(std::span<const
 }
 
 Expected<std::vector<AtRecord>, DatasetError> parse_at_log(std::string_view text,
-                                                          const std::string& name) {
+                                                           const std::string& name) {
     std::vector<AtRecord> out;
     int line_no = 0;
     std::size_t pos = 0;
@@ -152,7 +153,8 @@ Expected<std::vector<AtRecord>, DatasetError> parse_at_log(std::string_view text
             } else if (e == 'x' && i + 2 < line.size()) {
                 unsigned v = 0;
                 auto [q, ec2] = std::from_chars(line.data() + i + 1, line.data() + i + 3, v, 16);
-                if (ec2 != std::errc() || q != line.data() + i + 3) return bad(col, "bad \\x escape");
+                if (ec2 != std::errc() || q != line.data() + i + 3)
+                    return bad(col, "bad \\x escape");
                 rec.datagram += static_cast<char>(v);
                 i += 2;
             } else {
@@ -178,8 +180,8 @@ Expected<std::vector<AtRecord>, DatasetError> read_at_log(const std::filesystem:
     return parse_at_log(*t);
 }
 
-Expected<std::vector<RawChunk>, DatasetError> read_video_chunks(const std::filesystem::path& raw_dir,
-                                                                std::uintmax_t max_bytes) {
+Expected<std::vector<RawChunk>, DatasetError> read_video_chunks(
+    const std::filesystem::path& raw_dir, std::uintmax_t max_bytes) {
     auto b = read_binary(raw_dir / "video_chunks.bin", "raw/video_chunks.bin", max_bytes);
     if (!b) return Unexpected(b.error());
     return parse_video_chunks(*b);

@@ -50,12 +50,12 @@ struct RawReadResult {
 };
 
 // `name` is what errors call the file ("raw/navdata.bin").
-Expected<RawReadResult, DatasetError> parse_navdata_bin(std::span<const std::uint8_t> bytes,
-                                                       const std::string& name = "raw/navdata.bin");
+Expected<RawReadResult, DatasetError> parse_navdata_bin(
+    std::span<const std::uint8_t> bytes, const std::string& name = "raw/navdata.bin");
 Expected<std::vector<RawChunk>, DatasetError> parse_video_chunks(
     std::span<const std::uint8_t> bytes, const std::string& name = "raw/video_chunks.bin");
 Expected<std::vector<AtRecord>, DatasetError> parse_at_log(std::string_view text,
-                                                          const std::string& name = "raw/at.log");
+                                                           const std::string& name = "raw/at.log");
 
 // File readers (bounded by `max_bytes`).
 Expected<RawReadResult, DatasetError> read_navdata_bin(const std::filesystem::path& raw_dir,

@@ -8,12 +8,12 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include <fcntl.h>
+#include <unistd.h>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <deque>
-#include <fcntl.h>
-#include <unistd.h>
 
 namespace gs {
 namespace fs = std::filesystem;
@@ -51,7 +51,10 @@ std::string flight_json_text(const DatasetInfo& info) {
     j["images"] = info.images;
     if (info.calibration) {
         const auto& c = *info.calibration;
-        j["calibration"] = {{"fx", c.fx}, {"fy", c.fy}, {"cx", c.cx}, {"cy", c.cy},
+        j["calibration"] = {{"fx", c.fx},
+                            {"fy", c.fy},
+                            {"cx", c.cx},
+                            {"cy", c.cy},
                             {"dist", {c.dist[0], c.dist[1], c.dist[2], c.dist[3], c.dist[4]}}};
     }
     if (!info.source.empty()) j["source"] = info.source;
@@ -67,8 +70,8 @@ std::string frames_csv_row(const FrameRow& r) {
     const NavState& s = r.nav;
     std::string out = std::to_string(r.frame);
     out += ',' + csv::format_ms(s.t_ns);
-    for (double v : {s.roll_deg, s.pitch_deg, s.yaw_deg, s.vx_mps, s.vy_mps, s.vz_mps,
-                     s.altitude_m, r.gt.x_m, r.gt.y_m, r.gt.z_m, r.gt.yaw_deg}) {
+    for (double v : {s.roll_deg, s.pitch_deg, s.yaw_deg, s.vx_mps, s.vy_mps, s.vz_mps, s.altitude_m,
+                     r.gt.x_m, r.gt.y_m, r.gt.z_m, r.gt.yaw_deg}) {
         out += ',';
         out += csv::format_number(v);
     }
@@ -83,8 +86,8 @@ std::string navdata_csv_header() {
 
 std::string navdata_csv_row(const NavState& s) {
     std::string out = csv::format_ms(s.t_ns);
-    for (double v : {s.roll_deg, s.pitch_deg, s.yaw_deg, s.vx_mps, s.vy_mps, s.vz_mps,
-                     s.altitude_m}) {
+    for (double v :
+         {s.roll_deg, s.pitch_deg, s.yaw_deg, s.vx_mps, s.vy_mps, s.vz_mps, s.altitude_m}) {
         out += ',';
         out += csv::format_number(v);
     }
@@ -195,7 +198,7 @@ struct DatasetWriter::Files {
     std::int64_t durable = 0;  // frames [0, durable) have their pixels on disk
     TimeNs last_frame_t = 0;
     TimeNs last_nav_t = 0;
-    TimeNs latest_t = 0;  // newest stream time seen in any record
+    TimeNs latest_t = 0;                                   // newest stream time seen in any record
     std::deque<std::optional<FrameLabel>> pending_labels;  // same order as aligner frames
     struct ReadyRow {
         std::int64_t index;
@@ -208,8 +211,7 @@ struct DatasetWriter::Files {
 
     std::size_t buffered() const {
         return frames_csv.buf.size() + navdata_csv.buf.size() + video.buf.size() +
-               raw_nav.buf.size() + raw_pave.buf.size() + raw_chunks.buf.size() +
-               raw_at.buf.size();
+               raw_nav.buf.size() + raw_pave.buf.size() + raw_chunks.buf.size() + raw_at.buf.size();
     }
     void note_error(const DatasetError& e) {
         ++st.write_errors;
@@ -238,8 +240,10 @@ Expected<std::unique_ptr<DatasetWriter>, DatasetError> DatasetWriter::create(
         return Unexpected(DatasetError{DatasetErrorCode::OutOfRange, "flight.json", 0, 0,
                                        "width, height and fps must be positive"});
     auto opts2 = opts;
-    if (opts2.flush_interval > std::chrono::seconds(1)) opts2.flush_interval = std::chrono::seconds(1);
-    if (opts2.flush_interval <= std::chrono::milliseconds(0)) opts2.flush_interval = std::chrono::milliseconds(1);
+    if (opts2.flush_interval > std::chrono::seconds(1))
+        opts2.flush_interval = std::chrono::seconds(1);
+    if (opts2.flush_interval <= std::chrono::milliseconds(0))
+        opts2.flush_interval = std::chrono::milliseconds(1);
     std::unique_ptr<DatasetWriter> w(new DatasetWriter(dir, opts2, clock));
     auto f = std::make_unique<Files>(opts2.max_nav_wait_ns);
     f->info.camera = opts2.camera;
@@ -277,7 +281,9 @@ Expected<std::unique_ptr<DatasetWriter>, DatasetError> DatasetWriter::create(
     return w;
 }
 
-DatasetWriter::~DatasetWriter() { close(); }
+DatasetWriter::~DatasetWriter() {
+    close();
+}
 
 bool DatasetWriter::push(Record r) {
     if (queue_.push(std::move(r))) {
@@ -299,15 +305,19 @@ bool DatasetWriter::add_video_bytes(TimeNs recv_ns, std::span<const std::uint8_t
 
 bool DatasetWriter::add_frame(TimeNs capture_ns, std::span<const std::uint8_t> access_unit,
                               const cv::Mat& image, std::optional<FrameLabel> label) {
-    return push(FrameIn{capture_ns, {access_unit.begin(), access_unit.end()},
-                        opts_.write_images ? image : cv::Mat(), label});
+    return push(FrameIn{capture_ns,
+                        {access_unit.begin(), access_unit.end()},
+                        opts_.write_images ? image : cv::Mat(),
+                        label});
 }
 
 bool DatasetWriter::add_at(TimeNs send_ns, std::string_view datagram) {
     return push(AtIn{send_ns, std::string(datagram)});
 }
 
-bool DatasetWriter::set_labels(const FlightLabels& labels) { return push(LabelsIn{labels}); }
+bool DatasetWriter::set_labels(const FlightLabels& labels) {
+    return push(LabelsIn{labels});
+}
 
 DatasetWriterStats DatasetWriter::stats() const {
     DatasetWriterStats s = stats_.latest().value_or(DatasetWriterStats{});
@@ -432,10 +442,9 @@ void DatasetWriter::run() {
             if (!ok) {
                 e = io_error(name, "PNG encoding failed");
             } else {
-                e = write_file_atomic(dir_ / name,
-                                      std::string_view(reinterpret_cast<const char*>(png.data()),
-                                                       png.size()),
-                                      name);
+                e = write_file_atomic(
+                    dir_ / name,
+                    std::string_view(reinterpret_cast<const char*>(png.data()), png.size()), name);
             }
             if (e) {
                 f.note_error(*e);

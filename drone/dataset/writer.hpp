@@ -38,24 +38,24 @@ struct DatasetWriterOptions {
     bool write_images = false;  // frames/NNNNNN.png from the decoded images given to add_frame
     std::size_t queue_capacity = 2048;
     std::chrono::milliseconds flush_interval{250};  // at most 1 s
-    TimeNs max_nav_wait_ns = 500'000'000;  // how long a frame waits for the navdata after it
+    TimeNs max_nav_wait_ns = 500'000'000;     // how long a frame waits for the navdata after it
     std::size_t max_buffer_bytes = 4u << 20;  // flush early when buffered data exceeds this
 };
 
 struct DatasetWriterStats {
     std::uint64_t enqueued = 0;
-    std::uint64_t dropped_queue_full = 0;    // add_*() returned false
-    std::uint64_t frames_written = 0;        // frames.csv rows
-    std::uint64_t frames_skipped = 0;        // before the first IDR, or no bytes/image to write
-    std::uint64_t frames_lost_io = 0;        // dropped because a file could not be written
-    std::uint64_t navdata_written = 0;       // navdata.csv rows
+    std::uint64_t dropped_queue_full = 0;  // add_*() returned false
+    std::uint64_t frames_written = 0;      // frames.csv rows
+    std::uint64_t frames_skipped = 0;      // before the first IDR, or no bytes/image to write
+    std::uint64_t frames_lost_io = 0;      // dropped because a file could not be written
+    std::uint64_t navdata_written = 0;     // navdata.csv rows
     std::uint64_t raw_navdata_records = 0;
     std::uint64_t at_records = 0;
     std::uint64_t video_chunks = 0;
     std::uint64_t bytes_written = 0;
     std::uint64_t write_errors = 0;
     std::uint64_t flushes = 0;
-    std::string first_error;                 // first I/O error, empty when none
+    std::string first_error;  // first I/O error, empty when none
     bool closed = false;
 };
 
