@@ -337,7 +337,12 @@ void DatasetWriter::close() {
 
 void DatasetWriter::run() {
     Files& f = *files_;
-    const auto to_stream = [this](TimeNs abs) { return abs - t0_; };
+    // Stream times are whole microseconds, the resolution of raw/, so replaying raw/ gives the
+    // very same times (and interpolation weights) as the recording.
+    const auto to_stream = [this](TimeNs abs) {
+        const TimeNs d = abs - t0_;
+        return d >= 0 ? d / 1000 * 1000 : -((-d + 999) / 1000 * 1000);
+    };
     const auto us = [](TimeNs t) { return t < 0 ? std::int64_t{0} : t / 1000; };
 
     auto settle_rows = [&](TimeNs now_stream) {

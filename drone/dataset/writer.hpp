@@ -68,7 +68,8 @@ struct FrameLabel {
 class DatasetWriter {
 public:
     // Creates `dir` (it must not exist or be empty), writes flight.json and the CSV headers, starts
-    // the worker. Stream time 0 is clock.now_ns() at this call: every *_ns argument below is on
+    // the worker. Stream time 0 is clock.now_ns() at this call (times are kept in whole
+    // microseconds, the resolution of raw/): every *_ns argument below is on
     // the same monotonic clock.
     static Expected<std::unique_ptr<DatasetWriter>, DatasetError> create(
         const std::filesystem::path& dir, const DatasetWriterOptions& opts, const Clock& clock);
