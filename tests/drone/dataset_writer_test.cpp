@@ -246,11 +246,13 @@ TEST(RawFiles, TruncatedTailAndAbsurdLengths) {
               "raw/navdata.bin: record 0 at byte 0 claims 2147483647 bytes (limit 65507)");
 
     std::string log;
-    append_at_line(log, 42, std::string("AT*CONFIG=1,\"a\\b\"\r\x01\n", 22));
+    const std::string dg = "AT*CONFIG=1,\"a\\b\"\r\x01\n";
+    append_at_line(log, 42, dg);
+    EXPECT_EQ(log, "42 AT*CONFIG=1,\"a\\\\b\"\\r\\x01\\n\n");
     auto at = parse_at_log(log);
     ASSERT_TRUE(at);
     ASSERT_EQ(at->size(), 1u);
-    EXPECT_EQ((*at)[0].datagram, std::string("AT*CONFIG=1,\"a\\b\"\r\x01\n", 22));
+    EXPECT_EQ((*at)[0].datagram, dg);
     auto e = parse_at_log("12 AT\\q\n");
     ASSERT_FALSE(e);
     EXPECT_EQ(to_string(e.error()), "raw/at.log:1:6: unknown escape \\q");
