@@ -1,0 +1,69 @@
+#pragma once
+// Minimal CSV reading and number formatting for the dataset files: header-addressed columns (any
+// order, unknown ones ignored), 1-based line/column positions for errors, exact round trips for
+// doubles (shortest representation), empty field = unknown (NaN).
+
+#include "drone/dataset/error.hpp"
+#include "drone/expected.hpp"
+
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace gs::csv {
+
+// A parsed CSV text: a header and rows of fields (views into the owned text).
+inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+class Table {
+public:
+    // `file` names the file in errors. Accepts LF or CRLF, a trailing newline or not, blank lines
+    // (skipped) and double-quoted fields. A row with a different field count than the header is
+    // an error naming its line.
+    static Expected<Table, DatasetError> parse(std::string text, std::string file);
+
+    // Index of a header column, or nullopt when absent.
+    std::optional<std::size_t> column(std::string_view name) const;
+    const std::vector<std::string>& header() const { return header_; }
+    std::size_t rows() const { return rows_.size(); }
+    std::string_view field(std::size_t row, std::size_t col) const {
+        return rows_[row].fields[col];
+    }
+    int line_of(std::size_t row) const { return rows_[row].line; }
+    const std::string& file() const { return file_; }
+
+    // Field as a double: empty = NaN; otherwise the whole field must be a number (decimal,
+    // exponent, "nan", "inf" are accepted). Errors carry file:line:column.
+    Expected<double, DatasetError> number(std::size_t row, std::size_t col) const;
+    // Field as a signed integer (required, no fraction).
+    Expected<std::int64_t, DatasetError> integer(std::size_t row, std::size_t col) const;
+    // Field as an unsigned 32-bit value: decimal, or hex with a 0x prefix when `allow_hex`;
+    // `require_hex` rejects decimal. Empty = nullopt.
+    Expected<std::optional<std::uint32_t>, DatasetError> u32(std::size_t row, std::size_t col,
+                                                             bool allow_hex,
+                                                             bool require_hex) const;
+
+    DatasetError error_at(std::size_t row, std::size_t col, std::string message) const;
+
+private:
+    struct Row {
+        int line = 0;
+        std::vector<std::string_view> fields;
+    };
+    std::string text_;
+    std::string file_;
+    std::vector<std::string> header_;
+    std::vector<Row> rows_;
+};
+
+// Shortest text that reads back to exactly `v`; empty for NaN.
+std::string format_number(double v);
+// Milliseconds from nanoseconds, exact (integer part, '.', six digits).
+std::string format_ms(std::int64_t t_ns);
+// Parses milliseconds text back to nanoseconds (rounded to the nearest ns).
+std::int64_t ms_to_ns_rounded(double ms);
+
+}  // namespace gs::csv

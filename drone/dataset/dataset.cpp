@@ -1,0 +1,754 @@
+#include "drone/dataset/dataset.hpp"
+
+#include "drone/dataset/annexb.hpp"
+#include "drone/dataset/csv.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+namespace gs {
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+std::string to_string(CameraId c) {
+    return c == CameraId::Front ? "front" : "bottom";
+}
+
+std::string to_string(Scenario s) {
+    switch (s) {
+        case Scenario::Left:
+            return "left";
+        case Scenario::Right:
+            return "right";
+        case Scenario::Center:
+            return "center";
+        case Scenario::None:
+            return "none";
+    }
+    return "none";
+}
+
+namespace {
+
+DatasetError err(DatasetErrorCode code, std::string file, std::string msg, int line = 0,
+                 int col = 0) {
+    return DatasetError{code, std::move(file), line, col, std::move(msg)};
+}
+
+// 1-based line and column of byte offset `pos` in `text`.
+std::pair<int, int> line_col(const std::string& text, std::size_t pos) {
+    pos = std::min(pos, text.size());
+    int line = 1, col = 1;
+    for (std::size_t i = 0; i < pos; ++i) {
+        if (text[i] == '\n') {
+            ++line;
+            col = 1;
+        } else {
+            ++col;
+        }
+    }
+    return {line, col};
+}
+
+// Where a key is written in a JSON text (first occurrence of "key"), for error positions.
+std::pair<int, int> locate_key(const std::string& text, const std::string& key) {
+    const std::size_t p = text.find('"' + key + '"');
+    if (p == std::string::npos) return {0, 0};
+    return line_col(text, p);
+}
+
+Expected<json, DatasetError> parse_json(const std::string& text, const std::string& file) {
+    try {
+        return json::parse(text);
+    } catch (const json::parse_error& e) {
+        auto [l, c] = line_col(text, e.byte > 0 ? e.byte - 1 : 0);
+        std::string what = e.what();
+        // nlohmann's message repeats the position; keep the part after "syntax error ".
+        const auto k = what.find("syntax error");
+        if (k != std::string::npos) what = what.substr(k);
+        return Unexpected(err(DatasetErrorCode::Malformed, file, "invalid JSON: " + what, l, c));
+    }
+}
+
+class JsonFields {
+public:
+    JsonFields(const json& obj, const std::string& text, std::string file, std::string prefix = {})
+        : obj_(obj), text_(text), file_(std::move(file)), prefix_(std::move(prefix)) {}
+
+    DatasetError error(DatasetErrorCode code, const std::string& key,
+                       const std::string& msg) const {
+        auto [l, c] = locate_key(text_, key);
+        return err(code, file_, "'" + prefix_ + key + "': " + msg, l, c);
+    }
+    DatasetError missing(const std::string& key) const {
+        return err(DatasetErrorCode::Missing, file_,
+                   "missing required key '" + prefix_ + key + "'");
+    }
+    const json* find(const std::string& key) const {
+        auto it = obj_.find(key);
+        return it == obj_.end() ? nullptr : &*it;
+    }
+    Expected<std::string, DatasetError> string(const std::string& key) const {
+        const json* v = find(key);
+        if (!v) return Unexpected(missing(key));
+        if (!v->is_string())
+            return Unexpected(error(DatasetErrorCode::Malformed, key, "expected a string"));
+        return v->get<std::string>();
+    }
+    Expected<std::int64_t, DatasetError> integer(const std::string& key, std::int64_t lo,
+                                                 std::int64_t hi) const {
+        const json* v = find(key);
+        if (!v) return Unexpected(missing(key));
+        if (v->is_number_unsigned()) {
+            const auto u = v->get<std::uint64_t>();
+            if (u > static_cast<std::uint64_t>(hi))
+                return Unexpected(range_error(key, std::to_string(u), lo, hi));
+            return static_cast<std::int64_t>(u);
+        }
+        if (!v->is_number_integer())
+            return Unexpected(
+                error(DatasetErrorCode::Malformed, key, "expected an integer, got " + v->dump()));
+        const auto i = v->get<std::int64_t>();
+        if (i < lo || i > hi) return Unexpected(range_error(key, std::to_string(i), lo, hi));
+        return i;
+    }
+    Expected<double, DatasetError> number(const std::string& key) const {
+        const json* v = find(key);
+        if (!v) return Unexpected(missing(key));
+        if (!v->is_number())
+            return Unexpected(
+                error(DatasetErrorCode::Malformed, key, "expected a number, got " + v->dump()));
+        const double d = v->get<double>();
+        if (!std::isfinite(d))
+            return Unexpected(error(DatasetErrorCode::OutOfRange, key, "not a finite number"));
+        return d;
+    }
+
+private:
+    DatasetError range_error(const std::string& key, const std::string& got, std::int64_t lo,
+                             std::int64_t hi) const {
+        return error(
+            DatasetErrorCode::OutOfRange, key,
+            got + " is out of range [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    }
+    const json& obj_;
+    const std::string& text_;
+    std::string file_;
+    std::string prefix_;
+};
+
+Expected<CameraCalibration, DatasetError> parse_calibration(const json& obj,
+                                                            const std::string& text,
+                                                            const std::string& file,
+                                                            const std::string& prefix) {
+    JsonFields f(obj, text, file, prefix);
+    CameraCalibration c;
+    for (auto [key, dst] : {std::pair<const char*, double*>{"fx", &c.fx},
+                            {"fy", &c.fy},
+                            {"cx", &c.cx},
+                            {"cy", &c.cy}}) {
+        auto v = f.number(key);
+        if (!v) return Unexpected(v.error());
+        *dst = *v;
+    }
+    if (!(c.fx > 0) || !(c.fy > 0))
+        return Unexpected(
+            f.error(DatasetErrorCode::OutOfRange, "fx", "focal lengths must be positive"));
+    if (const json* d = f.find("dist")) {
+        if (!d->is_array() || (d->size() != 4 && d->size() != 5))
+            return Unexpected(f.error(DatasetErrorCode::Malformed, "dist",
+                                      "expected an array of 4 or 5 numbers (k1, k2, p1, p2, k3)"));
+        for (std::size_t i = 0; i < d->size(); ++i) {
+            if (!(*d)[i].is_number() || !std::isfinite((*d)[i].get<double>()))
+                return Unexpected(f.error(DatasetErrorCode::Malformed, "dist",
+                                          "element " + std::to_string(i) + " is not a number"));
+            c.dist[i] = (*d)[i].get<double>();
+        }
+    }
+    if (f.find("width") || f.find("height")) {
+        auto w = f.integer("width", 1, 65535);
+        if (!w) return Unexpected(w.error());
+        auto h = f.integer("height", 1, 65535);
+        if (!h) return Unexpected(h.error());
+        c.width = static_cast<int>(*w);
+        c.height = static_cast<int>(*h);
+    }
+    if (const json* s = f.find("source"); s && s->is_string()) c.source = s->get<std::string>();
+    return c;
+}
+
+bool has_dotdot_or_root(const fs::path& p) {
+    if (p.is_absolute() || p.has_root_name() || p.has_root_directory()) return true;
+    for (const auto& part : p)
+        if (part == "..") return true;
+    return false;
+}
+
+bool is_inside(const fs::path& root_canonical, const fs::path& p_canonical) {
+    auto r = root_canonical.begin(), re = root_canonical.end();
+    auto q = p_canonical.begin(), qe = p_canonical.end();
+    for (; r != re; ++r, ++q) {
+        if (q == qe || *r != *q) return false;
+    }
+    return true;
+}
+
+// Index encoded in an image name ("000123.png" -> 123), or nullopt.
+std::optional<std::int64_t> image_index(const fs::path& name) {
+    std::string ext = name.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
+    if (ext != ".png" && ext != ".jpg" && ext != ".jpeg") return std::nullopt;
+    const std::string stem = name.stem().string();
+    if (stem.empty() || stem.size() > 12) return std::nullopt;
+    std::int64_t v = 0;
+    for (char ch : stem) {
+        if (ch < '0' || ch > '9') return std::nullopt;
+        v = v * 10 + (ch - '0');
+    }
+    return v;
+}
+
+}  // namespace
+
+Expected<std::string, DatasetError> read_text_file(const fs::path& path, const std::string& name,
+                                                   std::uintmax_t max_bytes) {
+    std::error_code ec;
+    const auto st = fs::status(path, ec);
+    if (ec || !fs::exists(st))
+        return Unexpected(err(DatasetErrorCode::Missing, name, "file not found"));
+    if (!fs::is_regular_file(st))
+        return Unexpected(err(DatasetErrorCode::Malformed, name, "not a regular file"));
+    const auto size = fs::file_size(path, ec);
+    if (ec) return Unexpected(err(DatasetErrorCode::Io, name, "cannot stat: " + ec.message()));
+    if (size > max_bytes)
+        return Unexpected(err(DatasetErrorCode::OutOfRange, name,
+                              "file is " + std::to_string(size) + " bytes (limit " +
+                                  std::to_string(max_bytes) + ")"));
+    std::ifstream in(path, std::ios::binary);
+    if (!in) return Unexpected(err(DatasetErrorCode::Io, name, "cannot open for reading"));
+    std::string text(static_cast<std::size_t>(size), '\0');
+    in.read(text.data(), static_cast<std::streamsize>(size));
+    text.resize(static_cast<std::size_t>(in.gcount()));
+    if (in.bad()) return Unexpected(err(DatasetErrorCode::Io, name, "read failed"));
+    return text;
+}
+
+Expected<CameraCalibration, DatasetError> load_calibration_file(const fs::path& file) {
+    const std::string name = file.filename().string();
+    auto text = read_text_file(file, file.string(), 1u << 20);
+    if (!text) return Unexpected(text.error());
+    auto j = parse_json(*text, file.string());
+    if (!j) return Unexpected(j.error());
+    if (!j->is_object())
+        return Unexpected(
+            err(DatasetErrorCode::Malformed, file.string(), "expected a JSON object"));
+    return parse_calibration(*j, *text, file.string(), "");
+}
+
+Expected<CameraCalibration, DatasetError> default_calibration(CameraId camera,
+                                                              const fs::path& assets_dir) {
+    return load_calibration_file(assets_dir / "calibration" /
+                                 ("ardrone2_" + to_string(camera) + ".json"));
+}
+
+CameraCalibration scaled_to(const CameraCalibration& c, int width, int height) {
+    if (c.width <= 0 || c.height <= 0 || (c.width == width && c.height == height)) {
+        CameraCalibration r = c;
+        r.width = width;
+        r.height = height;
+        return r;
+    }
+    const double sx = static_cast<double>(width) / c.width;
+    const double sy = static_cast<double>(height) / c.height;
+    CameraCalibration r = c;
+    r.fx *= sx;
+    r.cx = (c.cx + 0.5) * sx - 0.5;
+    r.fy *= sy;
+    r.cy = (c.cy + 0.5) * sy - 0.5;
+    r.width = width;
+    r.height = height;
+    return r;
+}
+
+Expected<DatasetInfo, DatasetError> parse_flight_json(const std::string& text,
+                                                      const DatasetLimits& limits,
+                                                      std::vector<std::string>* warnings) {
+    const std::string file = "flight.json";
+    auto jr = parse_json(text, file);
+    if (!jr) return Unexpected(jr.error());
+    const json& j = *jr;
+    if (!j.is_object())
+        return Unexpected(err(DatasetErrorCode::Malformed, file, "expected a JSON object", 1, 1));
+    JsonFields f(j, text, file);
+    DatasetInfo info;
+
+    auto format = f.string("format");
+    if (!format) return Unexpected(format.error());
+    if (*format != "ardrone-dataset")
+        return Unexpected(f.error(DatasetErrorCode::Malformed, "format",
+                                  "expected \"ardrone-dataset\", got \"" + *format + "\""));
+    auto version = f.integer("version", 0, 1'000'000);
+    if (!version) return Unexpected(version.error());
+    if (*version != 1)
+        return Unexpected(f.error(DatasetErrorCode::Unsupported, "version",
+                                  "version " + std::to_string(*version) +
+                                      " is not supported (this reader knows version 1)"));
+    info.version = 1;
+    auto camera = f.string("camera");
+    if (!camera) return Unexpected(camera.error());
+    if (*camera == "front") {
+        info.camera = CameraId::Front;
+    } else if (*camera == "bottom") {
+        info.camera = CameraId::Bottom;
+    } else {
+        return Unexpected(f.error(DatasetErrorCode::Malformed, "camera",
+                                  "expected \"front\" or \"bottom\", got \"" + *camera + "\""));
+    }
+    auto width = f.integer("width", 1, limits.max_dimension);
+    if (!width) return Unexpected(width.error());
+    auto height = f.integer("height", 1, limits.max_dimension);
+    if (!height) return Unexpected(height.error());
+    info.width = static_cast<int>(*width);
+    info.height = static_cast<int>(*height);
+    auto fps = f.number("fps");
+    if (!fps) return Unexpected(fps.error());
+    if (!(*fps > 0) || *fps > limits.max_fps)
+        return Unexpected(f.error(DatasetErrorCode::OutOfRange, "fps",
+                                  csv::format_number(*fps) + " is out of range (0, " +
+                                      csv::format_number(limits.max_fps) + "]"));
+    info.fps = *fps;
+    if (f.find("frames")) {
+        auto frames = f.integer("frames", 0, limits.max_frames);
+        if (!frames) return Unexpected(frames.error());
+        info.frames = *frames;
+    }
+    for (auto [key, dst] :
+         {std::pair<const char*, std::string*>{"video", &info.video}, {"images", &info.images}}) {
+        if (!f.find(key)) continue;
+        auto s = f.string(key);
+        if (!s) return Unexpected(s.error());
+        if (s->empty()) return Unexpected(f.error(DatasetErrorCode::Malformed, key, "empty path"));
+        if (has_dotdot_or_root(fs::path(*s)))
+            return Unexpected(
+                f.error(DatasetErrorCode::UnsafePath, key,
+                        "must be a relative path inside the dataset, got '" + *s + "'"));
+        *dst = *s;
+    }
+    if (const json* c = f.find("calibration")) {
+        if (!c->is_object())
+            return Unexpected(
+                f.error(DatasetErrorCode::Malformed, "calibration", "expected an object"));
+        auto cal = parse_calibration(*c, text, file, "calibration.");
+        if (!cal) return Unexpected(cal.error());
+        cal->width = info.width;
+        cal->height = info.height;
+        if (cal->source.empty()) cal->source = "flight.json";
+        info.calibration = *cal;
+    }
+    if (const json* s = f.find("source")) {
+        if (!s->is_string())
+            return Unexpected(f.error(DatasetErrorCode::Malformed, "source", "expected a string"));
+        info.source = s->get<std::string>();
+    }
+    static const std::set<std::string> known = {"format", "version",     "camera", "width",
+                                                "height", "fps",         "frames", "video",
+                                                "images", "calibration", "source"};
+    std::string unknown;
+    for (auto it = j.begin(); it != j.end(); ++it) {
+        if (known.count(it.key())) continue;
+        if (!unknown.empty()) unknown += ", ";
+        unknown += it.key();
+    }
+    if (!unknown.empty() && warnings)
+        warnings->push_back("flight.json: unknown keys ignored: " + unknown);
+    return info;
+}
+
+namespace {
+
+struct NavColumns {
+    std::optional<std::size_t> t_ms, roll, pitch, yaw, vx, vy, vz, alt;
+};
+
+NavColumns nav_columns(const csv::Table& t) {
+    return {t.column("t_ms"),    t.column("roll_deg"),  t.column("pitch_deg"),
+            t.column("yaw_deg"), t.column("vx_mps"),    t.column("vy_mps"),
+            t.column("vz_mps"),  t.column("altitude_m")};
+}
+
+std::optional<DatasetError> require_columns(const csv::Table& t,
+                                            std::initializer_list<const char*> names) {
+    for (const char* n : names) {
+        if (!t.column(n))
+            return err(DatasetErrorCode::Missing, t.file(),
+                       std::string("missing required column '") + n + "'", 1);
+    }
+    return std::nullopt;
+}
+
+// Reads the NavState columns of one row; t_ms must be a number and not go backwards.
+std::optional<DatasetError> read_nav(const csv::Table& t, const NavColumns& c, std::size_t r,
+                                     NavState& s, TimeNs prev_t_ns) {
+    auto tv = t.number(r, *c.t_ms);
+    if (!tv) return tv.error();
+    if (!std::isfinite(*tv)) return t.error_at(r, *c.t_ms, "expected a time, got an empty field");
+    s.t_ns = csv::ms_to_ns_rounded(*tv);
+    if (r > 0 && s.t_ns < prev_t_ns) {
+        auto e = t.error_at(r, *c.t_ms,
+                            "time goes backwards (" + std::string(t.field(r, *c.t_ms)) + " after " +
+                                csv::format_ms(prev_t_ns) + ")");
+        e.code = DatasetErrorCode::Inconsistent;
+        return e;
+    }
+    for (auto [col, dst] : {std::pair{c.roll, &s.roll_deg},
+                            {c.pitch, &s.pitch_deg},
+                            {c.yaw, &s.yaw_deg},
+                            {c.vx, &s.vx_mps},
+                            {c.vy, &s.vy_mps},
+                            {c.vz, &s.vz_mps},
+                            {c.alt, &s.altitude_m}}) {
+        if (!col) continue;
+        auto v = t.number(r, *col);
+        if (!v) return v.error();
+        *dst = *v;
+    }
+    return std::nullopt;
+}
+
+}  // namespace
+
+Expected<std::vector<FrameRow>, DatasetError> parse_frames_csv(std::string text) {
+    auto tr = csv::Table::parse(std::move(text), "frames.csv");
+    if (!tr) return Unexpected(tr.error());
+    const csv::Table& t = *tr;
+    if (auto e = require_columns(t, {"frame", "t_ms", "roll_deg"})) return Unexpected(*e);
+    const NavColumns nc = nav_columns(t);
+    const std::size_t frame_col = *t.column("frame");
+    const auto gx = t.column("gt_x_m"), gy = t.column("gt_y_m"), gz = t.column("gt_z_m"),
+               gyaw = t.column("gt_yaw_deg");
+    std::vector<FrameRow> rows;
+    rows.reserve(t.rows());
+    TimeNs prev = 0;
+    for (std::size_t r = 0; r < t.rows(); ++r) {
+        FrameRow row;
+        auto fi = t.integer(r, frame_col);
+        if (!fi) return Unexpected(fi.error());
+        if (*fi != static_cast<std::int64_t>(r)) {
+            auto e =
+                t.error_at(r, frame_col,
+                           "expected frame " + std::to_string(r) + ", got " + std::to_string(*fi) +
+                               " (rows are frames 0, 1, 2 ... in order)");
+            e.code = DatasetErrorCode::Inconsistent;
+            return Unexpected(e);
+        }
+        row.frame = *fi;
+        if (auto e = read_nav(t, nc, r, row.nav, prev)) return Unexpected(*e);
+        prev = row.nav.t_ns;
+        for (auto [col, dst] : {std::pair{gx, &row.gt.x_m},
+                                {gy, &row.gt.y_m},
+                                {gz, &row.gt.z_m},
+                                {gyaw, &row.gt.yaw_deg}}) {
+            if (!col) continue;
+            auto v = t.number(r, *col);
+            if (!v) return Unexpected(v.error());
+            *dst = *v;
+        }
+        rows.push_back(row);
+    }
+    return rows;
+}
+
+Expected<std::vector<NavState>, DatasetError> parse_navdata_csv(std::string text) {
+    auto tr = csv::Table::parse(std::move(text), "navdata.csv");
+    if (!tr) return Unexpected(tr.error());
+    const csv::Table& t = *tr;
+    if (auto e = require_columns(t, {"t_ms"})) return Unexpected(*e);
+    const NavColumns nc = nav_columns(t);
+    const auto seq = t.column("seq"), state = t.column("state"), ctrl = t.column("ctrl_state"),
+               batt = t.column("battery_pct");
+    std::vector<NavState> rows;
+    rows.reserve(t.rows());
+    TimeNs prev = 0;
+    for (std::size_t r = 0; r < t.rows(); ++r) {
+        NavState s;
+        if (auto e = read_nav(t, nc, r, s, prev)) return Unexpected(*e);
+        prev = s.t_ns;
+        if (seq) {
+            auto v = t.u32(r, *seq, false, false);
+            if (!v) return Unexpected(v.error());
+            s.seq = *v;
+        }
+        if (state) {
+            auto v = t.u32(r, *state, true, true);
+            if (!v) return Unexpected(v.error());
+            s.drone_state = *v;
+        }
+        if (ctrl) {
+            auto v = t.u32(r, *ctrl, true, false);
+            if (!v) return Unexpected(v.error());
+            s.ctrl_state = *v;
+        }
+        if (batt) {
+            auto v = t.number(r, *batt);
+            if (!v) return Unexpected(v.error());
+            s.battery_pct = *v;
+        }
+        rows.push_back(s);
+    }
+    return rows;
+}
+
+Expected<FlightLabels, DatasetError> parse_labels_json(const std::string& text) {
+    const std::string file = "labels.json";
+    auto jr = parse_json(text, file);
+    if (!jr) return Unexpected(jr.error());
+    if (!jr->is_object())
+        return Unexpected(err(DatasetErrorCode::Malformed, file, "expected a JSON object", 1, 1));
+    JsonFields f(*jr, text, file);
+    auto s = f.string("scenario");
+    if (!s) return Unexpected(s.error());
+    FlightLabels l;
+    if (*s == "left") {
+        l.scenario = Scenario::Left;
+    } else if (*s == "right") {
+        l.scenario = Scenario::Right;
+    } else if (*s == "center") {
+        l.scenario = Scenario::Center;
+    } else if (*s == "none") {
+        l.scenario = Scenario::None;
+    } else {
+        return Unexpected(f.error(DatasetErrorCode::Malformed, "scenario",
+                                  "expected left, right, center or none, got \"" + *s + "\""));
+    }
+    l.json = text;
+    return l;
+}
+
+Expected<std::vector<LabelRow>, DatasetError> parse_labels_csv(std::string text) {
+    auto tr = csv::Table::parse(std::move(text), "labels.csv");
+    if (!tr) return Unexpected(tr.error());
+    const csv::Table& t = *tr;
+    if (auto e = require_columns(t, {"frame", "distance_m"})) return Unexpected(*e);
+    const auto fc = *t.column("frame"), dc = *t.column("distance_m");
+    const auto lc = t.column("lateral_m");
+    std::vector<LabelRow> rows;
+    rows.reserve(t.rows());
+    for (std::size_t r = 0; r < t.rows(); ++r) {
+        LabelRow row;
+        auto fi = t.integer(r, fc);
+        if (!fi) return Unexpected(fi.error());
+        if (*fi < 0) return Unexpected(t.error_at(r, fc, "negative frame index"));
+        row.frame = *fi;
+        auto d = t.number(r, dc);
+        if (!d) return Unexpected(d.error());
+        row.distance_m = *d;
+        if (lc) {
+            auto l = t.number(r, *lc);
+            if (!l) return Unexpected(l.error());
+            row.lateral_m = *l;
+        }
+        rows.push_back(row);
+    }
+    return rows;
+}
+
+Expected<fs::path, DatasetError> resolve_inside(const fs::path& dir, const std::string& relative,
+                                                const std::string& what) {
+    const fs::path rel(relative);
+    if (relative.empty() || has_dotdot_or_root(rel))
+        return Unexpected(err(
+            DatasetErrorCode::UnsafePath, "flight.json",
+            "'" + what + "' must be a relative path inside the dataset, got '" + relative + "'"));
+    const fs::path p = dir / rel;
+    std::error_code ec;
+    if (!fs::exists(fs::symlink_status(p, ec))) return p;  // absent: nothing to escape through
+    const fs::path root = fs::weakly_canonical(dir, ec);
+    if (ec) return Unexpected(err(DatasetErrorCode::Io, dir.string(), ec.message()));
+    const fs::path real = fs::weakly_canonical(p, ec);
+    if (ec) return Unexpected(err(DatasetErrorCode::Io, relative, ec.message()));
+    if (!is_inside(root, real))
+        return Unexpected(
+            err(DatasetErrorCode::UnsafePath, "flight.json",
+                "'" + what + "' (" + relative + ") resolves outside the dataset directory"));
+    return p;
+}
+
+std::optional<fs::path> Dataset::raw_dir() const {
+    std::error_code ec;
+    const fs::path p = dir_ / "raw";
+    if (fs::is_directory(p, ec)) return p;
+    return std::nullopt;
+}
+
+Dataset Dataset::from_parts(fs::path dir, DatasetInfo info, CameraCalibration calib,
+                            std::vector<FrameRow> frames, std::vector<fs::path> images) {
+    Dataset d;
+    d.dir_ = std::move(dir);
+    d.info_ = std::move(info);
+    d.calibration_ = std::move(calib);
+    d.frames_ = std::move(frames);
+    d.image_files_ = std::move(images);
+    return d;
+}
+
+Expected<Dataset, DatasetError> Dataset::open(const fs::path& dir, const DatasetOpenOptions& opts) {
+    std::error_code ec;
+    if (!fs::is_directory(dir, ec))
+        return Unexpected(err(DatasetErrorCode::Missing, dir.string(), "not a directory"));
+    Dataset d;
+    d.dir_ = dir;
+    const DatasetLimits& lim = opts.limits;
+
+    auto flight_text = read_text_file(dir / "flight.json", "flight.json", lim.max_json_bytes);
+    if (!flight_text) return Unexpected(flight_text.error());
+    auto info = parse_flight_json(*flight_text, lim, &d.warnings_);
+    if (!info) return Unexpected(info.error());
+    d.info_ = std::move(*info);
+
+    auto frames_text = read_text_file(dir / "frames.csv", "frames.csv", lim.max_csv_bytes);
+    if (!frames_text) return Unexpected(frames_text.error());
+    auto frames = parse_frames_csv(std::move(*frames_text));
+    if (!frames) return Unexpected(frames.error());
+    d.frames_ = std::move(*frames);
+    const auto rows = static_cast<std::int64_t>(d.frames_.size());
+    if (rows > lim.max_frames)
+        return Unexpected(
+            err(DatasetErrorCode::OutOfRange, "frames.csv",
+                std::to_string(rows) + " rows (limit " + std::to_string(lim.max_frames) + ")"));
+    if (d.info_.frames && *d.info_.frames != rows) {
+        auto [l, c] = locate_key(*flight_text, "frames");
+        return Unexpected(err(DatasetErrorCode::Inconsistent, "flight.json",
+                              "'frames' is " + std::to_string(*d.info_.frames) +
+                                  " but frames.csv has " + std::to_string(rows) + " rows",
+                              l, c));
+    }
+
+    // Pixels: video.h264 (source of truth) and/or frames/.
+    auto video = resolve_inside(dir, d.info_.video, "video");
+    if (!video) return Unexpected(video.error());
+    auto images = resolve_inside(dir, d.info_.images, "images");
+    if (!images) return Unexpected(images.error());
+    const std::string video_name = d.info_.video;
+    const std::string images_name = d.info_.images + "/";
+    if (fs::exists(*video, ec)) {
+        if (!fs::is_regular_file(*video, ec))
+            return Unexpected(err(DatasetErrorCode::Malformed, video_name, "not a regular file"));
+        auto index = index_annexb_file(*video, video_name);
+        if (!index) return Unexpected(index.error());
+        const auto units = static_cast<std::int64_t>(index->size());
+        if (units < rows)
+            return Unexpected(err(DatasetErrorCode::Inconsistent, video_name,
+                                  "holds " + std::to_string(units) +
+                                      " access units but frames.csv has " + std::to_string(rows) +
+                                      " rows (truncated?)"));
+        if (units > rows)
+            d.warnings_.push_back(video_name + ": " + std::to_string(units - rows) +
+                                  " access units after the last frames.csv row are ignored");
+        index->resize(static_cast<std::size_t>(rows));
+        d.video_path_ = *video;
+        d.video_units_ = std::move(*index);
+    }
+    if (fs::is_directory(*images, ec)) {
+        std::map<std::int64_t, fs::path> found;
+        std::int64_t extra = 0;
+        std::optional<DatasetError> problem;
+        for (auto it = fs::directory_iterator(*images, ec); !ec && it != fs::directory_iterator();
+             it.increment(ec)) {
+            const auto idx = image_index(it->path().filename());
+            if (!idx) continue;
+            if (*idx >= rows) {
+                ++extra;
+                continue;
+            }
+            if (it->is_symlink(ec)) {
+                auto r = resolve_inside(dir, fs::relative(it->path(), dir, ec).string(), "image");
+                if (!r) return Unexpected(r.error());
+            }
+            if (!found.emplace(*idx, it->path()).second && !problem) {
+                problem = err(DatasetErrorCode::Inconsistent, images_name,
+                              "two images for frame " + std::to_string(*idx) + " (" +
+                                  found[*idx].filename().string() + " and " +
+                                  it->path().filename().string() + ")");
+            }
+        }
+        if (ec) return Unexpected(err(DatasetErrorCode::Io, images_name, ec.message()));
+        if (!problem && static_cast<std::int64_t>(found.size()) != rows) {
+            std::int64_t first_missing = 0;
+            while (found.count(first_missing)) ++first_missing;
+            char name[32];
+            std::snprintf(name, sizeof name, "%06lld", static_cast<long long>(first_missing));
+            problem =
+                err(DatasetErrorCode::Inconsistent, images_name,
+                    "holds " + std::to_string(found.size()) + " of the " + std::to_string(rows) +
+                        " frames in frames.csv; frame " + std::to_string(first_missing) + " (" +
+                        name + ".png or .jpg) is missing");
+        }
+        if (problem) {
+            if (!d.video_path_) return Unexpected(*problem);
+            d.warnings_.push_back(to_string(*problem) + " (ignored: " + video_name +
+                                  " is present)");
+        } else {
+            d.image_files_.reserve(found.size());
+            for (auto& [i, p] : found) d.image_files_.push_back(std::move(p));
+            if (extra > 0)
+                d.warnings_.push_back(images_name + ": " + std::to_string(extra) +
+                                      " images after the last frames.csv row are ignored");
+        }
+    }
+    if (!d.video_path_ && d.image_files_.empty() && rows > 0)
+        return Unexpected(err(
+            DatasetErrorCode::Missing, "flight.json",
+            "neither '" + video_name + "' nor '" + images_name + "' is present in the dataset"));
+
+    // Calibration: flight.json, else the shipped default of that camera.
+    if (d.info_.calibration) {
+        d.calibration_ = *d.info_.calibration;
+    } else {
+        auto def = default_calibration(d.info_.camera, opts.assets_dir);
+        if (!def) {
+            auto e = def.error();
+            e.message = "no calibration in flight.json and the default failed: " + e.message;
+            return Unexpected(e);
+        }
+        if (def->width > 0 && (def->width != d.info_.width || def->height != d.info_.height))
+            d.warnings_.push_back("default " + to_string(d.info_.camera) + " calibration (" +
+                                  std::to_string(def->width) + "x" + std::to_string(def->height) +
+                                  ") scaled to " + std::to_string(d.info_.width) + "x" +
+                                  std::to_string(d.info_.height));
+        d.calibration_ = scaled_to(*def, d.info_.width, d.info_.height);
+        d.calibration_is_default_ = true;
+    }
+
+    if (fs::exists(dir / "navdata.csv", ec)) {
+        auto text = read_text_file(dir / "navdata.csv", "navdata.csv", lim.max_csv_bytes);
+        if (!text) return Unexpected(text.error());
+        auto nav = parse_navdata_csv(std::move(*text));
+        if (!nav) return Unexpected(nav.error());
+        d.navdata_ = std::move(*nav);
+        d.has_navdata_ = true;
+    }
+    if (fs::exists(dir / "labels.json", ec)) {
+        auto text = read_text_file(dir / "labels.json", "labels.json", lim.max_json_bytes);
+        if (!text) return Unexpected(text.error());
+        auto l = parse_labels_json(*text);
+        if (!l) return Unexpected(l.error());
+        d.labels_ = std::move(*l);
+    }
+    if (fs::exists(dir / "labels.csv", ec)) {
+        auto text = read_text_file(dir / "labels.csv", "labels.csv", lim.max_csv_bytes);
+        if (!text) return Unexpected(text.error());
+        auto l = parse_labels_csv(std::move(*text));
+        if (!l) return Unexpected(l.error());
+        d.label_rows_ = std::move(*l);
+    }
+    return d;
+}
+
+}  // namespace gs

@@ -1,0 +1,170 @@
+#pragma once
+// Reading a flight dataset (the format of DATASET.md, version 1): flight.json, frames.csv,
+// navdata.csv, labels.*, and where the frames are (video.h264 and/or frames/). Opening validates
+// everything that is cheap to validate and reports the first problem as a DatasetError naming the
+// file, line and column. Paths from flight.json never leave the dataset directory. Pixels are
+// not read here: see frame_store.hpp.
+
+#include "drone/dataset/annexb.hpp"
+#include "drone/dataset/error.hpp"
+#include "drone/expected.hpp"
+#include "drone/sample.hpp"
+
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace gs {
+
+enum class CameraId { Front, Bottom };
+std::string to_string(CameraId c);
+
+// Pinhole camera in pixels of the stored frames, OpenCV distortion order (k1, k2, p1, p2, k3).
+// A plain struct so drone/ does not depend on vision/.
+struct CameraCalibration {
+    double fx = 0, fy = 0, cx = 0, cy = 0;
+    std::array<double, 5> dist{};
+    int width = 0, height = 0;  // image size the intrinsics are for (0 = unknown)
+    std::string source;         // where it came from (free text)
+};
+
+// Loads a calibration file in the assets/ shape {fx, fy, cx, cy, dist[5], width, height, source}.
+Expected<CameraCalibration, DatasetError> load_calibration_file(const std::filesystem::path& file);
+// The camera's default shipped in `assets_dir`/calibration/ardrone2_{front,bottom}.json.
+Expected<CameraCalibration, DatasetError> default_calibration(
+    CameraId camera, const std::filesystem::path& assets_dir);
+// Same intrinsics for another image size (scales focal lengths and centre; same field of view).
+CameraCalibration scaled_to(const CameraCalibration& c, int width, int height);
+
+// flight.json.
+struct DatasetInfo {
+    int version = 1;
+    CameraId camera = CameraId::Front;
+    int width = 0, height = 0;
+    double fps = 0;
+    std::optional<std::int64_t> frames;  // declared row count of frames.csv
+    std::string video = "video.h264";    // relative to the dataset directory
+    std::string images = "frames";
+    std::optional<CameraCalibration> calibration;  // as stored in the file
+    std::string source;
+};
+
+// Ground-truth camera pose (DATASET.md frames.csv gt_* columns); NaN = not measured.
+struct GroundTruthPose {
+    double x_m = kUnknown, y_m = kUnknown, z_m = kUnknown, yaw_deg = kUnknown;
+};
+
+// One row of frames.csv. nav.t_ns is the capture time from the start of the flight.
+struct FrameRow {
+    std::int64_t frame = 0;
+    NavState nav;
+    GroundTruthPose gt;
+};
+
+enum class Scenario { Left, Right, Center, None };
+std::string to_string(Scenario s);
+
+// labels.json: the scenario plus the file's full text (other keys are free-form).
+struct FlightLabels {
+    Scenario scenario = Scenario::None;
+    std::string json;  // the whole object, as read (or to write)
+};
+
+// One row of labels.csv; NaN when there is no obstacle.
+struct LabelRow {
+    std::int64_t frame = 0;
+    double distance_m = kUnknown;
+    double lateral_m = kUnknown;
+};
+
+// Upper bounds that make a dataset "absurd" rather than big.
+struct DatasetLimits {
+    int max_dimension = 8192;  // width, height
+    double max_fps = 1000;
+    std::int64_t max_frames = 10'000'000;
+    std::uintmax_t max_json_bytes = 4u << 20;
+    std::uintmax_t max_csv_bytes = 1024u << 20;
+};
+
+struct DatasetOpenOptions {
+    std::filesystem::path assets_dir = GS_ASSETS_DIR;  // for the default calibration
+    DatasetLimits limits;
+};
+
+class Dataset {
+public:
+    static Expected<Dataset, DatasetError> open(const std::filesystem::path& dir,
+                                                const DatasetOpenOptions& opts = {});
+
+    const std::filesystem::path& dir() const { return dir_; }
+    const DatasetInfo& info() const { return info_; }
+    // flight.json's calibration, else the camera default (scaled to the frame size).
+    const CameraCalibration& calibration() const { return calibration_; }
+    bool calibration_is_default() const { return calibration_is_default_; }
+
+    const std::vector<FrameRow>& frames() const { return frames_; }
+    std::int64_t frame_count() const { return static_cast<std::int64_t>(frames_.size()); }
+    // navdata.csv rows (empty when the file is absent).
+    const std::vector<NavState>& navdata() const { return navdata_; }
+    bool has_navdata() const { return has_navdata_; }
+
+    // Resolved video.h264 path when the file exists (the source of truth for pixels).
+    const std::optional<std::filesystem::path>& video_path() const { return video_path_; }
+    // Where each frame's access unit is in video.h264 (one per frames.csv row).
+    const std::vector<AccessUnitSpan>& video_units() const { return video_units_; }
+    // One image per frame (frames/NNNNNN.png or .jpg), in frame order; empty when absent.
+    const std::vector<std::filesystem::path>& image_files() const { return image_files_; }
+
+    const std::optional<FlightLabels>& labels() const { return labels_; }
+    const std::optional<std::vector<LabelRow>>& label_rows() const { return label_rows_; }
+    // raw/ directory when present.
+    std::optional<std::filesystem::path> raw_dir() const;
+
+    // Things a reader should mention once (unknown keys, extra images, scaled calibration).
+    const std::vector<std::string>& warnings() const { return warnings_; }
+
+    // Assembles a dataset in memory (thesis import, tests); no file is read.
+    static Dataset from_parts(std::filesystem::path dir, DatasetInfo info, CameraCalibration calib,
+                              std::vector<FrameRow> frames,
+                              std::vector<std::filesystem::path> images);
+
+private:
+    std::filesystem::path dir_;
+    DatasetInfo info_;
+    CameraCalibration calibration_;
+    bool calibration_is_default_ = false;
+    std::vector<FrameRow> frames_;
+    std::vector<NavState> navdata_;
+    bool has_navdata_ = false;
+    std::optional<std::filesystem::path> video_path_;
+    std::vector<AccessUnitSpan> video_units_;
+    std::vector<std::filesystem::path> image_files_;
+    std::optional<FlightLabels> labels_;
+    std::optional<std::vector<LabelRow>> label_rows_;
+    std::vector<std::string> warnings_;
+};
+
+// Pieces of the reader usable on their own (writer tests, thesis import, tools).
+Expected<DatasetInfo, DatasetError> parse_flight_json(const std::string& text,
+                                                      const DatasetLimits& limits = {},
+                                                      std::vector<std::string>* warnings = nullptr);
+Expected<std::vector<FrameRow>, DatasetError> parse_frames_csv(std::string text);
+Expected<std::vector<NavState>, DatasetError> parse_navdata_csv(std::string text);
+Expected<FlightLabels, DatasetError> parse_labels_json(const std::string& text);
+Expected<std::vector<LabelRow>, DatasetError> parse_labels_csv(std::string text);
+
+// A relative path from metadata resolved under `dir`, or UnsafePath when it is absolute, has a
+// ".." component, or (through symlinks) lands outside `dir`.
+Expected<std::filesystem::path, DatasetError> resolve_inside(const std::filesystem::path& dir,
+                                                             const std::string& relative,
+                                                             const std::string& what);
+
+// Reads a whole file, refusing more than `max_bytes`. `name` is what errors call it.
+Expected<std::string, DatasetError> read_text_file(const std::filesystem::path& path,
+                                                   const std::string& name,
+                                                   std::uintmax_t max_bytes);
+
+}  // namespace gs

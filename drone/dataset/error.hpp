@@ -1,0 +1,32 @@
+#pragma once
+// The one error type of the dataset module: what went wrong, in which file of the dataset, at
+// which line and column (1-based; 0 = not applicable), printed as "frames.csv:12:3: message".
+
+#include <string>
+
+namespace gs {
+
+enum class DatasetErrorCode {
+    Missing,       // a required file, key or column is absent
+    Malformed,     // syntax or type error in a file
+    Inconsistent,  // files disagree (row counts, frame indices, ...)
+    OutOfRange,    // an absurd value (size, fps, record length ...)
+    UnsafePath,    // a path that would leave the dataset directory
+    Io,            // the operating system refused (open, read, write)
+    Unsupported,   // valid but not handled by this build (format version, codec)
+};
+
+std::string to_string(DatasetErrorCode c);
+
+struct DatasetError {
+    DatasetErrorCode code = DatasetErrorCode::Malformed;
+    std::string file;  // path relative to the dataset directory ("frames.csv", "frames/000003.png")
+    int line = 0;
+    int column = 0;
+    std::string message;
+};
+
+// "file:line:column: message" (line/column left out when 0).
+std::string to_string(const DatasetError& e);
+
+}  // namespace gs

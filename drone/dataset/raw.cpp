@@ -1,0 +1,190 @@
+#include "drone/dataset/raw.hpp"
+
+#include "drone/dataset/dataset.hpp"
+
+#include <charconv>
+#include <cstdio>
+
+namespace gs {
+namespace {
+
+void put_le(std::string& out, std::uint64_t v, int bytes) {
+    for (int i = 0; i < bytes; ++i) out.push_back(static_cast<char>((v >> (8 * i)) & 0xFF));
+}
+std::uint64_t get_le(const std::uint8_t* p, int bytes) {
+    std::uint64_t v = 0;
+    for (int i = 0; i < bytes; ++i) v |= std::uint64_t{p[i]} << (8 * i);
+    return v;
+}
+
+Expected<std::vector<std::uint8_t>, DatasetError> read_binary(const std::filesystem::path& path,
+                                                              const std::string& name,
+                                                              std::uintmax_t max_bytes) {
+    auto text = read_text_file(path, name, max_bytes);
+    if (!text) return Unexpected(text.error());
+    return std::vector<std::uint8_t>(text->begin(), text->end());
+}
+
+}  // namespace
+
+void append_raw_record(std::string& out, std::int64_t t_us, std::span<const std::uint8_t> payload) {
+    put_le(out, static_cast<std::uint64_t>(t_us), 8);
+    put_le(out, payload.size(), 4);
+    out.append(reinterpret_cast<const char*>(payload.data()), payload.size());
+}
+
+void append_chunk_record(std::string& out, std::int64_t t_us, std::uint32_t length) {
+    put_le(out, static_cast<std::uint64_t>(t_us), 8);
+    put_le(out, length, 4);
+}
+
+void append_at_line(std::string& out, std::int64_t t_us, std::string_view datagram) {
+    out += std::to_string(t_us);
+    out += ' ';
+    for (char ch : datagram) {
+        const auto u = static_cast<unsigned char>(ch);
+        if (ch == '\\') {
+            out += "\\\\";
+        } else if (ch == '\r') {
+            out += "\\r";
+        } else if (ch == '\n') {
+            out += "\\n";
+        } else if (u < 0x20 || u == 0x7F) {
+            char b[8];
+            std::snprintf(b, sizeof b, "\\x%02X", u);
+            out += b;
+        } else {
+            out += ch;
+        }
+    }
+    out += '\n';
+}
+
+Expected<RawReadResult, DatasetError> parse_navdata_bin(std::span<const std::uint8_t> bytes,
+                                                        const std::string& name) {
+    RawReadResult r;
+    std::size_t pos = 0;
+    std::int64_t prev = 0;
+    while (pos < bytes.size()) {
+        if (bytes.size() - pos < 12) {
+            r.truncated_tail = true;
+            break;
+        }
+        const auto t = static_cast<std::int64_t>(get_le(bytes.data() + pos, 8));
+        const auto len = static_cast<std::uint32_t>(get_le(bytes.data() + pos + 8, 4));
+        if (len > kMaxRawDatagram)
+            return Unexpected(DatasetError{DatasetErrorCode::OutOfRange, name, 0, 0,
+                                           "record " + std::to_string(r.records.size()) +
+                                               " at byte " + std::to_string(pos) + " claims " +
+                                               std::to_string(len) + " bytes (limit " +
+                                               std::to_string(kMaxRawDatagram) + ")"});
+        if (t < prev)
+            return Unexpected(DatasetError{DatasetErrorCode::Inconsistent, name, 0, 0,
+                                           "record " + std::to_string(r.records.size()) +
+                                               " at byte " + std::to_string(pos) +
+                                               ": time goes backwards"});
+        if (bytes.size() - pos - 12 < len) {
+            r.truncated_tail = true;
+            break;
+        }
+        prev = t;
+        r.records.push_back({t, std::vector<std::uint8_t>(
+                                    bytes.begin() + static_cast<std::ptrdiff_t>(pos + 12),
+                                    bytes.begin() + static_cast<std::ptrdiff_t>(pos + 12 + len))});
+        pos += 12 + len;
+    }
+    return r;
+}
+
+Expected<std::vector<RawChunk>, DatasetError> parse_video_chunks(
+    std::span<const std::uint8_t> bytes, const std::string& name) {
+    std::vector<RawChunk> out;
+    std::uint64_t offset = 0;
+    for (std::size_t pos = 0; pos + 12 <= bytes.size(); pos += 12) {
+        RawChunk c;
+        c.t_us = static_cast<std::int64_t>(get_le(bytes.data() + pos, 8));
+        c.length = static_cast<std::uint32_t>(get_le(bytes.data() + pos + 8, 4));
+        c.offset = offset;
+        if (!out.empty() && c.t_us < out.back().t_us)
+            return Unexpected(
+                DatasetError{DatasetErrorCode::Inconsistent, name, 0, 0,
+                             "record " + std::to_string(out.size()) + ": time goes backwards"});
+        offset += c.length;
+        out.push_back(c);
+    }
+    return out;
+}
+
+Expected<std::vector<AtRecord>, DatasetError> parse_at_log(std::string_view text,
+                                                           const std::string& name) {
+    std::vector<AtRecord> out;
+    int line_no = 0;
+    std::size_t pos = 0;
+    while (pos < text.size()) {
+        const std::size_t nl = text.find('\n', pos);
+        if (nl == std::string_view::npos) break;  // partial last line of a killed recording
+        std::string_view line = text.substr(pos, nl - pos);
+        pos = nl + 1;
+        ++line_no;
+        auto bad = [&](int col, const std::string& msg) {
+            return Unexpected(DatasetError{DatasetErrorCode::Malformed, name, line_no, col, msg});
+        };
+        const std::size_t sp = line.find(' ');
+        if (sp == std::string_view::npos) return bad(1, "expected '<t_us> <datagram>'");
+        AtRecord rec;
+        auto [p, ec] = std::from_chars(line.data(), line.data() + sp, rec.t_us);
+        if (ec != std::errc() || p != line.data() + sp || rec.t_us < 0)
+            return bad(1, "expected a time in microseconds");
+        for (std::size_t i = sp + 1; i < line.size(); ++i) {
+            const char ch = line[i];
+            if (ch != '\\') {
+                rec.datagram += ch;
+                continue;
+            }
+            const int col = static_cast<int>(i + 1);
+            if (i + 1 >= line.size()) return bad(col, "dangling backslash");
+            const char e = line[++i];
+            if (e == '\\') {
+                rec.datagram += '\\';
+            } else if (e == 'r') {
+                rec.datagram += '\r';
+            } else if (e == 'n') {
+                rec.datagram += '\n';
+            } else if (e == 'x' && i + 2 < line.size()) {
+                unsigned v = 0;
+                auto [q, ec2] = std::from_chars(line.data() + i + 1, line.data() + i + 3, v, 16);
+                if (ec2 != std::errc() || q != line.data() + i + 3)
+                    return bad(col, "bad \\x escape");
+                rec.datagram += static_cast<char>(v);
+                i += 2;
+            } else {
+                return bad(col, std::string("unknown escape \\") + e);
+            }
+        }
+        out.push_back(std::move(rec));
+    }
+    return out;
+}
+
+Expected<RawReadResult, DatasetError> read_navdata_bin(const std::filesystem::path& raw_dir,
+                                                       std::uintmax_t max_bytes) {
+    auto b = read_binary(raw_dir / "navdata.bin", "raw/navdata.bin", max_bytes);
+    if (!b) return Unexpected(b.error());
+    return parse_navdata_bin(*b);
+}
+
+Expected<std::vector<AtRecord>, DatasetError> read_at_log(const std::filesystem::path& raw_dir,
+                                                          std::uintmax_t max_bytes) {
+    auto t = read_text_file(raw_dir / "at.log", "raw/at.log", max_bytes);
+    if (!t) return Unexpected(t.error());
+    return parse_at_log(*t);
+}
+
+Expected<std::vector<RawChunk>, DatasetError> read_video_chunks(
+    const std::filesystem::path& raw_dir, std::uintmax_t max_bytes) {
+    auto b = read_binary(raw_dir / "video_chunks.bin", "raw/video_chunks.bin", max_bytes);
+    if (!b) return Unexpected(b.error());
+    return parse_video_chunks(*b);
+}
+
+}  // namespace gs

@@ -1,0 +1,31 @@
+#pragma once
+// Rebuilding frames.csv from raw/ (DATASET.md: "Replaying raw/ through the protocol parsers must
+// reproduce frames.csv"): navdata datagrams and video chunks are fed in receive-time order to
+// the parsers, and each frame gets its attitude by the same NavAligner the recorder uses.
+//
+// The parsers are passed in: the navdata parser (drone/navdata.hpp) and the PaVE framer
+// (drone/pave.hpp) come from other modules; bind them in make_protocol_replay_decoders()
+// (PENDING: raw_replay_protocol.cpp, to be written when those modules are merged).
+
+#include "drone/dataset/dataset.hpp"
+
+#include <functional>
+#include <span>
+#include <vector>
+
+namespace gs {
+
+struct RawReplayDecoders {
+    // One navdata datagram -> its state (nullopt when it does not parse; it is then skipped).
+    std::function<std::optional<NavState>(std::span<const std::uint8_t>)> navdata;
+    // A chunk of the video stream received at stream time `recv_ns`; appends the capture time
+    // (stream ns) of every frame the chunk completed that the recorder would have written.
+    std::function<void(std::span<const std::uint8_t>, TimeNs recv_ns, std::vector<TimeNs>&)> video;
+};
+
+// Replays `raw_dir` (raw/navdata.bin, raw/video.pave, raw/video_chunks.bin) into frames.csv rows.
+Expected<std::vector<FrameRow>, DatasetError> replay_raw(const std::filesystem::path& raw_dir,
+                                                         RawReplayDecoders& decoders,
+                                                         TimeNs max_nav_wait_ns = 500'000'000);
+
+}  // namespace gs

@@ -1,0 +1,554 @@
+#include "drone/dataset/writer.hpp"
+
+#include "drone/dataset/align.hpp"
+#include "drone/dataset/annexb.hpp"
+#include "drone/dataset/csv.hpp"
+#include "drone/dataset/raw.hpp"
+
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include <fcntl.h>
+#include <unistd.h>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <deque>
+
+namespace gs {
+namespace fs = std::filesystem;
+
+namespace {
+
+DatasetError io_error(const std::string& name, const std::string& what) {
+    return DatasetError{DatasetErrorCode::Io, name, 0, 0, what};
+}
+
+std::string frame_file_name(std::int64_t index, const char* ext) {
+    char b[40];
+    std::snprintf(b, sizeof b, "%06lld%s", static_cast<long long>(index), ext);
+    return b;
+}
+
+std::string hex32(std::uint32_t v) {
+    char b[16];
+    std::snprintf(b, sizeof b, "0x%08X", v);
+    return b;
+}
+
+}  // namespace
+
+std::string flight_json_text(const DatasetInfo& info) {
+    nlohmann::ordered_json j;
+    j["format"] = "ardrone-dataset";
+    j["version"] = 1;
+    j["camera"] = to_string(info.camera);
+    j["width"] = info.width;
+    j["height"] = info.height;
+    j["fps"] = info.fps;
+    if (info.frames) j["frames"] = *info.frames;
+    j["video"] = info.video;
+    j["images"] = info.images;
+    if (info.calibration) {
+        const auto& c = *info.calibration;
+        j["calibration"] = {{"fx", c.fx},
+                            {"fy", c.fy},
+                            {"cx", c.cx},
+                            {"cy", c.cy},
+                            {"dist", {c.dist[0], c.dist[1], c.dist[2], c.dist[3], c.dist[4]}}};
+    }
+    if (!info.source.empty()) j["source"] = info.source;
+    return j.dump(2) + "\n";
+}
+
+std::string frames_csv_header() {
+    return "frame,t_ms,roll_deg,pitch_deg,yaw_deg,vx_mps,vy_mps,vz_mps,altitude_m,gt_x_m,gt_y_m,"
+           "gt_z_m,gt_yaw_deg\n";
+}
+
+std::string frames_csv_row(const FrameRow& r) {
+    const NavState& s = r.nav;
+    std::string out = std::to_string(r.frame);
+    out += ',' + csv::format_ms(s.t_ns);
+    for (double v : {s.roll_deg, s.pitch_deg, s.yaw_deg, s.vx_mps, s.vy_mps, s.vz_mps, s.altitude_m,
+                     r.gt.x_m, r.gt.y_m, r.gt.z_m, r.gt.yaw_deg}) {
+        out += ',';
+        out += csv::format_number(v);
+    }
+    out += '\n';
+    return out;
+}
+
+std::string navdata_csv_header() {
+    return "t_ms,roll_deg,pitch_deg,yaw_deg,vx_mps,vy_mps,vz_mps,altitude_m,seq,state,ctrl_state,"
+           "battery_pct\n";
+}
+
+std::string navdata_csv_row(const NavState& s) {
+    std::string out = csv::format_ms(s.t_ns);
+    for (double v :
+         {s.roll_deg, s.pitch_deg, s.yaw_deg, s.vx_mps, s.vy_mps, s.vz_mps, s.altitude_m}) {
+        out += ',';
+        out += csv::format_number(v);
+    }
+    out += ',';
+    if (s.seq) out += std::to_string(*s.seq);
+    out += ',';
+    if (s.drone_state) out += hex32(*s.drone_state);
+    out += ',';
+    if (s.ctrl_state) out += std::to_string(*s.ctrl_state);
+    out += ',';
+    out += csv::format_number(s.battery_pct);
+    out += '\n';
+    return out;
+}
+
+std::optional<DatasetError> write_file_atomic(const fs::path& path, std::string_view text,
+                                              const std::string& name) {
+    const fs::path tmp = path.string() + ".tmp";
+    const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    if (fd < 0) return io_error(name, std::string("cannot create: ") + std::strerror(errno));
+    std::size_t done = 0;
+    while (done < text.size()) {
+        const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) {
+            const int e = errno;
+            ::close(fd);
+            ::unlink(tmp.c_str());
+            return io_error(name, std::string("write failed: ") + std::strerror(e));
+        }
+        done += static_cast<std::size_t>(n);
+    }
+    ::close(fd);
+    if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+        const int e = errno;
+        ::unlink(tmp.c_str());
+        return io_error(name, std::string("rename failed: ") + std::strerror(e));
+    }
+    return std::nullopt;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Worker-side state: only the worker thread touches it (after create()).
+
+namespace {
+
+struct OutFile {
+    fs::path path;
+    std::string name;
+    int fd = -1;
+    std::string buf;
+    bool failed = false;
+
+    std::optional<DatasetError> open_new(const fs::path& p, std::string n) {
+        path = p;
+        name = std::move(n);
+        fd = ::open(p.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+        if (fd < 0) {
+            failed = true;
+            return io_error(name, std::string("cannot create: ") + std::strerror(errno));
+        }
+        return std::nullopt;
+    }
+    bool is_open() const { return fd >= 0; }
+    // One write loop per flush: whole lines/records reach the file together.
+    bool flush(DatasetWriterStats& st) {
+        if (buf.empty()) return !failed;
+        if (failed || fd < 0) {
+            buf.clear();
+            return false;
+        }
+        std::size_t done = 0;
+        while (done < buf.size()) {
+            const ssize_t n = ::write(fd, buf.data() + done, buf.size() - done);
+            if (n < 0 && errno == EINTR) continue;
+            if (n <= 0) {
+                failed = true;
+                ++st.write_errors;
+                if (st.first_error.empty())
+                    st.first_error = name + ": write failed: " + std::strerror(errno);
+                buf.clear();
+                return false;
+            }
+            done += static_cast<std::size_t>(n);
+        }
+        st.bytes_written += buf.size();
+        buf.clear();
+        return true;
+    }
+    void close_file() {
+        if (fd >= 0) ::close(fd);
+        fd = -1;
+    }
+};
+
+}  // namespace
+
+struct DatasetWriter::Files {
+    DatasetInfo info;
+    OutFile frames_csv, navdata_csv, labels_csv, video, raw_nav, raw_pave, raw_chunks, raw_at;
+    NavAligner aligner;
+    DatasetWriterStats st;
+
+    // frames
+    std::optional<bool> video_mode;  // decided by the first accepted frame
+    bool seen_idr = false;
+    std::int64_t next_index = 0;
+    std::int64_t durable = 0;  // frames [0, durable) have their pixels on disk
+    TimeNs last_frame_t = 0;
+    TimeNs last_nav_t = 0;
+    TimeNs latest_t = 0;                                   // newest stream time seen in any record
+    std::deque<std::optional<FrameLabel>> pending_labels;  // same order as aligner frames
+    struct ReadyRow {
+        std::int64_t index;
+        std::string row;
+        std::string label_row;
+    };
+    std::deque<ReadyRow> ready;
+
+    explicit Files(TimeNs max_wait) : aligner(max_wait) {}
+
+    std::size_t buffered() const {
+        return frames_csv.buf.size() + navdata_csv.buf.size() + video.buf.size() +
+               raw_nav.buf.size() + raw_pave.buf.size() + raw_chunks.buf.size() + raw_at.buf.size();
+    }
+    void note_error(const DatasetError& e) {
+        ++st.write_errors;
+        if (st.first_error.empty()) st.first_error = to_string(e);
+    }
+};
+
+DatasetWriter::DatasetWriter(fs::path dir, DatasetWriterOptions opts, const Clock& clock)
+    : dir_(std::move(dir)),
+      opts_(std::move(opts)),
+      clock_(clock),
+      t0_(clock.now_ns()),
+      queue_(opts_.queue_capacity, QueueFull::RejectNew) {}
+
+Expected<std::unique_ptr<DatasetWriter>, DatasetError> DatasetWriter::create(
+    const fs::path& dir, const DatasetWriterOptions& opts, const Clock& clock) {
+    std::error_code ec;
+    if (fs::exists(dir, ec)) {
+        if (!fs::is_directory(dir, ec) || !fs::is_empty(dir, ec))
+            return Unexpected(DatasetError{DatasetErrorCode::Io, dir.string(), 0, 0,
+                                           "exists and is not an empty directory"});
+    }
+    fs::create_directories(dir, ec);
+    if (ec) return Unexpected(io_error(dir.string(), "cannot create directory: " + ec.message()));
+    if (opts.width < 1 || opts.height < 1 || !(opts.fps > 0))
+        return Unexpected(DatasetError{DatasetErrorCode::OutOfRange, "flight.json", 0, 0,
+                                       "width, height and fps must be positive"});
+    auto opts2 = opts;
+    if (opts2.flush_interval > std::chrono::seconds(1))
+        opts2.flush_interval = std::chrono::seconds(1);
+    if (opts2.flush_interval <= std::chrono::milliseconds(0))
+        opts2.flush_interval = std::chrono::milliseconds(1);
+    std::unique_ptr<DatasetWriter> w(new DatasetWriter(dir, opts2, clock));
+    auto f = std::make_unique<Files>(opts2.max_nav_wait_ns);
+    f->info.camera = opts2.camera;
+    f->info.width = opts2.width;
+    f->info.height = opts2.height;
+    f->info.fps = opts2.fps;
+    f->info.calibration = opts2.calibration;
+    f->info.source = opts2.source;
+    if (auto e = write_file_atomic(dir / "flight.json", flight_json_text(f->info), "flight.json"))
+        return Unexpected(*e);
+    if (auto e = f->frames_csv.open_new(dir / "frames.csv", "frames.csv")) return Unexpected(*e);
+    if (auto e = f->navdata_csv.open_new(dir / "navdata.csv", "navdata.csv")) return Unexpected(*e);
+    f->frames_csv.buf = frames_csv_header();
+    f->navdata_csv.buf = navdata_csv_header();
+    f->frames_csv.flush(f->st);
+    f->navdata_csv.flush(f->st);
+    if (opts2.write_raw) {
+        fs::create_directories(dir / "raw", ec);
+        if (ec) return Unexpected(io_error("raw/", "cannot create directory: " + ec.message()));
+        if (auto e = f->raw_nav.open_new(dir / "raw/navdata.bin", "raw/navdata.bin"))
+            return Unexpected(*e);
+        if (auto e = f->raw_pave.open_new(dir / "raw/video.pave", "raw/video.pave"))
+            return Unexpected(*e);
+        if (auto e = f->raw_chunks.open_new(dir / "raw/video_chunks.bin", "raw/video_chunks.bin"))
+            return Unexpected(*e);
+        if (auto e = f->raw_at.open_new(dir / "raw/at.log", "raw/at.log")) return Unexpected(*e);
+    }
+    if (opts2.write_images) {
+        fs::create_directories(dir / "frames", ec);
+        if (ec) return Unexpected(io_error("frames/", "cannot create directory: " + ec.message()));
+    }
+    w->files_ = std::move(f);
+    w->stats_.publish(w->files_->st);
+    w->worker_ = std::thread([p = w.get()] { p->run(); });
+    return w;
+}
+
+DatasetWriter::~DatasetWriter() {
+    close();
+}
+
+bool DatasetWriter::push(Record r) {
+    if (queue_.push(std::move(r))) {
+        enqueued_.fetch_add(1, std::memory_order_relaxed);
+        return true;
+    }
+    return false;
+}
+
+bool DatasetWriter::add_navdata(TimeNs recv_ns, std::span<const std::uint8_t> datagram,
+                                const std::optional<NavState>& decoded) {
+    if (datagram.size() > kMaxRawDatagram) return push(NavIn{recv_ns, {}, decoded});
+    return push(NavIn{recv_ns, {datagram.begin(), datagram.end()}, decoded});
+}
+
+bool DatasetWriter::add_video_bytes(TimeNs recv_ns, std::span<const std::uint8_t> bytes) {
+    return push(VideoIn{recv_ns, {bytes.begin(), bytes.end()}});
+}
+
+bool DatasetWriter::add_frame(TimeNs capture_ns, std::span<const std::uint8_t> access_unit,
+                              const cv::Mat& image, std::optional<FrameLabel> label) {
+    return push(FrameIn{capture_ns,
+                        {access_unit.begin(), access_unit.end()},
+                        opts_.write_images ? image : cv::Mat(),
+                        label});
+}
+
+bool DatasetWriter::add_at(TimeNs send_ns, std::string_view datagram) {
+    return push(AtIn{send_ns, std::string(datagram)});
+}
+
+bool DatasetWriter::set_labels(const FlightLabels& labels) {
+    return push(LabelsIn{labels});
+}
+
+DatasetWriterStats DatasetWriter::stats() const {
+    DatasetWriterStats s = stats_.latest().value_or(DatasetWriterStats{});
+    s.enqueued = enqueued_.load(std::memory_order_relaxed);
+    s.dropped_queue_full = queue_.dropped();
+    return s;
+}
+
+void DatasetWriter::close() {
+    if (closed_.exchange(true)) {
+        if (worker_.joinable()) worker_.join();
+        return;
+    }
+    queue_.close();
+    if (worker_.joinable()) worker_.join();
+}
+
+void DatasetWriter::run() {
+    Files& f = *files_;
+    // Stream times are whole microseconds, the resolution of raw/, so replaying raw/ gives the
+    // very same times (and interpolation weights) as the recording.
+    const auto to_stream = [this](TimeNs abs) {
+        const TimeNs d = abs - t0_;
+        return d >= 0 ? d / 1000 * 1000 : -((-d + 999) / 1000 * 1000);
+    };
+    const auto us = [](TimeNs t) { return t < 0 ? std::int64_t{0} : t / 1000; };
+
+    auto settle_rows = [&](TimeNs now_stream) {
+        std::int64_t index = 0;
+        NavState nav;
+        while (f.aligner.pop_ready(now_stream, index, nav)) {
+            std::optional<FrameLabel> label = std::move(f.pending_labels.front());
+            f.pending_labels.pop_front();
+            FrameRow row;
+            row.frame = index;
+            row.nav = nav;
+            Files::ReadyRow rr{index, frames_csv_row(row), {}};
+            if (label) {
+                rr.label_row = std::to_string(index) + ',' + csv::format_number(label->distance_m) +
+                               ',' + csv::format_number(label->lateral_m) + '\n';
+            }
+            f.ready.push_back(std::move(rr));
+        }
+    };
+
+    auto flush_all = [&] {
+        f.raw_nav.flush(f.st);
+        f.raw_pave.flush(f.st);
+        f.raw_chunks.flush(f.st);
+        f.raw_at.flush(f.st);
+        if (f.video_mode.value_or(false)) {
+            if (f.video.flush(f.st) && !f.video.failed) f.durable = f.next_index;
+        }
+        f.navdata_csv.flush(f.st);
+        // Rows go out only for frames whose pixels are on disk.
+        while (!f.ready.empty() && f.ready.front().index < f.durable) {
+            f.frames_csv.buf += f.ready.front().row;
+            if (!f.ready.front().label_row.empty()) {
+                if (!f.labels_csv.is_open() && !f.labels_csv.failed) {
+                    if (auto e = f.labels_csv.open_new(dir_ / "labels.csv", "labels.csv"))
+                        f.note_error(*e);
+                    f.labels_csv.buf = "frame,distance_m,lateral_m\n";
+                }
+                f.labels_csv.buf += f.ready.front().label_row;
+            }
+            f.ready.pop_front();
+            ++f.st.frames_written;
+        }
+        // Frames whose pixels can never reach the disk any more.
+        const bool pixels_dead = f.video_mode.value_or(false) && f.video.failed;
+        while (pixels_dead && !f.ready.empty()) {
+            f.ready.pop_front();
+            ++f.st.frames_lost_io;
+        }
+        f.frames_csv.flush(f.st);
+        f.labels_csv.flush(f.st);
+        ++f.st.flushes;
+        stats_.publish(f.st);
+    };
+
+    auto on_frame = [&](FrameIn& in) {
+        TimeNs t = to_stream(in.capture_ns);
+        if (t < f.last_frame_t) t = f.last_frame_t;  // frames.csv t_ms must not go backwards
+        const bool have_au = !in.au.empty();
+        const bool have_img = opts_.write_images && !in.image.empty();
+        if (!f.video_mode) {
+            if (!have_au && !have_img) {
+                ++f.st.frames_skipped;
+                return;
+            }
+            f.video_mode = have_au;
+        }
+        if (*f.video_mode) {
+            if (!have_au) {
+                ++f.st.frames_skipped;
+                return;
+            }
+            if (!f.seen_idr) {
+                if (!annexb_has_idr(in.au)) {
+                    ++f.st.frames_skipped;
+                    return;
+                }
+                f.seen_idr = true;
+            }
+            if (!f.video.is_open() && !f.video.failed) {
+                if (auto e = f.video.open_new(dir_ / "video.h264", "video.h264")) f.note_error(*e);
+            }
+            if (f.video.failed) {
+                ++f.st.frames_lost_io;
+                return;
+            }
+        } else if (!have_img) {
+            ++f.st.frames_skipped;
+            return;
+        }
+        const std::int64_t index = f.next_index;
+        if (have_img) {
+            std::vector<std::uint8_t> png;
+            bool ok = false;
+            try {
+                ok = cv::imencode(".png", in.image, png);
+            } catch (const cv::Exception&) {
+                ok = false;
+            }
+            const std::string name = "frames/" + frame_file_name(index, ".png");
+            std::optional<DatasetError> e;
+            if (!ok) {
+                e = io_error(name, "PNG encoding failed");
+            } else {
+                e = write_file_atomic(
+                    dir_ / name,
+                    std::string_view(reinterpret_cast<const char*>(png.data()), png.size()), name);
+            }
+            if (e) {
+                f.note_error(*e);
+                if (!*f.video_mode) {
+                    ++f.st.frames_lost_io;
+                    return;
+                }
+            }
+        }
+        if (*f.video_mode) {
+            f.video.buf.append(reinterpret_cast<const char*>(in.au.data()), in.au.size());
+        }
+        ++f.next_index;
+        if (!*f.video_mode) f.durable = f.next_index;  // the image file is complete already
+        f.last_frame_t = t;
+        f.latest_t = std::max(f.latest_t, t);
+        f.aligner.push_frame(index, t);
+        f.pending_labels.push_back(in.label);
+    };
+
+    auto process = [&](Record& r) {
+        if (auto* n = std::get_if<NavIn>(&r)) {
+            const TimeNs t = std::max(to_stream(n->recv_ns), f.last_nav_t);
+            f.last_nav_t = t;
+            f.latest_t = std::max(f.latest_t, t);
+            if (f.raw_nav.is_open() && !n->bytes.empty()) {
+                append_raw_record(f.raw_nav.buf, us(t), n->bytes);
+                ++f.st.raw_navdata_records;
+            }
+            if (n->nav) {
+                NavState s = *n->nav;
+                s.t_ns = t;
+                f.navdata_csv.buf += navdata_csv_row(s);
+                ++f.st.navdata_written;
+                f.aligner.push_nav(s);
+            }
+        } else if (auto* v = std::get_if<VideoIn>(&r)) {
+            const TimeNs t = to_stream(v->recv_ns);
+            f.latest_t = std::max(f.latest_t, t);
+            if (f.raw_pave.is_open()) {
+                f.raw_pave.buf.append(reinterpret_cast<const char*>(v->bytes.data()),
+                                      v->bytes.size());
+                append_chunk_record(f.raw_chunks.buf, us(t),
+                                    static_cast<std::uint32_t>(v->bytes.size()));
+                ++f.st.video_chunks;
+            }
+        } else if (auto* fr = std::get_if<FrameIn>(&r)) {
+            on_frame(*fr);
+        } else if (auto* a = std::get_if<AtIn>(&r)) {
+            if (f.raw_at.is_open()) {
+                append_at_line(f.raw_at.buf, us(to_stream(a->send_ns)), a->datagram);
+                ++f.st.at_records;
+            }
+        } else if (auto* l = std::get_if<LabelsIn>(&r)) {
+            nlohmann::json j = nlohmann::json::object();
+            if (!l->labels.json.empty()) {
+                j = nlohmann::json::parse(l->labels.json, nullptr, false);
+                if (!j.is_object()) j = nlohmann::json::object();
+            }
+            j["scenario"] = to_string(l->labels.scenario);
+            if (auto e = write_file_atomic(dir_ / "labels.json", j.dump(2) + "\n", "labels.json"))
+                f.note_error(*e);
+        }
+    };
+
+    TimeNs next_flush = clock_.now_ns() + std::chrono::nanoseconds(opts_.flush_interval).count();
+    while (true) {
+        const TimeNs now = clock_.now_ns();
+        const TimeNs wait_ns = std::clamp<TimeNs>(next_flush - now, 1'000'000, 50'000'000);
+        auto r = queue_.pop_for(std::chrono::nanoseconds(wait_ns));
+        if (r) {
+            process(*r);
+        } else if (queue_.closed()) {
+            break;
+        }
+        // While idle, wall time moves the stream on (navdata may have stopped); while busy only
+        // the records do, so a backlog does not time frames out before their navdata is read.
+        TimeNs stream_now = f.latest_t;
+        if (queue_.size() == 0) stream_now = std::max(stream_now, to_stream(clock_.now_ns()));
+        settle_rows(stream_now);
+        if (clock_.now_ns() >= next_flush || f.buffered() > opts_.max_buffer_bytes) {
+            flush_all();
+            next_flush = clock_.now_ns() + std::chrono::nanoseconds(opts_.flush_interval).count();
+        }
+    }
+    // Closing: every frame gets its row (nearest navdata when nothing came after it).
+    f.aligner.finish();
+    settle_rows(f.latest_t);
+    flush_all();
+    f.info.frames = f.st.frames_written;
+    if (auto e = write_file_atomic(dir_ / "flight.json", flight_json_text(f.info), "flight.json"))
+        f.note_error(*e);
+    for (OutFile* o : {&f.frames_csv, &f.navdata_csv, &f.labels_csv, &f.video, &f.raw_nav,
+                       &f.raw_pave, &f.raw_chunks, &f.raw_at}) {
+        if (o->fd >= 0 && ::fsync(o->fd) != 0) f.note_error(io_error(o->name, "fsync failed"));
+        o->close_file();
+    }
+    f.st.closed = true;
+    stats_.publish(f.st);
+}
+
+}  // namespace gs
