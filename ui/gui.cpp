@@ -55,7 +55,7 @@ Rect default_window_rect(const char* w, ImVec2 d) {
     const float L = std::round(W * 0.625f);
     const float R = W - L, half = std::round(R * 0.5f);
     const float video_bottom = top + std::round((H - top) * 0.64f);
-    const float conn_h = 176.0f, why_h = 250.0f;
+    const float conn_h = 196.0f, why_h = 250.0f;
     const std::string n = w;
     if (n == "Video") return {0, top, L, video_bottom};
     if (n == "Plots") return {0, video_bottom, L, H};

@@ -121,7 +121,11 @@ struct VideoFrame {
 
 // ---- Classifier -----------------------------------------------------------------------------
 
-// Colours are ImGui-style packed RGBA (IM_COL32: 0xAABBGGRR).
+// Colours are ImGui-style packed RGBA (same packing as IM_COL32: 0xAABBGGRR).
+constexpr std::uint32_t rgba(unsigned r, unsigned g, unsigned b, unsigned a = 255) {
+    return (a & 0xFFu) << 24 | (b & 0xFFu) << 16 | (g & 0xFFu) << 8 | (r & 0xFFu);
+}
+
 struct Point2f {
     float x = 0, y = 0;
 };
