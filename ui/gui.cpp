@@ -152,7 +152,9 @@ void Gui::draw_quit_dialog(const GuiSnapshot& s, Actions& a) {
     }
     const ImVec2 c{ImGui::GetIO().DisplaySize.x * 0.5f, ImGui::GetIO().DisplaySize.y * 0.5f};
     ImGui::SetNextWindowPos(c, ImGuiCond_Appearing, {0.5f, 0.5f});
+    view_.quit_dialog_open = false;
     if (ImGui::BeginPopupModal("The drone is flying", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+        view_.quit_dialog_open = true;
         ImGui::TextUnformatted(
             "Closing the ground station now would leave the drone without commands.");
         ImGui::TextUnformatted(

@@ -59,6 +59,7 @@ struct ViewState {
 
     bool confirm_quit = false;        // the "drone is flying" dialog is up
     bool quit_after_landing = false;  // user chose "land, then quit"
+    bool quit_dialog_open = false;    // the dialog was drawn this frame
 
     double ui_frame_ms = kUnknown;  // measured by the run loop, shown in the link window
     double ui_fps = kUnknown;
