@@ -279,33 +279,54 @@ PlotResult draw_plot(const char* id, const PlotSpec& spec, ImVec2 size) {
     }
     dl->PopClipRect();
 
-    // Legend (top-left inside the area); click toggles a series.
+    // Legend: on the title row, right-aligned, when it fits (keeps the data area clear);
+    // otherwise a box in the top-left of the area. Click an entry to hide/show its series.
     if (spec.show_legend && !spec.series.empty()) {
-        const float sw = fh * 0.9f, pad = 4.0f;
-        float lw = 0;
-        for (const auto& s : spec.series)
-            lw = std::max(lw, ImGui::CalcTextSize(std::string(s.name).c_str()).x);
-        const float lh = static_cast<float>(spec.series.size()) * (fh + 2.0f) + pad * 2;
-        const ImVec2 l0{a0.x + 6.0f, a0.y + 6.0f};
-        const ImVec2 l1{l0.x + sw + lw + pad * 3, l0.y + lh};
-        dl->AddRectFilled(l0, l1, IM_COL32(10, 10, 12, 190), 3.0f);
+        const float sw = fh * 0.8f, pad = 4.0f;
+        std::vector<float> widths;
+        float total = 0, widest = 0;
+        for (const auto& s : spec.series) {
+            const float w = sw + pad + ImGui::CalcTextSize(std::string(s.name).c_str()).x;
+            widths.push_back(w);
+            total += w + 10.0f;
+            widest = std::max(widest, w);
+        }
+        const float title_w =
+            spec.title.empty()
+                ? 0.0f
+                : ImGui::CalcTextSize(std::string(spec.title).c_str()).x +
+                      (spec.y_label.empty()
+                           ? 0.0f
+                           : ImGui::CalcTextSize(std::string(spec.y_label).c_str()).x + 20.0f);
+        const bool inline_row = !spec.title.empty() && title_w + total + 16.0f < size.x;
         const ImVec2 mouse = ImGui::GetIO().MousePos;
+        const float box_h = static_cast<float>(spec.series.size()) * (fh + 2.0f) + pad * 2;
+        if (!inline_row)
+            dl->AddRectFilled({a0.x + 6, a0.y + 6}, {a0.x + 6 + widest + pad * 2, a0.y + 6 + box_h},
+                              IM_COL32(10, 10, 12, 190), 3.0f);
+        float ex = p1.x - total;
         for (std::size_t si = 0; si < spec.series.size(); ++si) {
             const auto& s = spec.series[si];
             const ImGuiID hid = hidden_id(s.name);
             const bool hidden = storage->GetBool(hid, false);
             const std::uint32_t col = s.rgba ? s.rgba : palette_color(si);
-            const float y = l0.y + pad + static_cast<float>(si) * (fh + 2.0f);
-            const ImVec2 e0{l0.x, y}, e1{l1.x, y + fh + 2.0f};
+            ImVec2 e0;
+            if (inline_row) {
+                e0 = {ex, p0.y + 3.0f};
+                ex += widths[si] + 10.0f;
+            } else {
+                e0 = {a0.x + 6 + pad, a0.y + 6 + pad + static_cast<float>(si) * (fh + 2.0f)};
+            }
+            const ImVec2 e1{e0.x + widths[si], e0.y + fh};
             if (r.hovered && mouse.x >= e0.x && mouse.x < e1.x && mouse.y >= e0.y &&
                 mouse.y < e1.y && ImGui::IsMouseClicked(ImGuiMouseButton_Left))
                 storage->SetBool(hid, !hidden);
-            const ImVec2 s0{l0.x + pad, y + fh * 0.5f - 1.5f};
+            const ImVec2 q0{e0.x, e0.y + fh * 0.2f}, q1{e0.x + sw, e0.y + fh * 0.8f};
             if (hidden)
-                dl->AddRect({s0.x, y + 2}, {s0.x + sw, y + fh - 2}, col);
+                dl->AddRect(q0, q1, col);
             else
-                dl->AddRectFilled({s0.x, y + 2}, {s0.x + sw, y + fh - 2}, col);
-            dl->AddText({s0.x + sw + pad, y}, hidden ? kDimText : kText,
+                dl->AddRectFilled(q0, q1, col);
+            dl->AddText({e0.x + sw + pad, e0.y}, hidden ? kDimText : kText,
                         std::string(s.name).c_str());
         }
     }

@@ -18,7 +18,12 @@ void draw_data(const char* id, const PlotData* p, std::string_view fallback_titl
     PlotSpec spec;
     if (!p) {
         spec.title = fallback_title;
-        draw_plot(id, spec, size);
+        const PlotResult r = draw_plot(id, spec, size);
+        const char* msg = "no classifier data";
+        const ImVec2 ts = ImGui::CalcTextSize(msg);
+        ImGui::GetWindowDrawList()->AddText({0.5f * (r.area_min.x + r.area_max.x - ts.x),
+                                             0.5f * (r.area_min.y + r.area_max.y - ts.y)},
+                                            colors::kDim, msg);
         return;
     }
     spec.title = p->title;
@@ -117,11 +122,11 @@ void PlotsWindow::draw(const GuiSnapshot& s, ViewState& v) {
                           static_cast<float>(rows)};
     };
     auto classifier_plots = [&](ImVec2 sz) {
-        draw_data("traj", find_plot(s, "trajectories_x"), "trajectories_x", sz);
+        draw_data("traj", find_plot(s, "trajectories_x"), "Trajectory x over frames", sz);
         ImGui::SameLine();
-        draw_data("scale", find_plot(s, "center_scale"), "center_scale", sz);
+        draw_data("scale", find_plot(s, "center_scale"), "Centre scale", sz);
         ImGui::SameLine();
-        draw_data("scores", find_plot(s, "scores"), "scores", sz);
+        draw_data("scores", find_plot(s, "scores"), "Region scores", sz);
     };
     auto flight_plots = [&](ImVec2 sz) {
         flight_path(v, sz);

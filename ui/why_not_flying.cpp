@@ -94,7 +94,8 @@ std::vector<Reason> explain_not_flying(const GuiSnapshot& s) {
     for (const auto& r : out) blocked = blocked || r.severity == Severity::Blocker;
     if (!blocked) {
         if (b.flying)
-            add(Severity::Ok, "Flying", s.telemetry.ctrl_state);
+            add(Severity::Ok, "Flying",
+                std::string("Control state ") + s.telemetry.ctrl_state + ".");
         else
             add(Severity::Ok, "Ready to take off", "No state bit prevents a take-off.");
     }
@@ -125,14 +126,14 @@ void WhyNotFlyingWindow::draw(const GuiSnapshot& s, ViewState& v) {
                     break;
             }
             ImGui::TextColored(colors::v4(col), "%-5s", tag);
-            ImGui::SameLine(ImGui::GetFontSize() * 3.6f);
+            ImGui::SameLine(ImGui::GetFontSize() * 4.4f);
             ImGui::TextColored(colors::v4(col), "%s", r.title.c_str());
             if (!r.detail.empty()) {
-                ImGui::Indent(ImGui::GetFontSize() * 3.6f - ImGui::GetStyle().WindowPadding.x);
+                ImGui::Indent(ImGui::GetFontSize() * 4.4f - ImGui::GetStyle().WindowPadding.x);
                 ImGui::PushTextWrapPos(0);
                 ImGui::TextColored(colors::v4(colors::kDim), "%s", r.detail.c_str());
                 ImGui::PopTextWrapPos();
-                ImGui::Unindent(ImGui::GetFontSize() * 3.6f - ImGui::GetStyle().WindowPadding.x);
+                ImGui::Unindent(ImGui::GetFontSize() * 4.4f - ImGui::GetStyle().WindowPadding.x);
             }
         }
     }
