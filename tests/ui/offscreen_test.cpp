@@ -46,9 +46,12 @@ cv::Vec3b pixel(const cv::Mat& img, double x, double y) {
 
 TEST(Offscreen, DemoScreenshotShowsLeftRegionRedOthersGreenAndTheBattery) {
     const fs::path out = temp_dir("gs_ui_offscreen");
-    const std::string cmd = std::string("xvfb-run -a -s '-screen 0 1920x1080x24' ") + GS_BINARY +
-                            " --offscreen --demo --frames 6 --screenshot-every 3 --out " +
-                            out.string();
+    // Under the sanitizer build the child's leak check is off: Mesa's software driver is
+    // dlopen'ed and unloaded before exit and leaks 240 bytes LSan cannot attribute or suppress
+    // ("<unknown module>"). Our own code's leaks are checked in-process by the headless tests.
+    const std::string cmd =
+        std::string("ASAN_OPTIONS=detect_leaks=0 xvfb-run -a -s '-screen 0 1920x1080x24' ") +
+        GS_BINARY + " --offscreen --demo --frames 6 --screenshot-every 3 --out " + out.string();
     const Proc r = run(cmd, out / "log.txt");
     ASSERT_EQ(r.code, 0) << "offscreen render under xvfb-run failed (is Xvfb installed and can it "
                             "start?):\n"
