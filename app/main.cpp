@@ -1,5 +1,8 @@
 // ardrone-gs: ground station for the Parrot AR.Drone 2.0.
 #include "app/command.hpp"
+#ifdef GS_HAVE_GUI
+#include "app/gui_entry.hpp"
+#endif
 
 #include <string>
 #include <iostream>
@@ -60,8 +63,12 @@ int main(int argc, char** argv) {
         return app.exit(e);
     }
     if (app.get_subcommands().empty()) {
+#ifdef GS_HAVE_GUI
+        return gs::app::run_gui();
+#else
         std::cout << app.help();
         return 0;
+#endif
     }
     return 0;
 }

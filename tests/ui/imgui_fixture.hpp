@@ -1,0 +1,32 @@
+#pragma once
+// Headless ImGui for window tests: a context with a display size and a built font atlas, no
+// GLFW and no GL (imgui's example_null, v1.86). One frame = NewFrame, Gui::frame, Render.
+
+#include "ui/gui.hpp"
+
+#include <gtest/gtest.h>
+
+namespace gs::ui::test {
+
+class ImGuiFixture : public ::testing::Test {
+protected:
+    void SetUp() override;
+    void TearDown() override;
+    // Draws one frame of `gui` and returns its actions.
+    Actions frame(Gui& gui, const GuiSnapshot& s, InputState in = {}, TextureSource* tex = nullptr);
+    int last_vertices = 0;
+};
+
+// Counts calls and hands back a fake texture id.
+class CountingTexture final : public TextureSource {
+public:
+    ImTextureID video_texture(const VideoFrame& f) override {
+        ++calls;
+        last_index = f.index;
+        return reinterpret_cast<ImTextureID>(static_cast<std::uintptr_t>(7));
+    }
+    int calls = 0;
+    std::int64_t last_index = -1;
+};
+
+}  // namespace gs::ui::test

@@ -1,0 +1,30 @@
+#include "imgui_fixture.hpp"
+
+namespace gs::ui::test {
+
+void ImGuiFixture::SetUp() {
+    ImGui::CreateContext();
+    ImGuiIO& io = ImGui::GetIO();
+    io.IniFilename = nullptr;
+    io.DisplaySize = {1600, 900};
+    io.DeltaTime = 1.0f / 60.0f;
+    setup_style();
+    unsigned char* px = nullptr;
+    int w = 0, h = 0;
+    io.Fonts->GetTexDataAsRGBA32(&px, &w, &h);
+    io.Fonts->SetTexID(reinterpret_cast<ImTextureID>(static_cast<std::uintptr_t>(1)));
+}
+
+void ImGuiFixture::TearDown() {
+    ImGui::DestroyContext();
+}
+
+Actions ImGuiFixture::frame(Gui& gui, const GuiSnapshot& s, InputState in, TextureSource* tex) {
+    ImGui::NewFrame();
+    Actions a = gui.frame(s, in, tex);
+    ImGui::Render();
+    last_vertices = ImGui::GetDrawData()->TotalVtxCount;
+    return a;
+}
+
+}  // namespace gs::ui::test

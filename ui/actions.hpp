@@ -1,0 +1,54 @@
+#pragma once
+// Actions: what the user asked for during one window frame. The window never talks to the link,
+// the recorder or the classifier; it fills one Actions per frame and the caller turns it into typed
+// commands. Edge-type requests (takeoff, connect ...) are set only on the frame they happened.
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace gs::ui {
+
+// Progressive command fractions in [-1, 1] (AT*PCMD convention, PROTOCOL.md §2.6):
+// roll < 0 = move left, pitch < 0 = move forward, gaz > 0 = climb, yaw > 0 = turn clockwise.
+struct PilotInput {
+    float roll = 0, pitch = 0, gaz = 0, yaw = 0;
+    bool any() const { return roll != 0 || pitch != 0 || gaz != 0 || yaw != 0; }
+    friend bool operator==(const PilotInput&, const PilotInput&) = default;
+};
+
+struct ConnectRequest {
+    bool sim = false;      // true: the built-in virtual drone
+    std::string address;   // real drone address (sim == false)
+    std::string scenario;  // virtual-drone scenario (sim == true)
+};
+
+struct Actions {
+    // Piloting. `pilot` is the manual command this frame (all zero = hover). `manual` is true
+    // while the user is actively steering (a movement key held or a stick outside the dead zone):
+    // the caller must then let this input override any automatic command (manual input wins).
+    PilotInput pilot;
+    bool manual = false;
+    bool takeoff = false, land = false, emergency = false, flat_trim = false, switch_camera = false;
+
+    std::optional<ConnectRequest> connect;
+    bool disconnect = false;
+
+    bool record_start = false, record_stop = false;
+
+    std::optional<std::string> replay_open;  // dataset path
+    bool replay_play = false, replay_pause = false;
+    int replay_step = 0;                      // -1 / +1 frame
+    std::optional<std::int64_t> replay_seek;  // frame index
+    std::optional<double> replay_speed;       // 0.25 .. 8
+    std::optional<bool> replay_loop;
+
+    std::optional<std::string> classifier_select;
+    std::vector<std::pair<std::string, double>> param_changes;  // (name, new value)
+
+    bool quit = false;  // the window may close now (after the landing confirmation if flying)
+};
+
+}  // namespace gs::ui

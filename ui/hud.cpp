@@ -1,0 +1,269 @@
+#include "ui/windows.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+
+namespace gs::ui {
+
+namespace {
+
+constexpr std::uint32_t kHud = IM_COL32(235, 242, 248, 255);
+constexpr std::uint32_t kShadow = IM_COL32(0, 0, 0, 200);
+constexpr std::uint32_t kPanel = IM_COL32(0, 0, 0, 150);
+constexpr std::uint32_t kSymbol = IM_COL32(255, 200, 40, 255);
+
+void text(ImDrawList* dl, ImVec2 p, std::uint32_t col, const char* s, float size = 0) {
+    ImFont* f = ImGui::GetFont();
+    if (size <= 0) size = ImGui::GetFontSize();
+    dl->AddText(f, size, {p.x + 1, p.y + 1}, kShadow, s);
+    dl->AddText(f, size, p, col, s);
+}
+ImVec2 text_size(const char* s, float size = 0) {
+    if (size <= 0) size = ImGui::GetFontSize();
+    return ImGui::GetFont()->CalcTextSizeA(size, FLT_MAX, 0, s);
+}
+void line(ImDrawList* dl, ImVec2 a, ImVec2 b, std::uint32_t col, float th) {
+    dl->AddLine({a.x + 1, a.y + 1}, {b.x + 1, b.y + 1}, kShadow, th);
+    dl->AddLine(a, b, col, th);
+}
+
+// Boxed read-out: "LABEL value unit", left- or right-anchored.
+void readout(ImDrawList* dl, ImVec2 anchor, bool right, const char* label, const char* value,
+             std::uint32_t col) {
+    const float fs = ImGui::GetFontSize();
+    const ImVec2 ls = text_size(label, fs * 0.85f), vs = text_size(value, fs * 1.25f);
+    const float w = std::max(ls.x, vs.x) + 14, h = ls.y + vs.y + 6;
+    const ImVec2 b0{right ? anchor.x - w : anchor.x, anchor.y};
+    const ImVec2 b1{b0.x + w, b0.y + h};
+    dl->AddRectFilled(b0, b1, kPanel, 3.0f);
+    dl->AddRect(b0, b1, IM_COL32(255, 255, 255, 60), 3.0f);
+    text(dl, {b0.x + 7, b0.y + 2}, colors::kDim, label, fs * 0.85f);
+    text(dl, {b0.x + 7, b0.y + 3 + ls.y}, col, value, fs * 1.25f);
+}
+
+const char* compass(double deg) {
+    static const char* names[] = {"N", "NE", "E", "SE", "S", "SW", "W", "NW"};
+    const int i = static_cast<int>(std::lround(deg / 45.0)) & 7;
+    return names[i];
+}
+
+}  // namespace
+
+void Hud::draw(ImDrawList* dl, ImVec2 p0, ImVec2 p1, const GuiSnapshot& s, ViewState& v) {
+    const float W = p1.x - p0.x, H = p1.y - p0.y;
+    const float fs = ImGui::GetFontSize();
+    const NavState& n = s.telemetry.nav;
+    const bool nav = s.telemetry.valid;
+    const ImVec2 c{p0.x + W * 0.5f, p0.y + H * 0.5f};
+    char buf[128];
+    dl->PushClipRect(p0, p1, true);
+
+    // ---- Artificial horizon (roll, pitch) in a central box --------------------------------
+    const float hr = std::min(W, H) * 0.30f;  // half-size of the horizon box
+    if (nav && known(n.roll_deg) && known(n.pitch_deg)) {
+        const float r = static_cast<float>(n.roll_deg * std::numbers::pi / 180.0);
+        const float ppd = hr / 25.0f;  // pixels per degree of pitch: +-25 deg fills the box
+        const ImVec2 dir{std::cos(r),
+                         -std::sin(r)};  // along the horizon (right wing up when rolled right)
+        const ImVec2 down{std::sin(r), std::cos(r)};  // perpendicular, screen-down when level
+        dl->PushClipRect({c.x - hr * 1.3f, c.y - hr}, {c.x + hr * 1.3f, c.y + hr}, true);
+        for (int k = -30; k <= 30; k += 5) {
+            const float off = static_cast<float>(n.pitch_deg - k) * ppd;
+            const ImVec2 m{c.x + down.x * off, c.y + down.y * off};
+            const float half = k == 0 ? hr * 1.3f : (k % 10 == 0 ? hr * 0.32f : hr * 0.16f);
+            const ImVec2 a{m.x - dir.x * half, m.y - dir.y * half},
+                b{m.x + dir.x * half, m.y + dir.y * half};
+            if (k == 0) {
+                line(dl, a, b, kHud, 2.0f);
+            } else {
+                line(dl, a, b, IM_COL32(235, 242, 248, 170), 1.0f);
+                if (k % 10 == 0) {
+                    std::snprintf(buf, sizeof buf, "%d", k);
+                    text(dl, {b.x + 4, b.y - fs * 0.5f}, IM_COL32(235, 242, 248, 190), buf,
+                         fs * 0.8f);
+                }
+            }
+        }
+        dl->PopClipRect();
+        std::snprintf(buf, sizeof buf, "R %+5.1f\xc2\xb0  P %+5.1f\xc2\xb0", n.roll_deg,
+                      n.pitch_deg);
+        const ImVec2 ts = text_size(buf);
+        text(dl, {c.x - ts.x * 0.5f, c.y + hr + 4}, kHud, buf);
+    } else {
+        const char* msg = "NO ATTITUDE";
+        const ImVec2 ts = text_size(msg);
+        text(dl, {c.x - ts.x * 0.5f, c.y + hr * 0.4f}, colors::kWarn, msg);
+    }
+    // Fixed aircraft symbol.
+    const float sw = hr * 0.22f;
+    line(dl, {c.x - sw * 2.2f, c.y}, {c.x - sw, c.y}, kSymbol, 3.0f);
+    line(dl, {c.x - sw, c.y}, {c.x - sw * 0.5f, c.y + sw * 0.5f}, kSymbol, 3.0f);
+    line(dl, {c.x - sw * 0.5f, c.y + sw * 0.5f}, {c.x, c.y}, kSymbol, 3.0f);
+    line(dl, {c.x, c.y}, {c.x + sw * 0.5f, c.y + sw * 0.5f}, kSymbol, 3.0f);
+    line(dl, {c.x + sw * 0.5f, c.y + sw * 0.5f}, {c.x + sw, c.y}, kSymbol, 3.0f);
+    line(dl, {c.x + sw, c.y}, {c.x + sw * 2.2f, c.y}, kSymbol, 3.0f);
+
+    // ---- Heading tape (top centre, below the region bar) -----------------------------------
+    const float tape_y = p0.y + std::max(16.0f, H * 0.04f) + 6.0f;
+    const float tape_w = std::min(W * 0.46f, 460.0f), tape_h = fs * 2.4f;
+    const ImVec2 t0{c.x - tape_w * 0.5f, tape_y}, t1{c.x + tape_w * 0.5f, tape_y + tape_h};
+    dl->AddRectFilled(t0, t1, kPanel, 3.0f);
+    if (nav && known(n.yaw_deg)) {
+        const double hdg = std::fmod(std::fmod(n.yaw_deg, 360.0) + 360.0, 360.0);
+        const float ppd = tape_w / 70.0f;  // +-35 deg visible
+        dl->PushClipRect(t0, t1, true);
+        const int first = static_cast<int>(std::floor((hdg - 40) / 5.0)) * 5;
+        for (int d = first; d <= hdg + 40; d += 5) {
+            const float x = c.x + static_cast<float>(d - hdg) * ppd;
+            const bool major = (d % 10) == 0;
+            line(dl, {x, t1.y - (major ? fs * 0.7f : fs * 0.4f)}, {x, t1.y}, kHud, 1.0f);
+            if (d % 30 == 0) {
+                const int dd = ((d % 360) + 360) % 360;
+                if (dd % 90 == 0)
+                    std::snprintf(buf, sizeof buf, "%s", compass(dd));
+                else
+                    std::snprintf(buf, sizeof buf, "%d", dd);
+                const ImVec2 ts = text_size(buf, fs * 0.85f);
+                text(dl, {x - ts.x * 0.5f, t0.y + 2}, kHud, buf, fs * 0.85f);
+            }
+        }
+        dl->PopClipRect();
+        std::snprintf(buf, sizeof buf, "%03.0f\xc2\xb0 %s", hdg, compass(hdg));
+        const ImVec2 ts = text_size(buf);
+        const ImVec2 b0{c.x - ts.x * 0.5f - 5, t1.y + 2},
+            b1{c.x + ts.x * 0.5f + 5, t1.y + ts.y + 5};
+        dl->AddRectFilled(b0, b1, IM_COL32(0, 0, 0, 210), 2.0f);
+        dl->AddRect(b0, b1, kHud, 2.0f);
+        text(dl, {b0.x + 5, b0.y + 1}, kHud, buf);
+        dl->AddTriangleFilled({c.x - 5, t1.y}, {c.x + 5, t1.y}, {c.x, t1.y - 6}, kSymbol);
+    } else {
+        const ImVec2 ts = text_size("HDG ---");
+        text(dl, {c.x - ts.x * 0.5f, t0.y + (tape_h - ts.y) * 0.5f}, colors::kDim, "HDG ---");
+    }
+
+    // ---- Speeds (left) and altitude (right) -------------------------------------------------
+    const float side_y = c.y - fs * 2.2f;
+    const double gs =
+        (known(n.vx_mps) && known(n.vy_mps)) ? std::hypot(n.vx_mps, n.vy_mps) : kUnknown;
+    if (nav && known(gs))
+        std::snprintf(buf, sizeof buf, "%.2f m/s", gs);
+    else
+        std::snprintf(buf, sizeof buf, "--- m/s");
+    readout(dl, {p0.x + W * 0.06f, side_y}, false, "GROUND SPEED", buf, kHud);
+    if (nav && known(n.vz_mps))
+        std::snprintf(buf, sizeof buf, "%+.2f m/s", n.vz_mps);
+    else
+        std::snprintf(buf, sizeof buf, "--- m/s");
+    readout(dl, {p0.x + W * 0.06f, side_y + fs * 3.4f}, false, "VERTICAL SPEED", buf, kHud);
+    if (nav && known(n.altitude_m))
+        std::snprintf(buf, sizeof buf, "%.2f m", n.altitude_m);
+    else
+        std::snprintf(buf, sizeof buf, "--- m");
+    readout(dl, {p1.x - W * 0.06f, side_y}, true, "ALTITUDE", buf, kHud);
+
+    // ---- Bottom strip: battery, control state, link, video --------------------------------
+    const float strip_h = fs * 1.9f;
+    const ImVec2 s0{p0.x, p1.y - strip_h}, s1{p1.x, p1.y};
+    dl->AddRectFilled(s0, s1, IM_COL32(0, 0, 0, 175));
+    float x = s0.x + 10;
+    const float cy = s0.y + strip_h * 0.5f;
+
+    // Battery gauge: outline, terminal nub, fill proportional to percent.
+    const double bat = nav ? n.battery_pct : kUnknown;
+    const bool bat_known = known(bat);
+    const bool bat_low = (bat_known && bat < s.telemetry.battery_low_pct) ||
+                         (s.telemetry.state && s.telemetry.state->battery_low);
+    const float gw = fs * 4.2f, gh = fs * 1.05f;
+    const ImVec2 g0{x, cy - gh * 0.5f}, g1{x + gw, cy + gh * 0.5f};
+    const float frac = bat_known ? static_cast<float>(std::clamp(bat, 0.0, 100.0) / 100.0) : 0.0f;
+    const std::uint32_t bcol = !bat_known ? colors::kDim
+                               : bat_low  ? colors::kBad
+                               : bat < 40 ? colors::kWarn
+                                          : colors::kGood;
+    const ImVec2 f0{g0.x + 2, g0.y + 2};
+    const ImVec2 f1{g0.x + 2 + (gw - 4) * frac, g1.y - 2};
+    dl->AddRectFilled(g0, g1, IM_COL32(30, 30, 30, 230), 2.0f);
+    if (frac > 0) dl->AddRectFilled(f0, f1, bcol, 1.0f);
+    dl->AddRect(g0, g1, kHud, 2.0f, 0, 1.5f);
+    dl->AddRectFilled({g1.x, cy - gh * 0.22f}, {g1.x + 3, cy + gh * 0.22f}, kHud);
+    if (bat_known)
+        std::snprintf(buf, sizeof buf, "%.0f%%", bat);
+    else
+        std::snprintf(buf, sizeof buf, "---%%");
+    text(dl, {g1.x + 8, cy - fs * 0.5f}, bat_low ? colors::kBad : kHud, buf);
+    v.layout.battery_outline = {g0.x, g0.y, g1.x, g1.y};
+    v.layout.battery_fill = {f0.x, f0.y, frac > 0 ? f1.x : f0.x, f1.y};
+    v.layout.battery_color = bcol;
+    v.layout.battery_text = buf;
+    v.layout.battery_warning = bat_low;
+    x = g1.x + 8 + text_size("100%").x + 18;
+
+    auto field = [&](const char* label, const std::string& value, std::uint32_t col) {
+        text(dl, {x, cy - fs * 0.5f}, colors::kDim, label);
+        x += text_size(label).x + 5;
+        text(dl, {x, cy - fs * 0.5f}, col, value.c_str());
+        x += text_size(value.c_str()).x + 18;
+    };
+    field("STATE", s.telemetry.ctrl_state.empty() ? "---" : s.telemetry.ctrl_state,
+          s.telemetry.state && s.telemetry.state->flying ? colors::kInfo : kHud);
+    {
+        const LinkState ls = s.connection.state;
+        std::uint32_t col = ls == LinkState::Connected ? colors::kGood
+                            : ls == LinkState::Replay  ? colors::kInfo
+                            : ls == LinkState::Lost    ? colors::kBad
+                                                       : colors::kWarn;
+        std::string val = to_string(ls);
+        const double age = s.link.navdata.age_ms;
+        if (known(age) && ls != LinkState::Disconnected) {
+            std::snprintf(buf, sizeof buf, " %.0f ms", age);
+            val += buf;
+            if (age > 500 && col == colors::kGood) col = colors::kWarn;
+        }
+        field("LINK", val, col);
+    }
+    {
+        std::string val = "---";
+        if (!s.video.bgr.empty()) {
+            std::snprintf(buf, sizeof buf, "%.1f fps", s.video.fps);
+            val = known(s.video.fps) ? buf : "-- fps";
+            if (known(s.video.latency_ms)) {
+                std::snprintf(buf, sizeof buf, "  %.0f ms", s.video.latency_ms);
+                val += buf;
+            }
+        }
+        field("VIDEO", val, s.video.bgr.empty() ? colors::kWarn : kHud);
+    }
+    if (s.recording.active) {
+        dl->AddCircleFilled({x + 6, cy}, 6.0f, colors::kBad);
+        x += 16;
+        field("REC", format_duration(s.recording.duration_s), colors::kBad);
+    }
+
+    // ---- Warnings, centre-top, largest type -------------------------------------------------
+    std::vector<std::pair<std::string, std::uint32_t>> warnings;
+    const LinkState ls = s.connection.state;
+    if (ls == LinkState::Lost)
+        warnings.push_back({"LINK LOST", colors::kBad});
+    else if (ls == LinkState::Disconnected)
+        warnings.push_back({"NO LINK", colors::kWarn});
+    else if (ls == LinkState::Connecting)
+        warnings.push_back({"CONNECTING", colors::kWarn});
+    if (s.telemetry.state && s.telemetry.state->emergency)
+        warnings.push_back({"EMERGENCY", colors::kBad});
+    if (bat_low) warnings.push_back({"LOW BATTERY", colors::kBad});
+    float wy = tape_y + tape_h + fs * 2.0f;
+    for (const auto& [w, col] : warnings) {
+        const float big = fs * 1.7f;
+        const ImVec2 ts = text_size(w.c_str(), big);
+        const ImVec2 b0{c.x - ts.x * 0.5f - 10, wy}, b1{c.x + ts.x * 0.5f + 10, wy + ts.y + 4};
+        dl->AddRectFilled(b0, b1, IM_COL32(0, 0, 0, 170), 3.0f);
+        dl->AddRect(b0, b1, col, 3.0f, 0, 2.0f);
+        text(dl, {b0.x + 10, b0.y + 2}, col, w.c_str(), big);
+        wy = b1.y + 4;
+    }
+    dl->PopClipRect();
+}
+
+}  // namespace gs::ui

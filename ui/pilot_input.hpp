@@ -1,0 +1,99 @@
+#pragma once
+// Keyboard and gamepad to pilot commands, as a pure function of input state (no ImGui, no GLFW
+// calls), so the flying-safety rules are unit-tested:
+//  - dead zone on every stick axis, rescaled so the output is continuous from 0;
+//  - a held movement key overrides the gamepad on its axis (keyboard is the deliberate input);
+//  - losing window focus gives a hover command, and a key still held when focus returns is ignored
+//    until released (no stale command from a missed key-up);
+//  - the emergency key/button is honoured even while a text field has the keyboard and even
+//    without focus-latched keys: it is always reachable.
+// Key codes are GLFW key codes (the ImGui 1.86 GLFW backend indexes io.KeysDown with them).
+
+#include "ui/actions.hpp"
+
+#include <array>
+#include <bitset>
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+namespace gs::ui {
+
+enum class PilotKey : int {
+    Forward,
+    Back,
+    Left,
+    Right,
+    Climb,
+    Descend,
+    YawLeft,
+    YawRight,
+    Takeoff,
+    Land,
+    Emergency,
+    FlatTrim,
+    SwitchCamera,
+    Record,
+    Count
+};
+inline constexpr std::size_t kPilotKeyCount = static_cast<std::size_t>(PilotKey::Count);
+const char* to_string(PilotKey k);    // "forward", "emergency" ... (settings key)
+const char* description(PilotKey k);  // "Move forward (pitch down)"
+
+struct Keymap {
+    std::array<int, kPilotKeyCount> keys{};  // GLFW key code per action
+    float keyboard_gain = 0.5f;              // fraction of max deflection a held key gives
+    float yaw_gain = 0.7f;
+    float gaz_gain = 0.7f;
+    float dead_zone = 0.15f;  // gamepad stick dead zone, fraction of full travel
+
+    static Keymap defaults();
+    int key(PilotKey k) const { return keys[static_cast<std::size_t>(k)]; }
+    int& key(PilotKey k) { return keys[static_cast<std::size_t>(k)]; }
+};
+
+// "W", "Up", "Escape", "Space" ... for GLFW key codes; empty for unknown codes.
+std::string key_name(int glfw_key);
+// Inverse of key_name; -1 if unknown.
+int key_from_name(std::string_view name);
+
+// GLFW gamepad state in GLFW's layout (GLFW_GAMEPAD_AXIS_*, GLFW_GAMEPAD_BUTTON_*):
+// axes in [-1, 1], stick y positive = down.
+struct GamepadState {
+    bool connected = false;
+    std::array<float, 6> axes{};
+    std::array<bool, 15> buttons{};
+};
+
+struct InputState {
+    std::bitset<512> keys;  // held keys, by GLFW key code
+    bool window_focused = true;
+    bool text_input_active = false;  // a text field owns the keyboard: only emergency passes
+    GamepadState gamepad;
+};
+
+// Radial-per-axis dead zone: |v| <= dz -> 0, else rescaled to (0, 1] keeping the sign.
+float apply_dead_zone(float v, float dead_zone);
+
+// One frame of piloting intent. Edges (takeoff ...) are true only on the frame of the press.
+struct PilotFrame {
+    PilotInput pilot;
+    bool manual = false;  // a movement key is held or a stick is outside the dead zone
+    bool takeoff = false, land = false, emergency = false, flat_trim = false, switch_camera = false,
+         record_toggle = false;
+};
+
+// Stateful only for edges and the focus latch; otherwise a pure map from InputState.
+class PilotMapper {
+public:
+    PilotFrame update(const InputState& in, const Keymap& map);
+    void reset() { *this = PilotMapper{}; }
+
+private:
+    std::bitset<512> prev_keys_;
+    std::bitset<512> latched_;  // keys held across a focus loss: ignored until released
+    std::array<bool, 15> prev_buttons_{};
+    bool was_focused_ = true;
+};
+
+}  // namespace gs::ui

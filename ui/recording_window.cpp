@@ -1,0 +1,77 @@
+#include "ui/windows.hpp"
+
+#include "ui/pilot_input.hpp"
+
+#include <cmath>
+#include <cstdio>
+
+namespace gs::ui {
+
+std::string format_bytes(double b) {
+    if (!known(b)) return "?";
+    const char* units[] = {"B", "kB", "MB", "GB", "TB"};
+    int u = 0;
+    while (std::fabs(b) >= 1000.0 && u < 4) {
+        b /= 1000.0;
+        ++u;
+    }
+    char buf[32];
+    std::snprintf(buf, sizeof buf, u == 0 ? "%.0f %s" : "%.1f %s", b, units[u]);
+    return buf;
+}
+
+std::string format_duration(double s) {
+    if (!known(s) || s < 0) return "--:--";
+    const long total = static_cast<long>(s);
+    char buf[32];
+    if (total >= 3600)
+        std::snprintf(buf, sizeof buf, "%ld:%02ld:%02ld", total / 3600, (total / 60) % 60,
+                      total % 60);
+    else
+        std::snprintf(buf, sizeof buf, "%02ld:%04.1f", total / 60,
+                      s - static_cast<double>(total / 60 * 60));
+    return buf;
+}
+
+void RecordingWindow::draw(const GuiSnapshot& s, ViewState& v, Actions& a) {
+    if (!ImGui::Begin("Recording", &v.open.recording)) {
+        ImGui::End();
+        return;
+    }
+    const RecordingStatus& r = s.recording;
+    const std::string key = key_name(v.settings.keymap.key(PilotKey::Record));
+    if (r.active) {
+        ImGui::PushStyleColor(ImGuiCol_Button, colors::v4(IM_COL32(150, 35, 30, 255)));
+        if (ImGui::Button((std::string("Stop recording (") + key + ")").c_str()))
+            a.record_stop = true;
+        ImGui::PopStyleColor();
+        ImGui::SameLine();
+        ImGui::TextColored(colors::v4(colors::kBad), "REC %s",
+                           format_duration(r.duration_s).c_str());
+    } else {
+        if (ImGui::Button((std::string("Start recording (") + key + ")").c_str()))
+            a.record_start = true;
+        ImGui::SameLine();
+        ImGui::TextColored(colors::v4(colors::kDim), "idle");
+    }
+    if (!r.path.empty()) {
+        ImGui::TextColored(colors::v4(colors::kDim), "path");
+        ImGui::SameLine();
+        ImGui::TextUnformatted(r.path.c_str());
+    }
+    ImGui::Text("%llu frames  %llu navdata", static_cast<unsigned long long>(r.frames),
+                static_cast<unsigned long long>(r.navdata));
+    ImGui::SameLine();
+    ImGui::TextColored(colors::v4(r.drops ? colors::kWarn : colors::kText), "%llu drops",
+                       static_cast<unsigned long long>(r.drops));
+    ImGui::Text("disk %s", format_bytes(static_cast<double>(r.disk_bytes)).c_str());
+    if (known(r.disk_free_bytes)) {
+        ImGui::SameLine();
+        ImGui::TextColored(colors::v4(r.disk_free_bytes < 1e9 ? colors::kWarn : colors::kDim),
+                           "(%s free)", format_bytes(r.disk_free_bytes).c_str());
+    }
+    if (!r.error.empty()) ImGui::TextColored(colors::v4(colors::kBad), "%s", r.error.c_str());
+    ImGui::End();
+}
+
+}  // namespace gs::ui

@@ -1,0 +1,84 @@
+#include "ui/windows.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+
+namespace gs::ui {
+
+void ReplayWindow::draw(const GuiSnapshot& s, ViewState& v, Actions& a) {
+    if (!ImGui::Begin("Replay", &v.open.replay)) {
+        ImGui::End();
+        return;
+    }
+    const ReplayStatus& r = s.replay;
+    const float bw = ImGui::GetFrameHeight() * 2.2f;
+    ImGui::SetNextItemWidth(-bw - ImGui::GetStyle().ItemSpacing.x);
+    const bool enter =
+        ImGui::InputTextWithHint("##path", "dataset directory", v.replay_path.data(),
+                                 v.replay_path.size(), ImGuiInputTextFlags_EnterReturnsTrue);
+    ImGui::SameLine();
+    if ((ImGui::Button("Open", {bw, 0}) || enter) && v.replay_path[0] != 0) {
+        a.replay_open = std::string(v.replay_path.data());
+        v.settings.add_recent(*a.replay_open);
+        v.settings_dirty = true;
+    }
+    if (!v.settings.recent_datasets.empty()) {
+        ImGui::SetNextItemWidth(-FLT_MIN);
+        if (ImGui::BeginCombo("##recent", "recent datasets")) {
+            for (const auto& p : v.settings.recent_datasets) {
+                if (ImGui::Selectable(p.c_str())) {
+                    std::memset(v.replay_path.data(), 0, v.replay_path.size());
+                    std::memcpy(v.replay_path.data(), p.data(),
+                                std::min(p.size(), v.replay_path.size() - 1));
+                    a.replay_open = p;
+                }
+            }
+            ImGui::EndCombo();
+        }
+    }
+    if (!r.error.empty()) ImGui::TextColored(colors::v4(colors::kBad), "%s", r.error.c_str());
+    if (!r.open) {
+        ImGui::TextColored(colors::v4(colors::kDim), "No dataset open.");
+        ImGui::End();
+        return;
+    }
+    if (ImGui::Button("|<")) a.replay_seek = 0;
+    ImGui::SameLine();
+    if (ImGui::Button("<")) a.replay_step = -1;
+    ImGui::SameLine();
+    if (r.playing ? ImGui::Button("Pause", {bw * 1.2f, 0}) : ImGui::Button("Play", {bw * 1.2f, 0}))
+        (r.playing ? a.replay_pause : a.replay_play) = true;
+    ImGui::SameLine();
+    if (ImGui::Button(">")) a.replay_step = 1;
+    ImGui::SameLine();
+    bool loop = r.loop;
+    if (ImGui::Checkbox("Loop", &loop)) a.replay_loop = loop;
+    ImGui::SameLine();
+    // Speed as powers of two, 0.25x .. 8x.
+    static const double speeds[] = {0.25, 0.5, 1, 2, 4, 8};
+    static const char* labels[] = {"0.25x", "0.5x", "1x", "2x", "4x", "8x"};
+    int si = 2;
+    for (int i = 0; i < 6; ++i)
+        if (std::fabs(speeds[i] - r.speed) < 1e-6) si = i;
+    ImGui::SetNextItemWidth(-FLT_MIN);
+    if (ImGui::SliderInt("##speed", &si, 0, 5, labels[si])) a.replay_speed = speeds[si];
+
+    long long frame = r.frame;
+    const long long last = std::max<long long>(0, r.frame_count - 1);
+    ImGui::SetNextItemWidth(-FLT_MIN);
+    char fmt[64];
+    std::snprintf(fmt, sizeof fmt, "frame %%lld / %lld", last);
+    static const long long zero = 0;
+    if (ImGui::SliderScalar("##seek", ImGuiDataType_S64, &frame, &zero, &last, fmt))
+        a.replay_seek = frame;
+    if (known(r.fps) && r.fps > 0)
+        ImGui::TextColored(colors::v4(colors::kDim), "%s / %s  %.0f fps",
+                           format_duration(static_cast<double>(r.frame) / r.fps).c_str(),
+                           format_duration(static_cast<double>(r.frame_count) / r.fps).c_str(),
+                           r.fps);
+    ImGui::End();
+}
+
+}  // namespace gs::ui

@@ -1,0 +1,244 @@
+#pragma once
+// GuiSnapshot: everything the ground-station window draws in one frame, as plain data.
+// The window never reaches into the link, the classifier or the dataset reader: an adapter copies
+// the latest values out of their slots into one GuiSnapshot per frame (by value, so one frame never
+// mixes two navdata packets) and the windows draw only that. The window's own state (toggles, plot
+// history, text fields) lives in ViewState (ui/view_state.hpp).
+
+#include "drone/clock.hpp"
+#include "drone/sample.hpp"
+
+#include <opencv2/core.hpp>
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace gs::ui {
+
+// ---- Connection -----------------------------------------------------------------------------
+
+enum class LinkState {
+    Disconnected,  // nothing selected / user disconnected
+    Connecting,    // sockets open, waiting for the first navdata / bootstrap handshake
+    Connected,     // navdata flowing
+    Lost,          // was connected, navdata silent beyond the timeout
+    Replay,        // showing a recorded dataset, no drone
+};
+const char* to_string(LinkState s);
+
+enum class SourceKind { Drone, Sim, Replay, Demo };
+const char* to_string(SourceKind k);
+
+struct ConnectionInfo {
+    LinkState state = LinkState::Disconnected;
+    SourceKind source = SourceKind::Drone;
+    std::string
+        reason;  // human text: why Connecting / Lost / Disconnected ("no navdata for 2.1 s")
+    std::string address;   // drone address in use ("192.168.1.1", "127.0.0.1:5554" for the sim)
+    std::string scenario;  // virtual-drone scenario when source == Sim
+    std::vector<std::string> scenarios;  // scenarios the virtual drone offers (for the picker)
+};
+
+// ---- Link health ----------------------------------------------------------------------------
+
+// Counters for one stream (navdata UDP, video TCP, AT UDP). Unknown rates/ages are NaN.
+struct StreamHealth {
+    bool active = false;        // the stream is open
+    double rate_hz = kUnknown;  // packets (navdata), frames (video), datagrams (AT) per s
+    double age_ms = kUnknown;   // time since the last packet
+    double bytes_per_s = kUnknown;
+    std::uint64_t packets = 0;
+    std::uint64_t gaps = 0;   // sequence gaps (missing sequence numbers)
+    std::uint64_t drops = 0;  // dropped on our side (queue full, late, reordered)
+    std::uint64_t checksum_failures = 0;
+    std::uint64_t decode_errors = 0;
+    std::uint64_t idr_waits = 0;  // frames skipped waiting for a key frame (video only)
+};
+
+struct LinkHealth {
+    StreamHealth navdata, video, at;
+};
+
+// ---- Telemetry ------------------------------------------------------------------------------
+
+// drone_state bits by name (PROTOCOL.md §3.2).
+struct DroneStateBits {
+    bool flying = false, video_enabled = false, vision_enabled = false,
+         angular_speed_control = false, altitude_control = false, user_feedback_start = false,
+         command_ack = false, camera_ready = false, travelling = false, usb_ready = false,
+         navdata_demo = false, navdata_bootstrap = false, motors_problem = false, com_lost = false,
+         software_fault = false, battery_low = false, user_emergency_landing = false,
+         timer_elapsed = false, magneto_needs_calib = false, angles_out_of_range = false,
+         too_much_wind = false, ultrasound_deaf = false, cutout = false, pic_version_ok = false,
+         atcodec_thread_on = false, navdata_thread_on = false, video_thread_on = false,
+         acq_thread_on = false, ctrl_watchdog = false, adc_watchdog = false, com_watchdog = false,
+         emergency = false;
+
+    static DroneStateBits from_raw(std::uint32_t bits);
+    std::uint32_t to_raw() const;
+};
+
+// Bit index and SDK name of every drone_state bit, in bit order (for the telemetry table).
+struct StateBitName {
+    int bit;
+    const char* sdk_name;
+    const char* meaning;
+};
+const std::array<StateBitName, 32>& drone_state_bit_names();
+
+// "LANDED", "HOVERING / LOST_COM" ... from the raw ctrl_state (major << 16 | minor).
+std::string ctrl_state_name(std::uint32_t ctrl_state);
+
+// One row of the generic "every navdata field" table.
+struct TelemetryField {
+    std::string group;  // navdata option name ("demo", "raw_measures", "pwm" ...)
+    std::string name;   // field name with unit ("vbat_raw_mV")
+    std::string value;  // already formatted
+};
+
+struct Telemetry {
+    bool valid = false;                   // at least one navdata sample arrived
+    NavState nav;                         // latest state, units in field names, NaN = unknown
+    std::optional<DroneStateBits> state;  // decoded nav.drone_state
+    std::string ctrl_state;               // ctrl_state_name(nav.ctrl_state), or "" if unknown
+    double battery_low_pct = 20.0;        // below this the HUD warns
+    std::vector<TelemetryField> fields;
+};
+
+// ---- Video ----------------------------------------------------------------------------------
+
+struct VideoFrame {
+    cv::Mat bgr;              // BGR8; empty = no video
+    std::int64_t index = -1;  // frame index in its stream; changes when a new frame arrives
+    TimeNs t_ns = 0;          // capture time
+    std::string camera = "front";
+    double fps = kUnknown;         // frames displayed per second, measured by the pipeline
+    double latency_ms = kUnknown;  // capture (or receive) to available for display
+};
+
+// ---- Classifier -----------------------------------------------------------------------------
+
+// Colours are ImGui-style packed RGBA (same packing as IM_COL32: 0xAABBGGRR).
+constexpr std::uint32_t rgba(unsigned r, unsigned g, unsigned b, unsigned a = 255) {
+    return (a & 0xFFu) << 24 | (b & 0xFFu) << 16 | (g & 0xFFu) << 8 | (r & 0xFFu);
+}
+
+struct Point2f {
+    float x = 0, y = 0;
+};
+
+// Layered overlay in image pixel coordinates (the window scales it with the image).
+struct RegionBar {
+    std::string name;      // "left", "center", "right"
+    float x0 = 0, x1 = 0;  // horizontal extent in image pixels
+    bool flagged = false;  // unsafe: drawn red, else green
+    double score = kUnknown, threshold = kUnknown;
+};
+struct OverlayPolyline {
+    std::vector<Point2f> points;
+    std::uint32_t rgba = 0xFFFFFFFFu;
+    float thickness = 1.5f;
+};
+struct OverlayPoint {
+    Point2f p;
+    std::uint32_t rgba = 0xFFFFFFFFu;
+    float radius = 2.5f;
+};
+struct OverlayLine {
+    Point2f a, b;
+    std::uint32_t rgba = 0xFFFFFFFFu;
+    float thickness = 1.0f;
+};
+struct Overlay {
+    std::vector<RegionBar> regions;             // layer "regions": the bar along the image top
+    std::vector<OverlayPolyline> trajectories;  // layer "trajectories", coloured by slope
+    std::vector<OverlayPoint> center_points;    // layer "centre band points"
+    std::vector<OverlayLine> boundaries;        // layer "region boundaries"
+};
+
+struct RegionDecision {
+    std::string name;
+    bool flagged = false;
+    double score = kUnknown, threshold = kUnknown;
+};
+
+// Generic tunable parameter, so the window needs no knowledge of a classifier's internals.
+struct ClassifierParam {
+    std::string name;
+    double value = 0, min = 0, max = 1, default_value = 0;
+    bool integer = false;
+    std::string description;
+};
+
+// A plot series as plain vectors; x empty = index 0..n-1.
+struct SeriesData {
+    std::string name;
+    std::vector<double> x, y;
+    std::uint32_t rgba = 0;  // 0 = automatic palette colour
+};
+struct ThresholdLine {
+    std::string name;
+    double y = 0;
+    std::uint32_t rgba = 0;
+};
+struct PlotData {
+    std::string name;  // key the plots window looks for ("scores" ...)
+    std::string title, x_label, y_label;
+    std::vector<SeriesData> series;
+    std::vector<ThresholdLine> thresholds;
+};
+
+struct ClassifierOutput {
+    std::vector<std::string> available;  // classifier names to pick from
+    std::string active;
+    std::vector<RegionDecision> decisions;  // usually 3: left, center, right
+    std::vector<ClassifierParam> params;
+    Overlay overlay;
+    // Named plots: "trajectories_x" (x of each trajectory over frames), "center_scale"
+    // (raw / filtered / fitted + threshold), "scores" (score per region + thresholds); any other
+    // name is drawn too, in order.
+    std::vector<PlotData> plots;
+    double cycle_ms = kUnknown;  // classifier time per frame
+};
+
+// ---- Recording / replay ---------------------------------------------------------------------
+
+struct RecordingStatus {
+    bool active = false;
+    std::string path;
+    double duration_s = 0;
+    std::uint64_t frames = 0, navdata = 0, drops = 0;
+    std::uint64_t disk_bytes = 0;
+    double disk_free_bytes = kUnknown;
+    std::string error;  // last error, empty if none
+};
+
+struct ReplayStatus {
+    bool open = false;
+    std::string path;
+    std::int64_t frame = 0, frame_count = 0;
+    double fps = kUnknown;
+    bool playing = false;
+    double speed = 1.0;
+    bool loop = false;
+    std::string error;
+};
+
+// ---- The snapshot ---------------------------------------------------------------------------
+
+struct GuiSnapshot {
+    TimeNs now_ns = 0;  // monotonic time the snapshot was taken (ages and plot history use it)
+    ConnectionInfo connection;
+    LinkHealth link;
+    Telemetry telemetry;
+    VideoFrame video;
+    ClassifierOutput classifier;
+    RecordingStatus recording;
+    ReplayStatus replay;
+    std::vector<std::string> messages;  // recent log lines (newest last), shown in the link window
+};
+
+}  // namespace gs::ui

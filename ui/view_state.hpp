@@ -1,0 +1,70 @@
+#pragma once
+// ViewState: everything the window owns itself (lesson 6): which windows are open, overlay
+// toggles, text fields, the telemetry history behind the scrolling plots, the persisted settings,
+// and the laid-out rectangles of the last frame (LayoutReport) for tests and offscreen checks.
+
+#include "ui/history.hpp"
+#include "ui/pilot_input.hpp"
+#include "ui/settings.hpp"
+
+#include <imgui.h>
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace gs::ui {
+
+struct OpenWindows {
+    bool video = true, plots = true, telemetry = true, link = true, why_not_flying = true,
+         classifier = true, recording = true, replay = true, connection = true, keys = false;
+};
+
+struct Rect {
+    float x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+    float w() const { return x1 - x0; }
+    float h() const { return y1 - y0; }
+};
+
+// Where things were drawn in the last frame, in window pixels (top-left origin).
+struct LayoutReport {
+    struct Bar {
+        std::string name;
+        Rect rect;
+        bool flagged = false;
+    };
+    Rect video_image;              // the image (aspect-correct) inside the video window
+    std::vector<Bar> region_bars;  // classifier region bar, one per region
+    Rect battery_outline;          // HUD battery gauge
+    Rect battery_fill;             // its filled part (width = battery fraction of the outline)
+    std::uint32_t battery_color = 0;
+    std::string battery_text;
+    bool battery_warning = false;
+    std::vector<std::pair<std::string, Rect>> windows;  // name -> rect
+};
+
+struct ViewState {
+    Settings settings;
+    bool settings_dirty = false;
+    OpenWindows open;
+    TelemetryHistory history;
+    PilotMapper pilot;
+    PilotFrame last_pilot;  // shown in the connection window (what the sticks/keys command)
+
+    std::array<char, 512> replay_path{};
+    std::array<char, 128> drone_address{};
+    std::array<char, 64> preset_name{};
+    int scenario_index = 0;
+    int plot_tab = 0;
+
+    bool confirm_quit = false;        // the "drone is flying" dialog is up
+    bool quit_after_landing = false;  // user chose "land, then quit"
+    bool quit_dialog_open = false;    // the dialog was drawn this frame
+
+    double ui_frame_ms = kUnknown;  // measured by the run loop, shown in the link window
+    double ui_fps = kUnknown;
+
+    LayoutReport layout;
+};
+
+}  // namespace gs::ui

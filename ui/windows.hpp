@@ -1,0 +1,102 @@
+#pragma once
+// The ground-station windows: one struct per window, one .cpp each (lesson 9). Each draws the
+// snapshot, keeps its state in ViewState, and writes requests into Actions. Always Begin/End
+// paired; default position/size from the default layout (FirstUseEver, then imgui.ini).
+
+#include "ui/actions.hpp"
+#include "ui/snapshot.hpp"
+#include "ui/view_state.hpp"
+
+#include <imgui.h>
+
+#include <string>
+#include <vector>
+
+namespace gs::ui {
+
+// Gives the window a texture for the current video frame (GL in the app, a stub in tests).
+class TextureSource {
+public:
+    virtual ~TextureSource() = default;
+    // Texture holding `frame` (uploaded once per new frame index). nullptr if none.
+    virtual ImTextureID video_texture(const VideoFrame& frame) = 0;
+};
+
+// Default layout for a display of `size`: window name -> rect.
+Rect default_window_rect(const char* window, ImVec2 display);
+void set_default_layout(const char* window, ImVec2 display);
+
+// Shared colours, so every window says "bad" and "good" the same way.
+namespace colors {
+inline constexpr std::uint32_t kGood = IM_COL32(70, 200, 100, 255);
+inline constexpr std::uint32_t kWarn = IM_COL32(245, 175, 40, 255);
+inline constexpr std::uint32_t kBad = IM_COL32(235, 65, 55, 255);
+inline constexpr std::uint32_t kInfo = IM_COL32(110, 170, 240, 255);
+inline constexpr std::uint32_t kDim = IM_COL32(150, 155, 162, 255);
+inline constexpr std::uint32_t kText = IM_COL32(225, 228, 232, 255);
+ImVec4 v4(std::uint32_t c);
+}  // namespace colors
+
+struct Hud {
+    // Draws the head-up display over [p0, p1] (the video image area), records the battery gauge.
+    void draw(ImDrawList* dl, ImVec2 p0, ImVec2 p1, const GuiSnapshot& s, ViewState& v);
+};
+
+struct VideoWindow {
+    Hud hud;
+    void draw(const GuiSnapshot& s, ViewState& v, Actions& a, TextureSource* tex);
+};
+
+struct TelemetryWindow {
+    void draw(const GuiSnapshot& s, ViewState& v);
+};
+
+struct LinkWindow {
+    void draw(const GuiSnapshot& s, ViewState& v);
+};
+
+// Why the drone will not take off, or why it cut out, from the connection state and state bits.
+enum class Severity { Blocker, Warning, Info, Ok };
+struct Reason {
+    Severity severity = Severity::Info;
+    std::string title;   // "Battery too low"
+    std::string detail;  // what it means and what to do
+};
+std::vector<Reason> explain_not_flying(const GuiSnapshot& s);
+
+struct WhyNotFlyingWindow {
+    void draw(const GuiSnapshot& s, ViewState& v);
+};
+
+struct PlotsWindow {
+    void draw(const GuiSnapshot& s, ViewState& v);
+};
+
+struct ClassifierWindow {
+    void draw(const GuiSnapshot& s, ViewState& v, Actions& a);
+};
+
+struct RecordingWindow {
+    void draw(const GuiSnapshot& s, ViewState& v, Actions& a);
+};
+
+// "1.5 GB", "12.0 kB" ...
+std::string format_bytes(double bytes);
+// "01:02:03" / "02:03.4"
+std::string format_duration(double seconds);
+
+struct ReplayWindow {
+    void draw(const GuiSnapshot& s, ViewState& v, Actions& a);
+};
+
+// Connection + flight controls (take off / land / emergency buttons, current pilot command).
+struct ConnectionWindow {
+    void draw(const GuiSnapshot& s, ViewState& v, Actions& a);
+};
+
+// Key help.
+struct KeysWindow {
+    void draw(ViewState& v);
+};
+
+}  // namespace gs::ui
