@@ -1,0 +1,43 @@
+#pragma once
+// The obstacle pipeline: frames from any source (live link, virtual drone, dataset) through one
+// classifier. The same code runs behind the window, `replay` and `eval`, so a flight gives the
+// same decisions wherever it is played.
+
+#include "drone/dataset/dataset.hpp"
+#include "drone/sample.hpp"
+#include "vision/classifier.hpp"
+
+#include <memory>
+#include <string>
+
+namespace gs::app {
+
+// drone/'s plain calibration record as vision/'s camera model.
+vision::CameraCalibration to_vision(const CameraCalibration& c);
+// The classifier's input for one frame: the image header (no copy), capture time and the
+// attitude and velocities at capture time.
+vision::FrameInput to_frame_input(const FrameSample& s);
+
+class ObstaclePipeline {
+public:
+    // Throws nothing: an unknown classifier name leaves the pipeline without one (ok() false).
+    ObstaclePipeline(std::string classifier, const CameraCalibration& calibration);
+
+    bool ok() const { return classifier_ != nullptr; }
+    const std::string& classifier_name() const { return name_; }
+    // Switches classifier (state reset). False for an unknown name (the current one stays).
+    bool select(const std::string& name);
+    void set_calibration(const CameraCalibration& calibration);
+    void reset();
+
+    const vision::FrameResult& process(const FrameSample& s);
+    vision::ObstacleClassifier& classifier() { return *classifier_; }
+    const vision::ObstacleClassifier& classifier() const { return *classifier_; }
+
+private:
+    std::string name_;
+    vision::CameraCalibration calib_;
+    std::unique_ptr<vision::ObstacleClassifier> classifier_;
+};
+
+}  // namespace gs::app
