@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Configures (once) and builds one build tree. Incremental on later runs.
-# Usage: scripts/build.sh BUILD_DIR [extra cmake -D options...]
+# Usage: [GS_TARGETS="a b"] scripts/build.sh BUILD_DIR [extra cmake -D options...]
 set -euo pipefail
 dir=$1; shift
 gen=()
@@ -10,4 +10,6 @@ if [[ ! -f $dir/CMakeCache.txt ]]; then
 else
   cmake -S . -B "$dir" "$@" >/dev/null
 fi
-cmake --build "$dir" -j "$(nproc)"
+targets=()
+for t in ${GS_TARGETS:-}; do targets+=(--target "$t"); done
+cmake --build "$dir" -j "$(nproc)" "${targets[@]}"
