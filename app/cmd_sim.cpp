@@ -30,6 +30,7 @@ struct Opts {
     double seconds = 0;
     int port_base = 0;  // 0: the standard ports
     bool quiet = false;
+    bool json_status = false;  // one JSON line of the simulator's state per 200 ms on stdout
 };
 
 int run(const Opts& o) {
@@ -61,7 +62,20 @@ int run(const Opts& o) {
         const double elapsed =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         if (o.seconds > 0 && elapsed >= o.seconds) break;
-        if (tty) {
+        if (o.json_status) {
+            const auto st = drone.status();
+            std::printf(
+                "{\"t_s\":%.3f,\"ctrl\":\"%s\",\"x_m\":%.4f,\"y_m\":%.4f,\"z_m\":%.4f,"
+                "\"yaw_deg\":%.3f,\"vx_mps\":%.4f,\"battery_pct\":%.3f,"
+                "\"drone_state\":%u,\"navdata_sent\":%llu,\"video_frames\":%llu,"
+                "\"at_commands\":%llu}\n",
+                elapsed, sim::to_string(st.flight.major), st.flight.x_m, st.flight.y_m,
+                st.flight.z_m, st.flight.yaw_deg, st.flight.vx_body_mps(), st.flight.battery_pct,
+                st.drone_state, static_cast<unsigned long long>(st.counters.navdata_sent),
+                static_cast<unsigned long long>(st.video_frames_sent),
+                static_cast<unsigned long long>(st.counters.at_commands));
+            std::fflush(stdout);
+        } else if (tty) {
             const auto st = drone.status();
             std::printf(
                 "\r%6.1f s  %-9s  x %6.2f y %6.2f z %5.2f m  yaw %7.1f  battery %5.1f %%  "
@@ -103,6 +117,9 @@ CommandRegistration reg(40, [](CLI::App& root) {
            "Use ports BASE (navdata), +1 (video), +2 (AT), +5 (control) instead of 5554...")
         ->check(CLI::Range(1024, 65000));
     sub->add_flag("--quiet", o->quiet, "No status line");
+    sub->add_flag(
+        "--json-status", o->json_status,
+        "Print the simulator's state as one JSON line every 200 ms (for tests and tools)");
     sub->callback([o] {
         const int rc = run(*o);
         if (rc != 0) throw CLI::RuntimeError(rc);

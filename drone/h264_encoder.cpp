@@ -5,6 +5,7 @@
 extern "C" {
 #include <libavcodec/avcodec.h>
 #include <libavutil/frame.h>
+#include <libavutil/log.h>
 #include <libavutil/opt.h>
 }
 
@@ -51,6 +52,8 @@ Expected<std::unique_ptr<H264Encoder>, H264EncodeError> H264Encoder::create(
     if (cfg.width <= 0 || cfg.height <= 0 || cfg.width % 2 || cfg.height % 2 || cfg.fps <= 0 ||
         cfg.gop <= 0 || cfg.bitrate_bps <= 0)
         return Unexpected{H264EncodeError::OpenFailed};
+    // libx264 prints its banner (cpu capabilities, profile) at info level: errors only.
+    if (av_log_get_level() > AV_LOG_ERROR) av_log_set_level(AV_LOG_ERROR);
     const AVCodec* codec = avcodec_find_encoder_by_name("libx264");
     if (!codec) return Unexpected{H264EncodeError::CodecUnavailable};
     auto m = std::make_unique<Impl>();

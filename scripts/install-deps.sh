@@ -3,9 +3,10 @@
 # Usage: scripts/install-deps.sh [build|test]
 set -euo pipefail
 mode=${1:-build}
+cd "$(dirname "$0")/.."
 
 pkgs=(cmake ninja-build g++ pkg-config
-      libopencv-dev libavcodec-dev libavutil-dev libswscale-dev libx264-dev
+      libopencv-dev libavcodec-dev libavformat-dev libavutil-dev libswscale-dev libx264-dev
       libimgui-dev libstb-dev libglfw3-dev libgl-dev libeigen3-dev
       libcli11-dev nlohmann-json3-dev)
 if [[ $mode == test ]]; then
@@ -20,11 +21,17 @@ for p in "${pkgs[@]}"; do
     missing+=("$p")
   fi
 done
-[[ ${#missing[@]} -eq 0 ]] && exit 0
+if [[ ${#missing[@]} -gt 0 ]]; then
+  echo "ardrone-gs: installing missing packages: ${missing[*]}"
+  sudo=""
+  if [[ $(id -u) -ne 0 ]]; then sudo="sudo"; fi
+  export DEBIAN_FRONTEND=noninteractive
+  $sudo apt-get update -qq
+  $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
 
-echo "ardrone-gs: installing missing packages: ${missing[*]}"
-sudo=""
-if [[ $(id -u) -ne 0 ]]; then sudo="sudo"; fi
-export DEBIAN_FRONTEND=noninteractive
-$sudo apt-get update -qq
-$sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
+# The interop test's independent client, pinned by tests/node/package-lock.json.
+if [[ $mode == test && ! -f tests/node/node_modules/ar-drone/package.json ]]; then
+  echo "ardrone-gs: installing the node-ar-drone test client (npm ci)"
+  (cd tests/node && npm ci --no-audit --no-fund --loglevel=error)
+fi

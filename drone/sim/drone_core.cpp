@@ -350,9 +350,10 @@ void DroneCore::advance(TimeNs now, std::vector<OutDatagram>& out) {
         if (ap_active_) {
             in.emergency = input_.emergency;  // a pilot's emergency always wins
             ap_step_time_s_ += kStepS;
-        } else if (com_watchdog_) {
-            in.progressive = false;  // watchdog: hover until AT*COMWDG
         }
+        // The watchdog bit (50 ms without a command) only reports: commands that resume are
+        // obeyed (node-ar-drone never sends AT*COMWDG and flies real drones). Losing the link
+        // for general:com_watchdog seconds is what makes the drone hover on its own.
         in.com_lost = com_lost_ && !ap_active_;
         if (calibration_yaw_left_deg_ > 0) {
             in.progressive = true;

@@ -38,7 +38,7 @@ struct DroneCoreOptions {
     bool autopilot_enabled = false;
     NavdataFaults faults;
     std::uint64_t seed = 1;
-    TimeNs watchdog_after_ns = ms_to_ns(50);    // no AT this long → COM_WATCHDOG bit, hover
+    TimeNs watchdog_after_ns = ms_to_ns(50);    // no AT this long → COM_WATCHDOG bit
     TimeNs bootstrap_period_ns = ms_to_ns(65);  // bootstrap and demo navdata ≈ 15 Hz
     TimeNs full_period_ns = ms_to_ns(5);        // full navdata 200 Hz
     double battery_pct = 100.0;

@@ -21,6 +21,7 @@ TimeNs mono_now() {
 struct VirtualDrone::Sockets {
     net::UdpSocket at, navdata;
     net::TcpListener video, control;
+    std::optional<Renderer> front;  // built before the video port is served
 };
 
 VirtualDrone::VirtualDrone(VirtualDroneOptions options) : options_(std::move(options)) {}
@@ -55,6 +56,13 @@ Expected<bool, std::string> VirtualDrone::start() {
     ports_[1] = s->navdata.local_endpoint()->port;
     ports_[2] = s->video.local_endpoint()->port;
     ports_[3] = s->control.local_endpoint()->port;
+    if (options_.video) {
+        // Building a renderer inverts the lens model for every pixel: do it before serving.
+        auto front =
+            Renderer::create(options_.scene, default_front_calibration(), CameraKind::Front);
+        if (!front) return Unexpected{"renderer: " + to_string(front.error())};
+        s->front.emplace(std::move(*front));
+    }
     sockets_ = std::move(s);
 
     faults_.reopen();
@@ -157,14 +165,9 @@ void VirtualDrone::core_loop() {
 
 void VirtualDrone::video_loop() {
     VideoReport report;
-    // Building a renderer inverts the lens model for every pixel (about a second): the bottom
-    // camera's is built only when a client first selects it.
-    auto front = Renderer::create(options_.scene, default_front_calibration(), CameraKind::Front);
-    if (!front) {
-        report.error = "renderer: " + to_string(front.error());
-        video_report_.publish(report);
-        return;
-    }
+    // The front renderer was built by start(), so a client gets frames as soon as it connects;
+    // the bottom camera's is built only when a client first selects it.
+    std::optional<Renderer>& front = sockets_->front;
     std::optional<Renderer> bottom;
     H264EncoderConfig ec;
     ec.fps = options_.fps;
