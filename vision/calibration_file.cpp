@@ -54,7 +54,8 @@ CalibrationError err(CalibrationErrorKind k, std::string detail) {
 }
 
 // NaN and infinities are not JSON: unknown numbers are left out.
-void put_if_finite(json& j, const char* key, double v) {
+template <class J>
+void put_if_finite(J& j, const char* key, double v) {
     if (std::isfinite(v)) j[key] = v;
 }
 
@@ -77,7 +78,7 @@ bool read_int(const json& obj, const char* key, int& out) {
 }  // namespace
 
 std::string calibration_to_json(const CameraCalibration& cam, const CalibrationInfo& info) {
-    json j = json::object();
+    nlohmann::ordered_json j = nlohmann::ordered_json::object();
     if (!info.camera.empty()) j["camera"] = info.camera;
     j["width"] = cam.width;
     j["height"] = cam.height;
@@ -85,19 +86,21 @@ std::string calibration_to_json(const CameraCalibration& cam, const CalibrationI
     j["fy"] = cam.fy;
     j["cx"] = cam.cx;
     j["cy"] = cam.cy;
-    j["dist"] = json::array({cam.dist[0], cam.dist[1], cam.dist[2], cam.dist[3], cam.dist[4]});
+    j["dist"] = nlohmann::ordered_json::array(
+        {cam.dist[0], cam.dist[1], cam.dist[2], cam.dist[3], cam.dist[4]});
     put_if_finite(j, "rms_px", info.rms_px);
     bool any_sd = false;
     for (double s : info.std_dev) any_sd = any_sd || std::isfinite(s);
     if (any_sd) {
-        json sd = json::object();
+        nlohmann::ordered_json sd = nlohmann::ordered_json::object();
         put_if_finite(sd, "fx", info.std_dev[0]);
         put_if_finite(sd, "fy", info.std_dev[1]);
         put_if_finite(sd, "cx", info.std_dev[2]);
         put_if_finite(sd, "cy", info.std_dev[3]);
-        json d = json::array();
+        nlohmann::ordered_json d = nlohmann::ordered_json::array();
         for (std::size_t i = 4; i < 9; ++i) {
-            d.push_back(std::isfinite(info.std_dev[i]) ? json(info.std_dev[i]) : json(nullptr));
+            d.push_back(std::isfinite(info.std_dev[i]) ? nlohmann::ordered_json(info.std_dev[i])
+                                                       : nlohmann::ordered_json(nullptr));
         }
         sd["dist"] = d;
         j["std_dev"] = sd;
