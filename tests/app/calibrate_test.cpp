@@ -1,0 +1,190 @@
+// `ardrone-gs calibrate` run as a process (GS_BINARY) on the real rjw57 chessboard frames and on
+// bad input built in /tmp: success writes flight.json's calibration shape; failures exit non-zero
+// with a reason and write no file.
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CmdResult {
+    int exit_code = -1;
+    std::string out;  // stdout and stderr
+};
+
+CmdResult run(const std::string& args) {
+    CmdResult r;
+    const std::string cmd = std::string(GS_BINARY) + " " + args + " 2>&1";
+    FILE* p = popen(cmd.c_str(), "r");
+    if (p == nullptr) return r;
+    std::array<char, 4096> buf{};
+    std::size_t n = 0;
+    while ((n = std::fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), n);
+    const int status = pclose(p);
+    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return r;
+}
+
+const std::string kFrames =
+    std::string(GS_FIXTURES_DIR) + "/real/calibration/rjw57_ardrone2_front_chessboard";
+
+std::string frame(int i) {
+    char name[32];
+    std::snprintf(name, sizeof name, "/frame%04d.jpg", i);
+    return kFrames + name;
+}
+
+// A fresh directory under /tmp for one test.
+fs::path scratch(const std::string& name) {
+    const fs::path d = fs::path("/tmp") / ("gs_calibrate_test_" + std::to_string(getpid())) / name;
+    fs::remove_all(d);
+    fs::create_directories(d);
+    return d;
+}
+
+TEST(CalibrateCli, RealFramesWriteACalibration) {
+    const fs::path dir = scratch("ok");
+    const fs::path out = dir / "front.json";
+    const CmdResult r = run("calibrate " + kFrames +
+                            " --board 9x6 --square 0.05 --camera front --out " + out.string());
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    // Progress per image, the report and the file.
+    EXPECT_NE(r.out.find("[11/11] frame0010.jpg"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("Overall RMS"), std::string::npos);
+    EXPECT_NE(r.out.find("fx "), std::string::npos);
+    EXPECT_NE(r.out.find("Coverage"), std::string::npos);
+    std::ifstream in(out);
+    ASSERT_TRUE(in.good());
+    const auto j = nlohmann::json::parse(in);
+    EXPECT_NEAR(j["fx"].get<double>(), 568.0, 10.0);
+    EXPECT_NEAR(j["fy"].get<double>(), 566.0, 10.0);
+    EXPECT_NEAR(j["cx"].get<double>(), 320.0, 10.0);
+    EXPECT_NEAR(j["cy"].get<double>(), 178.0, 10.0);
+    EXPECT_EQ(j["width"], 640);
+    EXPECT_EQ(j["height"], 360);
+    EXPECT_EQ(j["dist"].size(), 5U);
+    EXPECT_LT(j["rms_px"].get<double>(), 0.3);
+    EXPECT_GT(j["std_dev"]["fx"].get<double>(), 0.0);
+    EXPECT_EQ(j["views"], 11);
+    EXPECT_EQ(j["camera"], "front");
+    EXPECT_FALSE(fs::exists(out.string() + ".tmp"));
+}
+
+TEST(CalibrateCli, DatasetFramesWithStep) {
+    // A recorded dataset: flight.json + frames/ (DATASET.md); every 2nd frame -> 6 of 11.
+    const fs::path ds = scratch("dataset");
+    fs::create_directories(ds / "frames");
+    for (int i = 0; i < 11; ++i) {
+        char name[32];
+        std::snprintf(name, sizeof name, "%06d.jpg", i);
+        fs::copy_file(frame(i), ds / "frames" / name);
+    }
+    std::ofstream(ds / "flight.json") << R"({"format":"ardrone-dataset","version":1,
+        "camera":"front","width":640,"height":360,"fps":30,"images":"frames"})";
+    const fs::path out = ds / "cal.json";
+    const CmdResult r = run("calibrate " + ds.string() +
+                            " --step 2 --board 9x6 --square 0.05 --out " + out.string());
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    EXPECT_NE(r.out.find("from 6 image(s)"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("frames/000010.jpg"), std::string::npos) << r.out;
+    const auto j = nlohmann::json::parse(std::ifstream(out));
+    EXPECT_EQ(j["views"], 6);
+    EXPECT_EQ(j["camera"], "front");  // taken from flight.json
+    EXPECT_NEAR(j["fx"].get<double>(), 568.0, 15.0);
+}
+
+TEST(CalibrateCli, VideoOnlyDatasetIsNotSupportedYet) {
+    const fs::path ds = scratch("video_only");
+    std::ofstream(ds / "flight.json") << R"({"format":"ardrone-dataset","version":1,
+        "camera":"front","width":640,"height":360,"fps":30})";
+    std::ofstream(ds / "video.h264") << "x";
+    const fs::path out = ds / "cal.json";
+    const CmdResult r =
+        run("calibrate " + ds.string() + " --board 9x6 --square 0.05 --out " + out.string());
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_NE(r.out.find("not supported yet"), std::string::npos) << r.out;
+    EXPECT_FALSE(fs::exists(out));
+}
+
+TEST(CalibrateCli, NoBoardAnywhereFailsWithoutAFile) {
+    const fs::path dir = scratch("no_board");
+    // Three frames with no chessboard: a grey field, noise, and a real frame with the board
+    // painted over.
+    cv::imwrite((dir / "a.png").string(), cv::Mat(360, 640, CV_8UC1, cv::Scalar(128)));
+    cv::Mat noise(360, 640, CV_8UC1);
+    cv::randu(noise, 0, 255);
+    cv::imwrite((dir / "b.png").string(), noise);
+    cv::Mat painted = cv::imread(frame(0));
+    cv::rectangle(painted, cv::Rect(100, 30, 440, 300), cv::Scalar(90, 90, 90), cv::FILLED);
+    cv::imwrite((dir / "c.png").string(), painted);
+    const fs::path out = dir / "cal.json";
+    const CmdResult r =
+        run("calibrate " + dir.string() + " --board 9x6 --square 0.05 --out " + out.string());
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_NE(r.out.find("found in none of the 3 image(s)"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("No calibration written"), std::string::npos);
+    EXPECT_FALSE(fs::exists(out));
+}
+
+TEST(CalibrateCli, WrongBoardSizeFailsWithoutAFile) {
+    const fs::path out = scratch("wrong_board") / "cal.json";
+    const CmdResult r =
+        run("calibrate " + kFrames + " --board 7x7 --square 0.05 --out " + out.string());
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_NE(r.out.find("7x7 board was found in none of the 11"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("inner corners"), std::string::npos);
+    EXPECT_FALSE(fs::exists(out));
+    // 8x6 fits inside a 9x6 board in one frame only: too few views, still no file.
+    const CmdResult r8 =
+        run("calibrate " + kFrames + " --board 8x6 --square 0.05 --out " + out.string());
+    EXPECT_NE(r8.exit_code, 0);
+    EXPECT_NE(r8.out.find("at least 3"), std::string::npos) << r8.out;
+    EXPECT_FALSE(fs::exists(out));
+}
+
+TEST(CalibrateCli, MixedImageSizesFail) {
+    const fs::path dir = scratch("mixed");
+    fs::copy_file(frame(0), dir / "a.jpg");
+    fs::copy_file(frame(1), dir / "b.jpg");
+    cv::Mat small;
+    cv::resize(cv::imread(frame(2)), small, {320, 180});
+    cv::imwrite((dir / "c.jpg").string(), small);
+    const fs::path out = dir / "cal.json";
+    const CmdResult r =
+        run("calibrate " + dir.string() + " --board 9x6 --square 0.05 --out " + out.string());
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_NE(r.out.find("c.jpg is 320x180 but the earlier images are 640x360"), std::string::npos)
+        << r.out;
+    EXPECT_FALSE(fs::exists(out));
+}
+
+TEST(CalibrateCli, BadOptionsAreRefused) {
+    const fs::path out = scratch("bad_options") / "cal.json";
+    const std::string tail = " --out " + out.string();
+    for (const std::string& args :
+         {kFrames + " --board 9 --square 0.05", kFrames + " --board 2x6 --square 0.05",
+          kFrames + " --board 9x6 --square 0", kFrames + " --board 9x6 --square -1",
+          kFrames + " --board 9x6 --square 50", kFrames + " --board 9x6 --square 0.05 --step 0",
+          std::string("/nonexistent/dir --board 9x6 --square 0.05"), kFrames + " --square 0.05"}) {
+        const CmdResult r = run("calibrate " + args + tail);
+        EXPECT_NE(r.exit_code, 0) << args;
+        EXPECT_FALSE(r.out.empty()) << args;
+        EXPECT_FALSE(fs::exists(out)) << args;
+    }
+    const CmdResult mm = run("calibrate " + kFrames + " --board 9x6 --square 50" + tail);
+    EXPECT_NE(mm.out.find("give metres"), std::string::npos) << mm.out;
+}
+
+}  // namespace
