@@ -35,7 +35,7 @@ enum class ConfigError { LineTooLong, DumpTooLarge, MissingEquals, EmptyKey, Bad
 std::string to_string(ConfigError e);
 
 struct ConfigParseError {
-    ConfigError error;
+    ConfigError error = ConfigError::LineTooLong;
     std::size_t line = 0;  // 1-based
 };
 
