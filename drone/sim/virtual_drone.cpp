@@ -13,6 +13,13 @@
 
 namespace gs::sim {
 namespace {
+
+// The shipped default (assets/calibration), so the ground station's default camera model is the
+// one the images were rendered with; the compiled-in copy when the asset is unreadable.
+CameraCalibration camera_calibration(CameraId id) {
+    auto c = default_calibration(id);
+    return c ? *c : builtin_calibration(id);
+}
 TimeNs mono_now() {
     return SteadyClock::instance().now_ns();
 }
@@ -159,7 +166,8 @@ void VirtualDrone::video_loop() {
     VideoReport report;
     // Building a renderer inverts the lens model for every pixel (about a second): the bottom
     // camera's is built only when a client first selects it.
-    auto front = Renderer::create(options_.scene, default_front_calibration(), CameraKind::Front);
+    auto front =
+        Renderer::create(options_.scene, camera_calibration(CameraId::Front), CameraKind::Front);
     if (!front) {
         report.error = "renderer: " + to_string(front.error());
         video_report_.publish(report);
@@ -204,7 +212,7 @@ void VirtualDrone::video_loop() {
             Renderer* renderer = &*front;
             if (cam->channel == 1) {
                 if (!bottom) {
-                    auto b = Renderer::create(options_.scene, default_bottom_calibration(),
+                    auto b = Renderer::create(options_.scene, camera_calibration(CameraId::Bottom),
                                               CameraKind::Bottom);
                     if (b) bottom.emplace(std::move(*b));
                 }
