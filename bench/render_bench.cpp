@@ -4,7 +4,7 @@
 // (png_dir: write every 30th frame there as PNG to look at).
 
 #include "drone/h264_encoder.hpp"
-#include "drone/sim/calibration.hpp"
+#include "drone/calibration.hpp"
 #include "drone/sim/renderer.hpp"
 #include "drone/sim/scene.hpp"
 
@@ -54,7 +54,7 @@ int main(int argc, char** argv) {
         return 1;
     }
     const auto t_build0 = std::chrono::steady_clock::now();
-    auto renderer = gs::sim::Renderer::create(*scene, gs::sim::default_front_calibration(),
+    auto renderer = gs::sim::Renderer::create(*scene, gs::builtin_calibration(gs::CameraId::Front),
                                               gs::sim::CameraKind::Front);
     if (!renderer) {
         std::fprintf(stderr, "%s\n", gs::sim::to_string(renderer.error()).c_str());

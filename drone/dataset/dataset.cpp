@@ -16,10 +16,6 @@ namespace gs {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-std::string to_string(CameraId c) {
-    return c == CameraId::Front ? "front" : "bottom";
-}
-
 std::string to_string(Scenario s) {
     switch (s) {
         case Scenario::Left:
@@ -148,39 +144,11 @@ Expected<CameraCalibration, DatasetError> parse_calibration(const json& obj,
                                                             const std::string& file,
                                                             const std::string& prefix) {
     JsonFields f(obj, text, file, prefix);
-    CameraCalibration c;
-    for (auto [key, dst] : {std::pair<const char*, double*>{"fx", &c.fx},
-                            {"fy", &c.fy},
-                            {"cx", &c.cx},
-                            {"cy", &c.cy}}) {
-        auto v = f.number(key);
-        if (!v) return Unexpected(v.error());
-        *dst = *v;
-    }
-    if (!(c.fx > 0) || !(c.fy > 0))
-        return Unexpected(
-            f.error(DatasetErrorCode::OutOfRange, "fx", "focal lengths must be positive"));
-    if (const json* d = f.find("dist")) {
-        if (!d->is_array() || (d->size() != 4 && d->size() != 5))
-            return Unexpected(f.error(DatasetErrorCode::Malformed, "dist",
-                                      "expected an array of 4 or 5 numbers (k1, k2, p1, p2, k3)"));
-        for (std::size_t i = 0; i < d->size(); ++i) {
-            if (!(*d)[i].is_number() || !std::isfinite((*d)[i].get<double>()))
-                return Unexpected(f.error(DatasetErrorCode::Malformed, "dist",
-                                          "element " + std::to_string(i) + " is not a number"));
-            c.dist[i] = (*d)[i].get<double>();
-        }
-    }
-    if (f.find("width") || f.find("height")) {
-        auto w = f.integer("width", 1, 65535);
-        if (!w) return Unexpected(w.error());
-        auto h = f.integer("height", 1, 65535);
-        if (!h) return Unexpected(h.error());
-        c.width = static_cast<int>(*w);
-        c.height = static_cast<int>(*h);
-    }
-    if (const json* s = f.find("source"); s && s->is_string()) c.source = s->get<std::string>();
-    return c;
+    auto c = calibration_from_json(obj);
+    if (c) return *c;
+    const CalibrationIssue& i = c.error();
+    if (i.code == DatasetErrorCode::Missing) return Unexpected(f.missing(i.key));
+    return Unexpected(f.error(i.code, i.key, i.message));
 }
 
 bool has_dotdot_or_root(const fs::path& p) {
@@ -238,43 +206,6 @@ Expected<std::string, DatasetError> read_text_file(const fs::path& path, const s
     text.resize(static_cast<std::size_t>(in.gcount()));
     if (in.bad()) return Unexpected(err(DatasetErrorCode::Io, name, "read failed"));
     return text;
-}
-
-Expected<CameraCalibration, DatasetError> load_calibration_file(const fs::path& file) {
-    const std::string name = file.filename().string();
-    auto text = read_text_file(file, file.string(), 1u << 20);
-    if (!text) return Unexpected(text.error());
-    auto j = parse_json(*text, file.string());
-    if (!j) return Unexpected(j.error());
-    if (!j->is_object())
-        return Unexpected(
-            err(DatasetErrorCode::Malformed, file.string(), "expected a JSON object"));
-    return parse_calibration(*j, *text, file.string(), "");
-}
-
-Expected<CameraCalibration, DatasetError> default_calibration(CameraId camera,
-                                                              const fs::path& assets_dir) {
-    return load_calibration_file(assets_dir / "calibration" /
-                                 ("ardrone2_" + to_string(camera) + ".json"));
-}
-
-CameraCalibration scaled_to(const CameraCalibration& c, int width, int height) {
-    if (c.width <= 0 || c.height <= 0 || (c.width == width && c.height == height)) {
-        CameraCalibration r = c;
-        r.width = width;
-        r.height = height;
-        return r;
-    }
-    const double sx = static_cast<double>(width) / c.width;
-    const double sy = static_cast<double>(height) / c.height;
-    CameraCalibration r = c;
-    r.fx *= sx;
-    r.cx = (c.cx + 0.5) * sx - 0.5;
-    r.fy *= sy;
-    r.cy = (c.cy + 0.5) * sy - 0.5;
-    r.width = width;
-    r.height = height;
-    return r;
 }
 
 Expected<DatasetInfo, DatasetError> parse_flight_json(const std::string& text,

@@ -5,6 +5,7 @@
 // file, line and column. Paths from flight.json never leave the dataset directory. Pixels are
 // not read here: see frame_store.hpp.
 
+#include "drone/calibration.hpp"
 #include "drone/dataset/annexb.hpp"
 #include "drone/dataset/error.hpp"
 #include "drone/expected.hpp"
@@ -18,26 +19,6 @@
 #include <vector>
 
 namespace gs {
-
-enum class CameraId { Front, Bottom };
-std::string to_string(CameraId c);
-
-// Pinhole camera in pixels of the stored frames, OpenCV distortion order (k1, k2, p1, p2, k3).
-// A plain struct so drone/ does not depend on vision/.
-struct CameraCalibration {
-    double fx = 0, fy = 0, cx = 0, cy = 0;
-    std::array<double, 5> dist{};
-    int width = 0, height = 0;  // image size the intrinsics are for (0 = unknown)
-    std::string source;         // where it came from (free text)
-};
-
-// Loads a calibration file in the assets/ shape {fx, fy, cx, cy, dist[5], width, height, source}.
-Expected<CameraCalibration, DatasetError> load_calibration_file(const std::filesystem::path& file);
-// The camera's default shipped in `assets_dir`/calibration/ardrone2_{front,bottom}.json.
-Expected<CameraCalibration, DatasetError> default_calibration(
-    CameraId camera, const std::filesystem::path& assets_dir);
-// Same intrinsics for another image size (scales focal lengths and centre; same field of view).
-CameraCalibration scaled_to(const CameraCalibration& c, int width, int height);
 
 // flight.json.
 struct DatasetInfo {

@@ -50,12 +50,8 @@ std::string flight_json_text(const DatasetInfo& info) {
     j["video"] = info.video;
     j["images"] = info.images;
     if (info.calibration) {
-        const auto& c = *info.calibration;
-        j["calibration"] = {{"fx", c.fx},
-                            {"fy", c.fy},
-                            {"cx", c.cx},
-                            {"cy", c.cy},
-                            {"dist", {c.dist[0], c.dist[1], c.dist[2], c.dist[3], c.dist[4]}}};
+        // The intrinsics only: the size is the flight's own width and height.
+        j["calibration"] = calibration_to_json(*info.calibration, false);
     }
     if (!info.source.empty()) j["source"] = info.source;
     return j.dump(2) + "\n";

@@ -8,7 +8,7 @@
 // Preallocated buffers: no allocation per frame once the output image has its size.
 
 #include "drone/expected.hpp"
-#include "drone/sim/calibration.hpp"
+#include "drone/calibration.hpp"
 #include "drone/sim/scene.hpp"
 
 #include <opencv2/core.hpp>

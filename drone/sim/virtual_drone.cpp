@@ -13,6 +13,13 @@
 
 namespace gs::sim {
 namespace {
+
+// The shipped default (assets/calibration), so the ground station's default camera model is the
+// one the images were rendered with; the compiled-in copy when the asset is unreadable.
+CameraCalibration camera_calibration(CameraId id) {
+    auto c = default_calibration(id);
+    return c ? *c : builtin_calibration(id);
+}
 TimeNs mono_now() {
     return SteadyClock::instance().now_ns();
 }
@@ -58,8 +65,8 @@ Expected<bool, std::string> VirtualDrone::start() {
     ports_[3] = s->control.local_endpoint()->port;
     if (options_.video) {
         // Building a renderer inverts the lens model for every pixel: do it before serving.
-        auto front =
-            Renderer::create(options_.scene, default_front_calibration(), CameraKind::Front);
+        auto front = Renderer::create(options_.scene, camera_calibration(CameraId::Front),
+                                      CameraKind::Front);
         if (!front) return Unexpected{"renderer: " + to_string(front.error())};
         s->front.emplace(std::move(*front));
     }
@@ -207,7 +214,7 @@ void VirtualDrone::video_loop() {
             Renderer* renderer = &*front;
             if (cam->channel == 1) {
                 if (!bottom) {
-                    auto b = Renderer::create(options_.scene, default_bottom_calibration(),
+                    auto b = Renderer::create(options_.scene, camera_calibration(CameraId::Bottom),
                                               CameraKind::Bottom);
                     if (b) bottom.emplace(std::move(*b));
                 }

@@ -2,7 +2,7 @@
 // IDR, one access unit per frame, and a decoder joining mid-stream.
 
 #include "drone/h264_encoder.hpp"
-#include "drone/sim/calibration.hpp"
+#include "drone/calibration.hpp"
 #include "drone/sim/renderer.hpp"
 #include "drone/sim/scene.hpp"
 
@@ -73,7 +73,7 @@ TEST(H264Encoder, DecodesWithHighPsnrAndIdrEvery15WithHeaders) {
     auto scene = sim::load_scene(std::string(GS_ASSETS_DIR) + "/scenes/thesis_pillar_center.json");
     ASSERT_TRUE(scene.has_value());
     auto renderer =
-        sim::Renderer::create(*scene, sim::default_front_calibration(), sim::CameraKind::Front);
+        sim::Renderer::create(*scene, builtin_calibration(CameraId::Front), sim::CameraKind::Front);
     ASSERT_TRUE(renderer.has_value());
     auto enc = H264Encoder::create({});
     ASSERT_TRUE(enc.has_value()) << to_string(enc.error());

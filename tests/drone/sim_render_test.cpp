@@ -1,7 +1,7 @@
 // Renderer: geometry against the camera model, determinism, motion cues (expansion, roll),
 // obstacle placement in the image, and that surfaces carry trackable corners.
 
-#include "drone/sim/calibration.hpp"
+#include "drone/calibration.hpp"
 #include "drone/sim/renderer.hpp"
 #include "drone/sim/scene.hpp"
 
@@ -27,7 +27,7 @@ Scene load(const std::string& name) {
 
 Renderer make(const Scene& s, CameraKind k = CameraKind::Front) {
     auto r = Renderer::create(
-        s, k == CameraKind::Front ? default_front_calibration() : default_bottom_calibration(), k);
+        s, k == CameraKind::Front ? builtin_calibration(CameraId::Front) : builtin_calibration(CameraId::Bottom), k);
     EXPECT_TRUE(r.has_value());
     return std::move(r).value();
 }
@@ -46,7 +46,7 @@ TextureSpec plain(cv::Vec3b rgb) {
 }
 
 TEST(SimCalibration, UndistortInvertsDistort) {
-    const auto c = default_front_calibration();
+    const auto c = builtin_calibration(CameraId::Front);
     for (double x = -0.7; x <= 0.7; x += 0.1)
         for (double y = -0.4; y <= 0.5; y += 0.1) {
             const cv::Point2d px = distort_to_pixel(c, {x, y});
@@ -59,15 +59,17 @@ TEST(SimCalibration, UndistortInvertsDistort) {
 
 TEST(SimCalibration, AssetFilesMatchTheDefaults) {
     for (const auto& [file, def] :
-         {std::pair{"ardrone2_front.json", default_front_calibration()},
-          std::pair{"ardrone2_bottom.json", default_bottom_calibration()}}) {
-        auto c = load_calibration(std::string(GS_ASSETS_DIR) + "/calibration/" + file);
+         {std::pair{"ardrone2_front.json", builtin_calibration(CameraId::Front)},
+          std::pair{"ardrone2_bottom.json", builtin_calibration(CameraId::Bottom)}}) {
+        auto c = load_calibration_file(std::string(GS_ASSETS_DIR) + "/calibration/" + file);
         ASSERT_TRUE(c.has_value()) << to_string(c.error());
         EXPECT_EQ(c->width, 640);
         EXPECT_EQ(c->height, 360);
         EXPECT_DOUBLE_EQ(c->fx, def.fx);
+        EXPECT_DOUBLE_EQ(c->fy, def.fy);
+        EXPECT_DOUBLE_EQ(c->cx, def.cx);
         EXPECT_DOUBLE_EQ(c->cy, def.cy);
-        EXPECT_DOUBLE_EQ(c->dist[0], def.dist[0]);
+        for (std::size_t i = 0; i < 5; ++i) EXPECT_DOUBLE_EQ(c->dist[i], def.dist[i]) << i;
         EXPECT_FALSE(c->source.empty());
     }
 }
@@ -100,7 +102,7 @@ TEST(SimRender, MarkerProjectsThroughTheDistortionModel) {
     const cv::Point2d found(mo.m10 / mo.m00, mo.m01 / mo.m00);
     // Face centre (4.99, 2.2, 1.6) in the camera frame: x = 2.2, y = -(1.6 - 1.0), z = 4.99.
     const cv::Point2d n(2.2 / 4.99, -0.6 / 4.99);
-    const auto c = default_front_calibration();
+    const auto c = builtin_calibration(CameraId::Front);
     const cv::Point2d expect = distort_to_pixel(c, n);
     const cv::Point2d pinhole(c.fx * n.x + c.cx, c.fy * n.y + c.cy);
     EXPECT_NEAR(found.x, expect.x, 1.0);
@@ -140,7 +142,7 @@ TEST(SimRender, ForwardMotionExpandsAboutThePrincipalPoint) {
     std::vector<uchar> st;
     std::vector<float> err;
     cv::calcOpticalFlowPyrLK(grey(a), grey(b), p0, p1, st, err);
-    const auto c = default_front_calibration();
+    const auto c = builtin_calibration(CameraId::Front);
     const cv::Point2d pp(c.cx, c.cy);
     int tracked = 0, outward = 0;
     for (std::size_t i = 0; i < p0.size(); ++i) {
@@ -188,7 +190,7 @@ TEST(SimRender, RollRotatesTheImage) {
     std::vector<uchar> st;
     std::vector<float> err;
     cv::calcOpticalFlowPyrLK(grey(a), grey(b), p0, p1, st, err, cv::Size(31, 31), 4);
-    const auto c = default_front_calibration();
+    const auto c = builtin_calibration(CameraId::Front);
     std::vector<cv::Point2f> u0, u1;  // undistorted normalised coordinates
     for (std::size_t i = 0; i < p0.size(); ++i) {
         if (!st[i]) continue;
