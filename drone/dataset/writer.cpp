@@ -299,8 +299,8 @@ bool DatasetWriter::add_navdata(TimeNs recv_ns, std::span<const std::uint8_t> da
     return push(NavIn{recv_ns, {datagram.begin(), datagram.end()}, decoded});
 }
 
-bool DatasetWriter::add_navdata(TimeNs recv_ns, std::vector<std::uint8_t>&& datagram,
-                                const std::optional<NavState>& decoded) {
+bool DatasetWriter::take_navdata(TimeNs recv_ns, std::vector<std::uint8_t>&& datagram,
+                                 const std::optional<NavState>& decoded) {
     if (datagram.size() > kMaxRawDatagram) return push(NavIn{recv_ns, {}, decoded});
     return push(NavIn{recv_ns, std::move(datagram), decoded});
 }
@@ -309,12 +309,12 @@ bool DatasetWriter::add_video_bytes(TimeNs recv_ns, std::span<const std::uint8_t
     return push(VideoIn{recv_ns, {bytes.begin(), bytes.end()}});
 }
 
-bool DatasetWriter::add_video_bytes(TimeNs recv_ns, std::vector<std::uint8_t>&& bytes) {
+bool DatasetWriter::take_video_bytes(TimeNs recv_ns, std::vector<std::uint8_t>&& bytes) {
     return push(VideoIn{recv_ns, std::move(bytes)});
 }
 
-bool DatasetWriter::add_frame(TimeNs capture_ns, std::vector<std::uint8_t>&& access_unit,
-                              const cv::Mat& image, std::optional<FrameLabel> label) {
+bool DatasetWriter::take_frame(TimeNs capture_ns, std::vector<std::uint8_t>&& access_unit,
+                               const cv::Mat& image, std::optional<FrameLabel> label) {
     return push(
         FrameIn{capture_ns, std::move(access_unit), opts_.write_images ? image : cv::Mat(), label});
 }

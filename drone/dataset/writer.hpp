@@ -85,18 +85,18 @@ public:
     // One received navdata datagram and, when it parsed, its state (t_ns is replaced by recv time).
     bool add_navdata(TimeNs recv_ns, std::span<const std::uint8_t> datagram,
                      const std::optional<NavState>& decoded);
-    // The same, taking over the bytes (no copy).
-    bool add_navdata(TimeNs recv_ns, std::vector<std::uint8_t>&& datagram,
-                     const std::optional<NavState>& decoded);
+    // take_*: the same as add_*, taking over the bytes (no copy).
+    bool take_navdata(TimeNs recv_ns, std::vector<std::uint8_t>&& datagram,
+                      const std::optional<NavState>& decoded);
     // A chunk of the video TCP stream as received (raw/video.pave).
     bool add_video_bytes(TimeNs recv_ns, std::span<const std::uint8_t> bytes);
-    bool add_video_bytes(TimeNs recv_ns, std::vector<std::uint8_t>&& bytes);
+    bool take_video_bytes(TimeNs recv_ns, std::vector<std::uint8_t>&& bytes);
     // One frame: its Annex-B access unit (video.h264) and/or decoded image (frames/ when
     // write_images), captured at `capture_ns`. Frames before the first IDR are skipped.
     bool add_frame(TimeNs capture_ns, std::span<const std::uint8_t> access_unit,
                    const cv::Mat& image = {}, std::optional<FrameLabel> label = std::nullopt);
-    bool add_frame(TimeNs capture_ns, std::vector<std::uint8_t>&& access_unit,
-                   const cv::Mat& image = {}, std::optional<FrameLabel> label = std::nullopt);
+    bool take_frame(TimeNs capture_ns, std::vector<std::uint8_t>&& access_unit,
+                    const cv::Mat& image = {}, std::optional<FrameLabel> label = std::nullopt);
     // One AT datagram as sent.
     bool add_at(TimeNs send_ns, std::string_view datagram);
     // labels.json (rewritten on each call).

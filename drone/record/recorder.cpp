@@ -180,7 +180,7 @@ void Recorder::run() {
         switch (e.kind) {
             case link::RawEvent::Kind::Navdata: {
                 const auto nav = navdata_state(e.bytes);
-                (void)w.add_navdata(e.t_ns, std::move(e.bytes), nav);
+                (void)w.take_navdata(e.t_ns, std::move(e.bytes), nav);
                 break;
             }
             case link::RawEvent::Kind::Video:
@@ -191,7 +191,7 @@ void Recorder::run() {
                     s.complete.push_back(f->header.frame_number);
                     if (s.complete.size() > kCompleteHistory) s.complete.pop_front();
                 }
-                (void)w.add_video_bytes(e.t_ns, std::move(e.bytes));
+                (void)w.take_video_bytes(e.t_ns, std::move(e.bytes));
                 break;
             case link::RawEvent::Kind::At:
                 (void)w.add_at(e.t_ns,
@@ -225,7 +225,7 @@ void Recorder::run() {
         }
         const bool idr = annexb_has_idr(e.bytes);
         cv::Mat image = std::move(e.image);  // released at the end of this call unless tapped
-        if (!w.add_frame(e.recv_ns, std::move(e.bytes), {}, label)) return;  // counted there
+        if (!w.take_frame(e.recv_ns, std::move(e.bytes), {}, label)) return;  // counted there
         if (!s.seen_idr && !idr) return;  // the writer skips it too (and counts it)
         s.seen_idr = true;
         const std::int64_t index = s.next_index++;
