@@ -61,8 +61,8 @@ TEST(DatasetWriter, RoundTripWithInterpolatedAttitude) {
             ASSERT_TRUE((*w)->add_navdata(t0 + nav_i * 10 * kMs, dgram, s));
             ++nav_i;
         }
-        ASSERT_TRUE(
-            (*w)->add_frame(cap, {}, test::test_image(k, 64, 48), FrameLabel{5.0 - k * 0.5, 0.25}));
+        ASSERT_TRUE((*w)->add_frame(cap, {}, test::test_image(k, 64, 48),
+                                    FrameLabel{5.0 - k * 0.5, 0.25, {}}));
         ASSERT_TRUE((*w)->add_at(cap, "AT*PCMD=1,0,0,0,0,0\rAT*REF=2,290717696\r"));
     }
     FlightLabels labels;
