@@ -163,12 +163,16 @@ void classifier_output(const PipelineOutput& o, ui::ClassifierOutput& c) {
         if (const auto* s = take(p + ".score"))
             scores.series.push_back(series_data(*s, kRegionNames[i]));
         const double thr = last_value(take(p + ".threshold"));
-        if (std::isfinite(thr)) {
-            bool dup = false;
-            for (const auto& t : scores.thresholds) dup = dup || std::fabs(t.y - thr) < 1e-9;
-            if (!dup)
-                scores.thresholds.push_back({std::string(kRegionNames[i]) + " threshold", thr, 0});
-        }
+        if (!std::isfinite(thr)) continue;
+        // Left and right usually share one threshold: one "side" line instead of two labels.
+        bool merged = false;
+        for (auto& t : scores.thresholds)
+            if (std::fabs(t.y - thr) < 1e-9) {
+                t.name = i == 2 && t.name == "left threshold" ? "side threshold" : t.name;
+                merged = true;
+            }
+        if (!merged)
+            scores.thresholds.push_back({std::string(kRegionNames[i]) + " threshold", thr, 0});
     }
     if (!scores.series.empty()) c.plots.push_back(std::move(scores));
 

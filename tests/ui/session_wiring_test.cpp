@@ -154,7 +154,8 @@ TEST_F(Wiring, TakeoffRefusedOnLowBatteryShowsTheReasonAsAMessage) {
     step(key(PilotKey::Takeoff));
     auto has_refusal = [&] {
         for (const auto& m : snap.messages)
-            if (m.find("takeoff") != std::string::npos && m.find("Rejected") != std::string::npos)
+            if (m.find("takeoff") != std::string::npos &&
+                m.find("rejected: battery") != std::string::npos)
                 return true;
         return false;
     };
