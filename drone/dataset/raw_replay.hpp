@@ -3,9 +3,8 @@
 // reproduce frames.csv"): navdata datagrams and video chunks are fed in receive-time order to
 // the parsers, and each frame gets its attitude by the same NavAligner the recorder uses.
 //
-// The parsers are passed in: the navdata parser (drone/navdata.hpp) and the PaVE framer
-// (drone/pave.hpp) come from other modules; bind them in make_protocol_replay_decoders()
-// (PENDING: raw_replay_protocol.cpp, to be written when those modules are merged).
+// The parsers are passed in (tests use stand-ins); make_protocol_replay_decoders() binds the real
+// ones: navdata::parse_navdata, and PaveFramer -> H264Decoder as the live link runs them.
 
 #include "drone/dataset/dataset.hpp"
 
@@ -22,6 +21,15 @@ struct RawReplayDecoders {
     // (stream ns) of every frame the chunk completed that the recorder would have written.
     std::function<void(std::span<const std::uint8_t>, TimeNs recv_ns, std::vector<TimeNs>&)> video;
 };
+
+// The real protocol parsers, mirroring what a recording keeps: every navdata datagram that
+// parses (navdata_state below), and every frame the link's decoder produces from the recorded
+// stream, from the first IDR on, captured when the chunk completing it arrived. Stateful: one
+// set per replay.
+RawReplayDecoders make_protocol_replay_decoders();
+
+// One navdata datagram as the recorder stores it in navdata.csv (nullopt when it does not parse).
+std::optional<NavState> navdata_state(std::span<const std::uint8_t> datagram);
 
 // Replays `raw_dir` (raw/navdata.bin, raw/video.pave, raw/video_chunks.bin) into frames.csv rows.
 Expected<std::vector<FrameRow>, DatasetError> replay_raw(const std::filesystem::path& raw_dir,

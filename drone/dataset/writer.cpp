@@ -299,8 +299,24 @@ bool DatasetWriter::add_navdata(TimeNs recv_ns, std::span<const std::uint8_t> da
     return push(NavIn{recv_ns, {datagram.begin(), datagram.end()}, decoded});
 }
 
+bool DatasetWriter::add_navdata(TimeNs recv_ns, std::vector<std::uint8_t>&& datagram,
+                                const std::optional<NavState>& decoded) {
+    if (datagram.size() > kMaxRawDatagram) return push(NavIn{recv_ns, {}, decoded});
+    return push(NavIn{recv_ns, std::move(datagram), decoded});
+}
+
 bool DatasetWriter::add_video_bytes(TimeNs recv_ns, std::span<const std::uint8_t> bytes) {
     return push(VideoIn{recv_ns, {bytes.begin(), bytes.end()}});
+}
+
+bool DatasetWriter::add_video_bytes(TimeNs recv_ns, std::vector<std::uint8_t>&& bytes) {
+    return push(VideoIn{recv_ns, std::move(bytes)});
+}
+
+bool DatasetWriter::add_frame(TimeNs capture_ns, std::vector<std::uint8_t>&& access_unit,
+                              const cv::Mat& image, std::optional<FrameLabel> label) {
+    return push(
+        FrameIn{capture_ns, std::move(access_unit), opts_.write_images ? image : cv::Mat(), label});
 }
 
 bool DatasetWriter::add_frame(TimeNs capture_ns, std::span<const std::uint8_t> access_unit,
@@ -354,6 +370,8 @@ void DatasetWriter::run() {
             FrameRow row;
             row.frame = index;
             row.nav = nav;
+            if (label) row.gt = label->gt;
+            if (opts_.row_tap) opts_.row_tap->push(row);  // a full tap counts its own drops
             Files::ReadyRow rr{index, frames_csv_row(row), {}};
             if (label) {
                 rr.label_row = std::to_string(index) + ',' + csv::format_number(label->distance_m) +

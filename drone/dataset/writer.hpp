@@ -40,6 +40,9 @@ struct DatasetWriterOptions {
     std::chrono::milliseconds flush_interval{250};  // at most 1 s
     TimeNs max_nav_wait_ns = 500'000'000;     // how long a frame waits for the navdata after it
     std::size_t max_buffer_bytes = 4u << 20;  // flush early when buffered data exceeds this
+    // When set, every frames.csv row is also pushed here as soon as its attitude is settled
+    // (before it reaches the disk): a live consumer sees exactly what replay will read.
+    std::shared_ptr<BoundedQueue<FrameRow>> row_tap;
 };
 
 struct DatasetWriterStats {
@@ -63,6 +66,7 @@ struct DatasetWriterStats {
 struct FrameLabel {
     double distance_m = kUnknown;
     double lateral_m = kUnknown;
+    GroundTruthPose gt;  // frames.csv gt_* columns (NaN: not written)
 };
 
 class DatasetWriter {
@@ -81,11 +85,17 @@ public:
     // One received navdata datagram and, when it parsed, its state (t_ns is replaced by recv time).
     bool add_navdata(TimeNs recv_ns, std::span<const std::uint8_t> datagram,
                      const std::optional<NavState>& decoded);
+    // The same, taking over the bytes (no copy).
+    bool add_navdata(TimeNs recv_ns, std::vector<std::uint8_t>&& datagram,
+                     const std::optional<NavState>& decoded);
     // A chunk of the video TCP stream as received (raw/video.pave).
     bool add_video_bytes(TimeNs recv_ns, std::span<const std::uint8_t> bytes);
+    bool add_video_bytes(TimeNs recv_ns, std::vector<std::uint8_t>&& bytes);
     // One frame: its Annex-B access unit (video.h264) and/or decoded image (frames/ when
     // write_images), captured at `capture_ns`. Frames before the first IDR are skipped.
     bool add_frame(TimeNs capture_ns, std::span<const std::uint8_t> access_unit,
+                   const cv::Mat& image = {}, std::optional<FrameLabel> label = std::nullopt);
+    bool add_frame(TimeNs capture_ns, std::vector<std::uint8_t>&& access_unit,
                    const cv::Mat& image = {}, std::optional<FrameLabel> label = std::nullopt);
     // One AT datagram as sent.
     bool add_at(TimeNs send_ns, std::string_view datagram);

@@ -24,9 +24,16 @@ std::future<CommandResult> ready(ResultCode code, std::string reason = {}) {
     return p.get_future();
 }
 
+// Copies for all but the last subscriber, which gets the value itself.
 template <class T>
-void fan_out(const std::vector<std::shared_ptr<BoundedQueue<T>>>& subs, const T& v) {
-    for (const auto& q : subs) q->push(v);
+void fan_out(const std::vector<std::shared_ptr<BoundedQueue<T>>>& subs, T v) {
+    for (std::size_t i = 0; i + 1 < subs.size(); ++i) subs[i]->push(v);
+    if (!subs.empty()) subs.back()->push(std::move(v));
+}
+
+template <class T>
+void erase_queue(std::vector<std::shared_ptr<BoundedQueue<T>>>& subs, const void* q) {
+    std::erase_if(subs, [q](const auto& s) { return static_cast<const void*>(s.get()) == q; });
 }
 }  // namespace
 
@@ -156,6 +163,22 @@ std::shared_ptr<BoundedQueue<RawEvent>> DroneLink::subscribe_raw(std::size_t cap
     auto q = std::make_shared<BoundedQueue<RawEvent>>(capacity, QueueFull::RejectNew);
     subscribers_.update([&](Subscribers& s) { s.raw.push_back(q); });
     return q;
+}
+
+std::shared_ptr<BoundedQueue<AccessUnitEvent>> DroneLink::subscribe_access_units(
+    std::size_t capacity) {
+    auto q = std::make_shared<BoundedQueue<AccessUnitEvent>>(capacity, QueueFull::RejectNew);
+    subscribers_.update([&](Subscribers& s) { s.access_units.push_back(q); });
+    return q;
+}
+
+void DroneLink::unsubscribe(const void* queue) {
+    subscribers_.update([&](Subscribers& s) {
+        erase_queue(s.frames, queue);
+        erase_queue(s.navdata, queue);
+        erase_queue(s.raw, queue);
+        erase_queue(s.access_units, queue);
+    });
 }
 
 void DroneLink::push_at(AtRequest r) {
@@ -623,6 +646,17 @@ void DroneLink::video_loop() {
                 }
                 rate.tick(now);
                 stats.last_frame_ns = now;
+                if (!subs.access_units.empty()) {
+                    AccessUnitEvent e;
+                    e.index = fs.index;
+                    e.recv_ns = now;
+                    e.t_ns = fs.t_ns;
+                    e.frame_number = frame->header.frame_number;
+                    e.is_idr = contains_idr(frame->payload);
+                    e.bytes.assign(frame->payload.begin(), frame->payload.end());
+                    e.image = out;
+                    fan_out(subs.access_units, std::move(e));
+                }
                 if (!subs.frames.empty()) fan_out(subs.frames, fs);
                 frame_slot_.publish(std::move(fs));
             }

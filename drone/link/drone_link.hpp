@@ -60,6 +60,18 @@ struct RawEvent {
     std::vector<std::uint8_t> bytes;
 };
 
+// One H.264 access unit the link decoded into a frame (the PaVE payload, Annex-B), for a recorder:
+// what video.h264 stores and what replaying raw/ reproduces. Only built when someone subscribed.
+struct AccessUnitEvent {
+    std::int64_t index = 0;  // the decoded frame's FrameSample::index
+    TimeNs recv_ns = 0;      // monotonic receive time of the chunk that completed it (capture)
+    TimeNs t_ns = 0;         // recv_ns from the link's start (FrameSample::t_ns)
+    std::uint32_t frame_number = 0;  // PaVE frame_number
+    bool is_idr = false;             // contains an IDR slice
+    std::vector<std::uint8_t> bytes;
+    cv::Mat image;  // the decoded frame (shares the link's pooled buffer: drop it soon)
+};
+
 // Events per second over the last second.
 class RateMeter {
 public:
@@ -152,7 +164,16 @@ public:
     std::shared_ptr<BoundedQueue<FrameSample>> subscribe_frames(std::size_t capacity);
     std::shared_ptr<BoundedQueue<NavSample>> subscribe_navdata(std::size_t capacity);
     // Raw bytes of every stream (navdata datagrams, video TCP chunks, AT datagrams) for raw/.
+    // Overflow of the two recording queues rejects the new item (counted by the queue): the link
+    // never waits for a consumer.
     std::shared_ptr<BoundedQueue<RawEvent>> subscribe_raw(std::size_t capacity);
+    // The access unit of every decoded frame (see AccessUnitEvent).
+    std::shared_ptr<BoundedQueue<AccessUnitEvent>> subscribe_access_units(std::size_t capacity);
+    // Stops feeding the queue returned by any subscribe_*(); the link threads may still push
+    // an item or two that they were handing over while this ran.
+    void unsubscribe(const void* queue);
+    // The clock every *_ns of the link is on (a recorder must use the same one).
+    const Clock& clock() const { return clock_; }
 
     const LinkConfig& config_used() const { return config_; }
     // The local port navdata arrives on (after start; 0 before).
@@ -213,6 +234,7 @@ private:
         std::vector<std::shared_ptr<BoundedQueue<FrameSample>>> frames;
         std::vector<std::shared_ptr<BoundedQueue<NavSample>>> navdata;
         std::vector<std::shared_ptr<BoundedQueue<RawEvent>>> raw;
+        std::vector<std::shared_ptr<BoundedQueue<AccessUnitEvent>>> access_units;
     };
     LatestValue<Subscribers> subscribers_;
 };

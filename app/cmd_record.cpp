@@ -1,0 +1,252 @@
+// `ardrone-gs record`: connects to a drone (a real one at an address, or an in-process virtual
+// drone on loopback ephemeral ports), records a dataset until N seconds, the end of the virtual
+// drone's scripted flight or Ctrl-C, and optionally runs the obstacle pipeline on the recorded
+// frames (DIR/live_decisions.csv: the decisions replay must reproduce).
+#include "app/command.hpp"
+#include "app/pipeline.hpp"
+#include "drone/dataset/csv.hpp"
+#include "drone/link/drone_link.hpp"
+#include "drone/record/recorder.hpp"
+#include "drone/sim/scenarios.hpp"
+#include "drone/sim/virtual_drone.hpp"
+#include "vision/classifier.hpp"
+
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <thread>
+
+namespace gs::app {
+namespace {
+
+std::atomic<bool> g_stop{false};
+extern "C" void on_record_signal(int) {
+    g_stop = true;
+}
+
+struct Opts {
+    std::string drone;
+    std::string sim;
+    bool autopilot = false;
+    std::string out;
+    double seconds = 0;
+    std::string classifier;
+    double connect_timeout_s = 10;
+    bool quiet = false;
+};
+
+std::string megabytes(std::uint64_t bytes) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%.1f MB", static_cast<double>(bytes) / 1e6);
+    return b;
+}
+
+// The live pipeline: every recorded frame, in dataset order, as replay will read it.
+struct LiveDecisions {
+    std::uint64_t frames = 0;
+    std::string error;
+};
+
+LiveDecisions run_pipeline(const std::string& name, const CameraCalibration& calib,
+                           BoundedQueue<FrameSample>& frames, const std::filesystem::path& file) {
+    LiveDecisions r;
+    ObstaclePipeline pipeline(name, calib);
+    std::FILE* f = std::fopen(file.c_str(), "w");
+    if (f == nullptr) {
+        r.error = "cannot create " + file.string();
+        while (frames.pop_for(std::chrono::milliseconds(50)) || !frames.closed()) {
+        }
+        return r;
+    }
+    std::fputs("frame,t_ms,left,center,right,left_score,center_score,right_score\n", f);
+    while (true) {
+        auto s = frames.pop_for(std::chrono::milliseconds(50));
+        if (!s) {
+            if (frames.closed()) break;
+            continue;
+        }
+        const vision::FrameResult& res = pipeline.process(*s);
+        std::string line = std::to_string(s->index) + ',' + csv::format_ms(s->t_ns);
+        for (auto reg : vision::kRegions) line += res.region(reg).unsafe ? ",1" : ",0";
+        for (auto reg : vision::kRegions) line += ',' + csv::format_number(res.region(reg).score);
+        line += '\n';
+        std::fputs(line.c_str(), f);
+        std::fflush(f);  // whole lines, so a killed recording keeps what was decided
+        ++r.frames;
+    }
+    std::fclose(f);
+    return r;
+}
+
+int run(const Opts& o) {
+    if (!o.classifier.empty()) {
+        CameraCalibration probe;
+        if (!vision::make_classifier(o.classifier, to_vision(probe))) {
+            std::string names;
+            for (auto n : vision::classifier_names())
+                names += (names.empty() ? "" : ", ") + std::string(n);
+            throw fail("unknown classifier '" + o.classifier + "' (one of: " + names + ")", 2);
+        }
+    }
+    std::unique_ptr<sim::VirtualDrone> drone;
+    link::LinkConfig lc;
+    if (!o.sim.empty()) {
+        auto scene = sim::resolve_scene(o.sim);
+        if (!scene) throw fail(sim::to_string(scene.error()));
+        sim::VirtualDroneOptions vo;
+        vo.bind_address = "127.0.0.1";
+        vo.at_port = vo.navdata_port = vo.video_port = vo.control_port = 0;
+        vo.scene = std::move(*scene);
+        vo.autopilot = o.autopilot;
+        drone = std::make_unique<sim::VirtualDrone>(std::move(vo));
+        auto started = drone->start();
+        if (!started) throw fail("cannot start the virtual drone: " + started.error());
+        lc.drone_address = lc.bind_address = "127.0.0.1";
+        lc.at_port = drone->at_port();
+        lc.navdata_port = drone->navdata_port();
+        lc.video_port = drone->video_port();
+        lc.control_port = drone->control_port();
+    } else {
+        lc.drone_address = o.drone;
+    }
+    std::signal(SIGINT, on_record_signal);
+    std::signal(SIGTERM, on_record_signal);
+
+    link::DroneLink link(lc);
+    if (auto s = link.start(); !s) throw fail("cannot start the link: " + s.error());
+    const auto t_connect = std::chrono::steady_clock::now();
+    const auto connect_limit = std::chrono::duration<double>(o.connect_timeout_s);
+    while (link.state() != link::ConnectionState::Connected) {
+        if (g_stop) return 130;
+        if (std::chrono::steady_clock::now() - t_connect > connect_limit) {
+            const auto st = link.status();
+            char b[32];
+            std::snprintf(b, sizeof b, "%.1f", o.connect_timeout_s);
+            throw fail("no connection to the drone at " + lc.drone_address + " within " + b +
+                       " s (link " + std::string(link::to_string(st.state)) +
+                       (st.reason.empty() ? "" : ": " + st.reason) + ")");
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+
+    // Frames start a little after the link is up (the video port connects on its own); a
+    // recording that starts before them would begin with navdata only.
+    while (!link.video().latest() && !g_stop &&
+           std::chrono::steady_clock::now() - t_connect < 2 * connect_limit) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    if (!link.video().latest()) std::cerr << "ardrone-gs: record: no video yet, recording anyway\n";
+
+    record::RecorderOptions ro;
+    if (drone) ro.writer.source = "simulated (virtual drone, scene " + drone->scene().name + ")";
+    if (auto c = default_calibration(CameraId::Front, GS_ASSETS_DIR))
+        ro.writer.calibration = scaled_to(*c, ro.writer.width, ro.writer.height);
+    if (!o.classifier.empty()) ro.frame_tap = 4096;
+    record::Recorder rec(link, drone.get());
+    if (auto s = rec.start(o.out, ro); !s)
+        throw fail("cannot record to " + o.out + ": " + s.error());
+    std::cout << "recording to " << o.out << (o.seconds > 0 ? "" : " (Ctrl-C stops)") << std::endl;
+
+    LiveDecisions live;
+    std::thread pipeline;
+    if (!o.classifier.empty()) {
+        pipeline = std::thread([&] {
+            live = run_pipeline(o.classifier, ro.writer.calibration.value_or(CameraCalibration{}),
+                                *rec.frames(), std::filesystem::path(o.out) / "live_decisions.csv");
+        });
+    }
+
+    const bool tty = isatty(STDOUT_FILENO) && !o.quiet;
+    const auto t0 = std::chrono::steady_clock::now();
+    std::string why = "stopped";
+    while (true) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+        const double elapsed =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        if (g_stop) {
+            why = "interrupted";
+            break;
+        }
+        if (o.seconds > 0 && elapsed >= o.seconds) {
+            why = "time is up";
+            break;
+        }
+        if (drone && o.autopilot && drone->status().autopilot_done) {
+            why = "scripted flight done";
+            break;
+        }
+        if (tty) {
+            const auto st = rec.status();
+            std::printf("\r%6.1f s  %-12s  frames %6llu  navdata %7llu  drops %llu  %s   ",
+                        st.duration_s, link::to_string(link.state()),
+                        static_cast<unsigned long long>(st.frames),
+                        static_cast<unsigned long long>(st.navdata),
+                        static_cast<unsigned long long>(st.drops), megabytes(st.bytes).c_str());
+            std::fflush(stdout);
+        }
+    }
+    if (tty) std::printf("\n");
+    const record::RecorderStatus st = rec.stop();
+    if (pipeline.joinable()) pipeline.join();
+    link.stop();
+    if (drone) drone->stop();
+
+    char line[256];
+    std::snprintf(
+        line, sizeof line,
+        "recorded %s (%s): %.1f s, %llu frames, %llu navdata, %llu drops "
+        "(link %llu, disk %llu, pipeline %llu), %s, recorder CPU %.1f %%",
+        st.path.c_str(), why.c_str(), st.duration_s, static_cast<unsigned long long>(st.frames),
+        static_cast<unsigned long long>(st.navdata), static_cast<unsigned long long>(st.drops),
+        static_cast<unsigned long long>(st.dropped_link),
+        static_cast<unsigned long long>(st.dropped_writer),
+        static_cast<unsigned long long>(st.dropped_tap), megabytes(st.bytes).c_str(),
+        st.duration_s > 0 ? st.cpu_ms / (st.duration_s * 10.0) : 0.0);
+    std::cout << line << std::endl;
+    if (!o.classifier.empty()) {
+        std::cout << "live decisions: " << live.frames << " frames (" << o.classifier << ") in "
+                  << (std::filesystem::path(o.out) / "live_decisions.csv").string() << std::endl;
+        if (!live.error.empty()) throw fail(live.error);
+    }
+    if (!st.error.empty()) throw fail("recording incomplete: " + st.error);
+    return 0;
+}
+
+CommandRegistration reg(45, [](CLI::App& root) {
+    auto o = std::make_shared<Opts>();
+    auto* sub = root.add_subcommand(
+        "record", "Record a flight as a dataset (from a drone or the virtual drone)");
+    auto* drone = sub->add_option(
+        "--drone", o->drone, "Address of a real AR.Drone 2 (standard ports), e.g. 192.168.1.1");
+    auto* simopt = sub->add_option("--sim", o->sim,
+                                   "Record an in-process virtual drone flying this scenario "
+                                   "(shipped name or scene JSON), on loopback");
+    drone->excludes(simopt);
+    auto* ap =
+        sub->add_flag("--autopilot", o->autopilot,
+                      "With --sim: fly the scenario's scripted flight, stop when it is done");
+    ap->needs(simopt);
+    sub->add_option("--out", o->out, "Dataset directory to create (new or empty)")->required();
+    sub->add_option("--seconds", o->seconds, "Stop after this many seconds (0: until Ctrl-C)")
+        ->check(CLI::NonNegativeNumber);
+    sub->add_option("--classifier", o->classifier,
+                    "Also run this obstacle classifier live: DIR/live_decisions.csv");
+    sub->add_option("--connect-timeout", o->connect_timeout_s, "Seconds to wait for the connection")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
+    sub->add_flag("--quiet", o->quiet, "No progress line");
+    sub->callback([o] {
+        if (o->drone.empty() && o->sim.empty())
+            throw fail("record needs --drone ADDR or --sim SCENARIO", 2);
+        const int rc = run(*o);
+        if (rc != 0) throw CLI::RuntimeError(rc);
+    });
+});
+
+}  // namespace
+}  // namespace gs::app

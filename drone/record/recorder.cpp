@@ -1,0 +1,341 @@
+#include "drone/record/recorder.hpp"
+
+#include "drone/dataset/annexb.hpp"
+#include "drone/dataset/raw_replay.hpp"
+#include "drone/pave.hpp"
+#include "drone/sim/virtual_drone.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <ctime>
+#include <deque>
+
+namespace gs::record {
+namespace {
+
+constexpr std::size_t kTruthHistory = 1024;  // 20 s at the virtual drone's 50 Hz
+constexpr std::size_t kCompleteHistory = 256;
+constexpr std::size_t kTapPending = 256;
+constexpr TimeNs kStatusPeriod = 100'000'000;
+
+double thread_cpu_ms() {
+    timespec ts{};
+    ::clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return static_cast<double>(ts.tv_sec) * 1e3 + static_cast<double>(ts.tv_nsec) * 1e-6;
+}
+
+double wrap180(double deg) {
+    deg = std::fmod(deg + 180.0, 360.0);
+    if (deg < 0) deg += 360.0;
+    return deg - 180.0;
+}
+
+// The pose at `t` from samples in time order: interpolated inside, nearest outside.
+sim::Pose pose_at(const std::deque<sim::GroundTruth>& h, TimeNs t) {
+    auto after = std::lower_bound(h.begin(), h.end(), t,
+                                  [](const sim::GroundTruth& g, TimeNs v) { return g.t_ns < v; });
+    if (after == h.end()) return h.back().pose;
+    if (after == h.begin() || after->t_ns == t) return after->pose;
+    const sim::GroundTruth& a = *(after - 1);
+    const sim::GroundTruth& b = *after;
+    const double w = static_cast<double>(t - a.t_ns) / static_cast<double>(b.t_ns - a.t_ns);
+    auto lerp = [w](double x, double y) { return x + (y - x) * w; };
+    sim::Pose p;
+    p.x_m = lerp(a.pose.x_m, b.pose.x_m);
+    p.y_m = lerp(a.pose.y_m, b.pose.y_m);
+    p.z_m = lerp(a.pose.z_m, b.pose.z_m);
+    p.roll_deg = lerp(a.pose.roll_deg, b.pose.roll_deg);
+    p.pitch_deg = lerp(a.pose.pitch_deg, b.pose.pitch_deg);
+    p.yaw_deg = wrap180(a.pose.yaw_deg + wrap180(b.pose.yaw_deg - a.pose.yaw_deg) * w);
+    return p;
+}
+
+}  // namespace
+
+Scenario scenario_of(const std::string& name) {
+    if (name == "left") return Scenario::Left;
+    if (name == "right") return Scenario::Right;
+    if (name == "center" || name == "centre") return Scenario::Center;
+    return Scenario::None;
+}
+
+struct Recorder::State {
+    RecorderOptions opts;
+    std::filesystem::path dir;
+    std::unique_ptr<DatasetWriter> writer;
+    std::shared_ptr<BoundedQueue<link::RawEvent>> raw;
+    std::shared_ptr<BoundedQueue<link::AccessUnitEvent>> units;
+    std::shared_ptr<BoundedQueue<FrameRow>> rows;  // the writer's row tap (frame_tap only)
+
+    // A frame is recorded only when the recorded video bytes hold it whole: the link may have
+    // been in the middle of a frame when the recording began, and replaying raw/ must find
+    // every frame frames.csv has. This framer sees exactly what raw/video.pave holds.
+    PaveFramer framer;
+    std::deque<std::uint32_t> complete;  // frame numbers it completed, oldest first
+    std::uint64_t not_in_raw = 0;
+
+    // Frames waiting for a ground-truth sample after their capture.
+    std::deque<link::AccessUnitEvent> pending;
+    std::deque<sim::GroundTruth> truth;
+    std::optional<std::size_t> target;
+
+    // The writer's frame index, predicted by its own rule (the first IDR starts the video).
+    bool seen_idr = false;
+    std::int64_t next_index = 0;
+    struct TapFrame {
+        std::int64_t index;
+        TimeNs recv_ns;
+        std::uint32_t frame_number;
+        cv::Mat image;
+    };
+    std::deque<TapFrame> tap_pending;
+    std::uint64_t tap_lost = 0;
+
+    double cpu_ms = 0;
+};
+
+Recorder::Recorder(link::DroneLink& link, const sim::VirtualDrone* truth)
+    : link_(link), truth_(truth) {}
+
+Recorder::~Recorder() {
+    stop();
+}
+
+Expected<bool, std::string> Recorder::start(const std::filesystem::path& dir,
+                                            RecorderOptions opts) {
+    if (running_) {
+        auto st = status();
+        return Unexpected(std::string("already recording to ") + st.path);
+    }
+    auto s = std::make_unique<State>();
+    opts.writer.write_raw = true;
+    if (!opts.writer.calibration) {
+        auto c = default_calibration(opts.writer.camera, GS_ASSETS_DIR);
+        if (c) opts.writer.calibration = scaled_to(*c, opts.writer.width, opts.writer.height);
+    }
+    if (opts.frame_tap > 0) {
+        s->rows =
+            std::make_shared<BoundedQueue<FrameRow>>(std::max<std::size_t>(opts.frame_tap, 64));
+        opts.writer.row_tap = s->rows;
+    }
+    auto w = DatasetWriter::create(dir, opts.writer, link_.clock());
+    if (!w) return Unexpected(to_string(w.error()));
+    s->writer = std::move(*w);
+    s->dir = dir;
+    s->opts = opts;
+    if (truth_ != nullptr) {
+        const sim::Scene& scene = truth_->scene();
+        if (!scene.target_id.empty()) s->target = sim::find_obstacle(scene, scene.target_id);
+        nlohmann::ordered_json j;
+        j["scenario"] = to_string(scenario_of(scene.scenario));
+        j["scene"] = scene.name;
+        if (!scene.target_id.empty()) j["target"] = scene.target_id;
+        j["source"] = "virtual drone ground truth";
+        if (!scene.description.empty()) j["description"] = scene.description;
+        (void)s->writer->set_labels(FlightLabels{scenario_of(scene.scenario), j.dump()});
+    }
+    tap_ =
+        opts.frame_tap > 0 ? std::make_shared<BoundedQueue<FrameSample>>(opts.frame_tap) : nullptr;
+    s->raw = link_.subscribe_raw(opts.raw_queue);
+    s->units = link_.subscribe_access_units(opts.access_unit_queue);
+    state_ = std::move(s);
+
+    RecorderStatus st;
+    st.recording = true;
+    st.path = dir.string();
+    st.labels = truth_ != nullptr;
+    status_.publish(st);
+    stop_ = false;
+    running_ = true;
+    thread_ = std::thread([this] { run(); });
+    return true;
+}
+
+RecorderStatus Recorder::stop() {
+    if (!running_.load()) return status();
+    link_.unsubscribe(state_->raw.get());
+    link_.unsubscribe(state_->units.get());
+    stop_ = true;
+    if (thread_.joinable()) thread_.join();
+    running_ = false;
+    return status();
+}
+
+RecorderStatus Recorder::status() const {
+    return status_.latest().value_or(RecorderStatus{});
+}
+
+void Recorder::run() {
+    State& s = *state_;
+    DatasetWriter& w = *s.writer;
+    const Clock& clock = link_.clock();
+    const double cpu0 = thread_cpu_ms();
+    std::vector<link::RawEvent> raws;
+    std::vector<link::AccessUnitEvent> units;
+    TimeNs last_status = 0;
+
+    auto on_raw = [&](link::RawEvent& e) {
+        switch (e.kind) {
+            case link::RawEvent::Kind::Navdata: {
+                const auto nav = navdata_state(e.bytes);
+                (void)w.add_navdata(e.t_ns, std::move(e.bytes), nav);
+                break;
+            }
+            case link::RawEvent::Kind::Video:
+                s.framer.push(e.bytes);
+                while (auto ev = s.framer.next()) {
+                    const auto* f = std::get_if<PaveFrame>(&*ev);
+                    if (f == nullptr) continue;
+                    s.complete.push_back(f->header.frame_number);
+                    if (s.complete.size() > kCompleteHistory) s.complete.pop_front();
+                }
+                (void)w.add_video_bytes(e.t_ns, std::move(e.bytes));
+                break;
+            case link::RawEvent::Kind::At:
+                (void)w.add_at(e.t_ns,
+                               std::string_view(reinterpret_cast<const char*>(e.bytes.data()),
+                                                e.bytes.size()));
+                break;
+        }
+    };
+
+    auto truth_ready = [&](TimeNs capture, TimeNs now, bool flushing) {
+        if (truth_ == nullptr || flushing) return true;
+        if (!s.truth.empty() && s.truth.back().t_ns >= capture) return true;
+        return now - capture > s.opts.truth_wait_ns;
+    };
+
+    auto write_frame = [&](link::AccessUnitEvent& e) {
+        std::optional<FrameLabel> label;
+        if (truth_ != nullptr) {
+            FrameLabel l;
+            if (!s.truth.empty()) {
+                const sim::Pose p = pose_at(s.truth, e.recv_ns);
+                l.gt = GroundTruthPose{p.x_m, p.y_m, p.z_m, p.yaw_deg};
+                if (s.target) {
+                    const auto hit =
+                        sim::obstacle_relative(truth_->scene(), *s.target, p.x_m, p.y_m, p.yaw_deg);
+                    l.distance_m = hit.distance_m;
+                    l.lateral_m = hit.lateral_m;
+                }
+            }
+            label = l;
+        }
+        const bool idr = annexb_has_idr(e.bytes);
+        cv::Mat image = std::move(e.image);  // released at the end of this call unless tapped
+        if (!w.add_frame(e.recv_ns, std::move(e.bytes), {}, label)) return;  // counted there
+        if (!s.seen_idr && !idr) return;  // the writer skips it too (and counts it)
+        s.seen_idr = true;
+        const std::int64_t index = s.next_index++;
+        if (tap_) {
+            s.tap_pending.push_back({index, e.recv_ns, e.frame_number, std::move(image)});
+            if (s.tap_pending.size() > kTapPending) {
+                s.tap_pending.pop_front();
+                ++s.tap_lost;
+            }
+        }
+    };
+
+    auto on_unit = [&](link::AccessUnitEvent& e) {
+        auto it = std::find(s.complete.begin(), s.complete.end(), e.frame_number);
+        if (it == s.complete.end()) {
+            ++s.not_in_raw;
+            return;
+        }
+        s.complete.erase(s.complete.begin(), it + 1);
+        s.pending.push_back(std::move(e));
+    };
+
+    auto drain_pending = [&](TimeNs now, bool flushing) {
+        while (!s.pending.empty() && truth_ready(s.pending.front().recv_ns, now, flushing)) {
+            write_frame(s.pending.front());
+            s.pending.pop_front();
+        }
+    };
+
+    auto drain_rows = [&] {
+        if (!s.rows) return;
+        while (auto row = s.rows->try_pop()) {
+            while (!s.tap_pending.empty() && s.tap_pending.front().index < row->frame) {
+                s.tap_pending.pop_front();
+                ++s.tap_lost;
+            }
+            if (s.tap_pending.empty() || s.tap_pending.front().index != row->frame) continue;
+            State::TapFrame& t = s.tap_pending.front();
+            FrameSample fs;
+            fs.index = row->frame;
+            fs.t_ns = row->nav.t_ns;
+            fs.recv_ns = t.recv_ns;
+            fs.frame_number = t.frame_number;
+            fs.image = std::move(t.image);
+            fs.nav = row->nav;
+            s.tap_pending.pop_front();
+            (void)tap_->push(std::move(fs));  // a full tap counts the drop
+        }
+    };
+
+    auto publish = [&](TimeNs now, bool recording) {
+        const auto ws = w.stats();
+        RecorderStatus st;
+        st.recording = recording;
+        st.path = s.dir.string();
+        st.duration_s = static_cast<double>(now - w.start_ns()) * 1e-9;
+        st.frames = ws.frames_written;
+        st.navdata = ws.navdata_written;
+        st.at = ws.at_records;
+        st.bytes = ws.bytes_written;
+        st.dropped_link = s.raw->dropped() + s.units->dropped();
+        st.dropped_writer = ws.dropped_queue_full + ws.frames_lost_io;
+        st.dropped_tap =
+            s.tap_lost + (tap_ ? tap_->dropped() : 0) + (s.rows ? s.rows->dropped() : 0);
+        st.drops = st.dropped_link + st.dropped_writer + st.dropped_tap;
+        st.frames_skipped = ws.frames_skipped + s.not_in_raw;
+        st.write_errors = ws.write_errors;
+        st.error = ws.first_error;
+        st.labels = truth_ != nullptr;
+        st.cpu_ms = thread_cpu_ms() - cpu0;
+        status_.publish(std::move(st));
+    };
+
+    auto cycle = [&](bool flushing) {
+        // Access units first, then raw: the chunk completing a frame was queued before the
+        // frame's access unit, so it is already in hand when the unit is looked at.
+        while (auto u = s.units->try_pop()) units.push_back(std::move(*u));
+        while (auto r = s.raw->try_pop()) raws.push_back(std::move(*r));
+        for (auto& r : raws) on_raw(r);
+        raws.clear();
+        if (truth_ != nullptr) {
+            const sim::GroundTruth g = truth_->ground_truth();
+            if (g.t_ns != 0 && (s.truth.empty() || g.t_ns > s.truth.back().t_ns)) {
+                s.truth.push_back(g);
+                if (s.truth.size() > kTruthHistory) s.truth.pop_front();
+            }
+        }
+        for (auto& u : units) on_unit(u);
+        units.clear();
+        drain_pending(clock.now_ns(), flushing);
+        drain_rows();
+    };
+
+    while (!stop_.load()) {
+        // Wake on the busiest stream (AT alone is ~33 Hz), never sleep long.
+        if (auto first = s.raw->pop_for(std::chrono::milliseconds(10)))
+            raws.push_back(std::move(*first));
+        cycle(false);
+        const TimeNs now = clock.now_ns();
+        if (now - last_status >= kStatusPeriod) {
+            publish(now, true);
+            last_status = now;
+        }
+    }
+    cycle(true);
+    const TimeNs end = clock.now_ns();
+    w.close();  // settles every row
+    drain_rows();
+    if (tap_) tap_->close();
+    publish(end, false);
+}
+
+}  // namespace gs::record

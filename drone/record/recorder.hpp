@@ -1,0 +1,102 @@
+#pragma once
+// Recording a live flight as a dataset (DATASET.md): attaches to a running DroneLink through its
+// recording subscriptions (raw bytes of every stream, the access unit of every decoded frame) and
+// drains them on its own thread into a DatasetWriter: raw/, navdata.csv, video.h264, frames.csv
+// (attitude interpolated by the writer), flight.json. Attached to the virtual drone as well, it
+// writes the ground truth: labels.json (the scene's scenario) and labels.csv + gt_* columns (the
+// pose at each frame's capture time against the scene's target obstacle).
+//
+// Nothing here can block the link: the subscriptions reject what does not fit and the writer's
+// queue does the same; every loss is counted in status().drops. status() is a latest-value read,
+// cheap enough for a GUI frame.
+
+#include "drone/dataset/writer.hpp"
+#include "drone/link/drone_link.hpp"
+#include "drone/sample.hpp"
+#include "drone/sync.hpp"
+
+#include <atomic>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <thread>
+
+namespace gs::sim {
+class VirtualDrone;
+struct Scene;
+}  // namespace gs::sim
+
+namespace gs::record {
+
+struct RecorderOptions {
+    // camera, size, fps, calibration, source of flight.json; queue sizes. write_raw stays on.
+    DatasetWriterOptions writer;
+    std::size_t raw_queue = 8192;  // link raw events (navdata, video chunks, AT): ~10 s at 200 Hz
+    std::size_t access_unit_queue = 256;  // ~8 s of frames
+    // > 0: every recorded frame (dataset index, frames.csv time and attitude, decoded image) is
+    // also handed to frames() for a live consumer (the obstacle pipeline), as replay will see it.
+    std::size_t frame_tap = 0;
+    // How long a frame waits for a ground-truth sample after its capture (virtual drone only).
+    TimeNs truth_wait_ns = 100'000'000;
+};
+
+struct RecorderStatus {
+    bool recording = false;
+    std::string path;
+    double duration_s = 0;             // stream time since start()
+    std::uint64_t frames = 0;          // frames.csv rows written
+    std::uint64_t navdata = 0;         // navdata.csv rows written
+    std::uint64_t at = 0;              // AT datagrams in raw/at.log
+    std::uint64_t bytes = 0;           // written to disk
+    std::uint64_t drops = 0;           // everything lost, the sum of the three below
+    std::uint64_t dropped_link = 0;    // link subscription queues full (recorder too slow)
+    std::uint64_t dropped_writer = 0;  // writer queue full or frames lost to I/O (disk too slow)
+    std::uint64_t dropped_tap = 0;     // frames the live consumer did not take in time
+    std::uint64_t frames_skipped = 0;  // before the first IDR, or begun before the recording
+    std::uint64_t write_errors = 0;
+    std::string error;    // the first I/O error
+    bool labels = false;  // ground truth is being written
+    double cpu_ms = 0;    // CPU time of the recorder's own thread (not the writer's)
+};
+
+class Recorder {
+public:
+    // `link` (and `truth`, when given) must outlive the recorder.
+    explicit Recorder(link::DroneLink& link, const sim::VirtualDrone* truth = nullptr);
+    ~Recorder();
+    Recorder(const Recorder&) = delete;
+    Recorder& operator=(const Recorder&) = delete;
+
+    // Creates the dataset in `dir` (new or empty) and starts recording. Fails with a message
+    // when already recording or the directory cannot be written.
+    [[nodiscard]] Expected<bool, std::string> start(const std::filesystem::path& dir,
+                                                    RecorderOptions opts = {});
+    // Stops, writes everything still queued, closes the dataset; returns the final status.
+    // Idempotent.
+    RecorderStatus stop();
+    RecorderStatus status() const;
+    bool recording() const { return running_.load(); }
+
+    // The recorded-frame tap (RecorderOptions::frame_tap), null otherwise. Closed by stop()
+    // once the last frame went in.
+    std::shared_ptr<BoundedQueue<FrameSample>> frames() const { return tap_; }
+
+private:
+    struct State;
+    void run();
+
+    link::DroneLink& link_;
+    const sim::VirtualDrone* truth_;
+    std::atomic<bool> running_{false};
+    std::atomic<bool> stop_{false};
+    std::unique_ptr<State> state_;  // the recorder thread's own (set before it starts)
+    std::shared_ptr<BoundedQueue<FrameSample>> tap_;
+    std::thread thread_;
+    LatestValue<RecorderStatus> status_;
+};
+
+// labels.json's scenario from a scene's ("left", "right", "center", "none"; else none).
+Scenario scenario_of(const std::string& name);
+
+}  // namespace gs::record
