@@ -431,8 +431,20 @@ void GuiAdapter::fill(ui::GuiSnapshot& s) {
     r.loop = replay_.loop;
     r.error = replay_.error;
 
-    s.recording = ui::RecordingStatus{};
-    s.recording.error = "recording not available yet";
+    if (auto rec = session_.recording().latest()) {
+        ui::RecordingStatus& rs = s.recording;
+        rs.active = rec->status.recording;
+        rs.path = rec->status.path.empty() ? rec->last_path : rec->status.path;
+        rs.duration_s = rec->status.duration_s;
+        rs.frames = rec->status.frames;
+        rs.navdata = rec->status.navdata;
+        rs.drops = rec->status.drops;
+        rs.disk_bytes = rec->status.bytes;
+        rs.disk_free_bytes = rec->disk_free_bytes;
+        rs.error = rec->status.error;
+    } else {
+        s.recording = ui::RecordingStatus{};
+    }
 
     s.messages.assign(messages_.begin(), messages_.end());
 }
@@ -483,7 +495,8 @@ void GuiAdapter::consume(const ui::Actions& a) {
         else
             session_.request(ConnectDrone{a.connect->address});
     }
-    if (a.record_start || a.record_stop) note("recording not available yet");
+    if (a.record_start) session_.request(RecordStart{});
+    if (a.record_stop) session_.request(RecordStop{});
 
     if (a.replay_open) session_.request(OpenReplay{*a.replay_open});
     if (a.replay_play) session_.request(ReplayPlay{true});

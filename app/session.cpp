@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
+#include <ctime>
 
 namespace gs::app {
 
@@ -52,6 +54,12 @@ CameraCalibration front_calibration() {
 }
 
 }  // namespace
+
+std::filesystem::path default_record_root() {
+    const char* home = std::getenv("HOME");
+    if (home && *home) return std::filesystem::path(home) / "ardrone-gs" / "flights";
+    return "flights";
+}
 
 // Everything about the open source; lives on the session thread.
 struct Session::Current {
@@ -137,6 +145,7 @@ void Session::publish_classifier(std::string error) {
 }
 
 void Session::close_current() {
+    record_stop();  // the recorder holds a reference to the link
     Current& c = *cur_;
     if (c.frames) c.frames->close();
     if (c.link) c.link->stop();
@@ -292,6 +301,10 @@ void Session::handle(SessionRequest& r) {
                 publish_source();
                 publish_replay();
                 if (had) message("disconnected");
+            } else if constexpr (std::is_same_v<T, RecordStart>) {
+                record_start(q.dir);
+            } else if constexpr (std::is_same_v<T, RecordStop>) {
+                record_stop();
             } else if constexpr (std::is_same_v<T, SelectClassifier>) {
                 if (pipeline_.select(q.name)) {
                     publish_classifier();
@@ -451,10 +464,85 @@ void Session::process(FrameSample& f, TimeNs recv_ns) {
     ++processed_;
 }
 
+void Session::record_start(const std::string& dir) {
+    Current& c = *cur_;
+    if (!c.link) {
+        message("recording needs a drone or the virtual drone (a replay is already recorded)");
+        return;
+    }
+    if (recorder_ && recorder_->recording()) {
+        message("already recording to " + last_record_path_);
+        return;
+    }
+    std::filesystem::path path = dir;
+    if (path.empty()) {
+        const std::time_t t = std::time(nullptr);
+        std::tm tm{};
+        localtime_r(&t, &tm);
+        char name[64];
+        std::strftime(name, sizeof name, "%Y-%m-%d_%H%M%S", &tm);
+        path = (opts_.record_root.empty() ? default_record_root() : opts_.record_root) / name;
+    }
+    std::error_code ec;
+    std::filesystem::create_directories(path.parent_path(), ec);
+    recorder_ = std::make_unique<record::Recorder>(*c.link, c.drone.get());
+    record::RecorderOptions ro;
+    ro.writer.calibration = front_calibration();
+    ro.writer.source = c.kind == SessionSource::Sim ? "simulated (virtual drone)" : "recorded";
+    if (auto st = recorder_->start(path, ro); !st) {
+        message("recording failed: " + st.error());
+        recorder_.reset();
+        RecordingInfo ri;
+        ri.status.error = st.error();
+        ri.last_path = last_record_path_;
+        recording_.publish(std::move(ri));
+        return;
+    }
+    last_record_path_ = path.string();
+    last_space_check_ = 0;
+    message("recording to " + last_record_path_);
+    publish_recording(clock_.now_ns());
+}
+
+void Session::record_stop() {
+    if (!recorder_) return;
+    const record::RecorderStatus st = recorder_->stop();
+    recorder_.reset();
+    RecordingInfo ri;
+    ri.status = st;
+    ri.status.recording = false;
+    ri.disk_free_bytes = disk_free_bytes_;
+    ri.last_path = last_record_path_;
+    recording_.publish(std::move(ri));
+    message("recording stopped: " + std::to_string(st.frames) + " frames, " +
+            std::to_string(st.navdata) + " navdata in " + last_record_path_ +
+            (st.drops ? ", " + std::to_string(st.drops) + " dropped" : ""));
+}
+
+void Session::publish_recording(TimeNs now) {
+    if (!recorder_) return;
+    if (now - last_space_check_ > ms_to_ns(2000)) {  // statvfs is a syscall: every 2 s is enough
+        std::error_code ec;
+        const auto sp = std::filesystem::space(last_record_path_, ec);
+        disk_free_bytes_ = ec ? kUnknown : static_cast<double>(sp.available);
+        last_space_check_ = now;
+    }
+    RecordingInfo ri;
+    ri.status = recorder_->status();
+    ri.disk_free_bytes = disk_free_bytes_;
+    ri.last_path = last_record_path_;
+    recording_.publish(std::move(ri));
+    last_record_publish_ = now;
+}
+
 void Session::run() {
     while (running_) {
         // Requests first: connecting, switching classifier, replay controls.
         while (auto r = requests_.try_pop()) handle(*r);
+        if (recorder_) {
+            const TimeNs now = clock_.now_ns();
+            if (now - last_record_publish_ >= ms_to_ns(100)) publish_recording(now);
+        }
         Current& c = *cur_;
         if (c.frames) {
             auto f = c.frames->pop_for(std::chrono::nanoseconds(kIdleWaitNs));

@@ -14,6 +14,7 @@
 #include "drone/clock.hpp"
 #include "drone/dataset/dataset_source.hpp"
 #include "drone/link/drone_link.hpp"
+#include "drone/record/recorder.hpp"
 #include "drone/sample.hpp"
 #include "drone/sim/virtual_drone.hpp"
 #include "drone/sync.hpp"
@@ -21,6 +22,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>
@@ -68,9 +70,13 @@ struct SetClassifierParam {
     std::string name;
     double value = 0;
 };
-using SessionRequest =
-    std::variant<ConnectDrone, StartSim, OpenReplay, CloseSource, ReplayPlay, ReplayStep,
-                 ReplaySeek, ReplaySpeed, ReplayLoop, SelectClassifier, SetClassifierParam>;
+struct RecordStart {
+    std::string dir;  // empty: a new timestamped folder under SessionOptions::record_root
+};
+struct RecordStop {};
+using SessionRequest = std::variant<ConnectDrone, StartSim, OpenReplay, CloseSource, ReplayPlay,
+                                    ReplayStep, ReplaySeek, ReplaySpeed, ReplayLoop,
+                                    SelectClassifier, SetClassifierParam, RecordStart, RecordStop>;
 
 // ---- Published state (session thread -> readers) --------------------------------------------
 
@@ -97,6 +103,13 @@ struct ReplayInfo {
     bool loop = false;
     bool ended = false;
     std::string error;
+};
+
+// The recorder's status plus the free space where it writes.
+struct RecordingInfo {
+    record::RecorderStatus status;
+    double disk_free_bytes = kUnknown;
+    std::string last_path;  // the last dataset written (kept after stop)
 };
 
 struct ParamState {
@@ -132,7 +145,13 @@ struct SessionOptions {
     // that window frame k shows dataset frame k, whatever the machine's speed.
     bool replay_lockstep = false;
     std::size_t frame_queue = 2;  // live frames waiting for the classifier
+    // Where recordings go when RecordStart names no folder: <root>/<YYYY-MM-DD_HHMMSS>.
+    // Empty: $HOME/ardrone-gs/flights (./flights without HOME).
+    std::filesystem::path record_root;
 };
+
+// $HOME/ardrone-gs/flights, or ./flights.
+std::filesystem::path default_record_root();
 
 class Session {
 public:
@@ -151,6 +170,7 @@ public:
     const LatestValue<std::shared_ptr<const PipelineOutput>>& output() const { return output_; }
     // Replay telemetry (the dataset's navdata stream at the replay position).
     const LatestValue<NavState>& replay_nav() const { return replay_nav_; }
+    const LatestValue<RecordingInfo>& recording() const { return recording_; }
     // Human-readable events from the session thread ("virtual drone 'warehouse' on 127.0.0.1").
     // Bounded; the oldest is dropped when nobody reads.
     std::optional<std::string> next_message() { return messages_.try_pop(); }
@@ -174,6 +194,9 @@ private:
     bool replay_tick(TimeNs& wait_ns);
     bool replay_step(int delta);
     void message(std::string m);
+    void record_start(const std::string& dir);
+    void record_stop();
+    void publish_recording(TimeNs now);
 
     SessionOptions opts_;
     Clock& clock_;
@@ -188,6 +211,11 @@ private:
     LatestValue<ClassifierInfo> classifier_;
     LatestValue<std::shared_ptr<const PipelineOutput>> output_;
     LatestValue<NavState> replay_nav_;
+    LatestValue<RecordingInfo> recording_;
+    std::unique_ptr<record::Recorder> recorder_;  // session thread only; before the link dies
+    std::string last_record_path_;
+    TimeNs last_record_publish_ = 0, last_space_check_ = 0;
+    double disk_free_bytes_ = kUnknown;
     std::atomic<std::uint64_t> processed_{0};
     std::atomic<bool> running_{true};
     std::thread thread_;

@@ -8,11 +8,15 @@
 #include "app/gui_adapter.hpp"
 #include "app/session.hpp"
 #include "drone/at_parser.hpp"
+#include "drone/dataset/dataset.hpp"
 #include "imgui_fixture.hpp"
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <chrono>
+#include <filesystem>
 #include <functional>
 #include <thread>
 
@@ -189,6 +193,33 @@ TEST_F(Wiring, HudBatteryGaugeShowsTheNavdataBatteryOfTheVirtualDrone) {
             demo_battery || (f.group == "demo" && f.name.rfind("vbat_flying_percentage", 0) == 0 &&
                              std::stod(f.value) == nav_pct);
     EXPECT_TRUE(demo_battery);
+}
+
+TEST_F(Wiring, RKeyRecordsTheVirtualDroneAsADatasetThatOpensForReplay) {
+    const std::filesystem::path root =
+        std::filesystem::temp_directory_path() / ("gs_wiring_rec_" + std::to_string(::getpid()));
+    std::filesystem::remove_all(root);
+    SessionOptions so;
+    so.record_root = root;
+    start(so, "thesis_pillar_left");
+    ASSERT_TRUE(run_until([&] { return !snap.video.bgr.empty(); }, 10s)) << snap.connection.reason;
+    const Actions ra = step(key(PilotKey::Record));
+    EXPECT_TRUE(ra.record_start);
+    ASSERT_TRUE(run_until([&] { return snap.recording.active && snap.recording.frames >= 15; }, 8s))
+        << snap.recording.error << (snap.messages.empty() ? "" : " / " + snap.messages.back());
+    step();  // release R
+    const Actions rb = step(key(PilotKey::Record));
+    EXPECT_TRUE(rb.record_stop);
+    ASSERT_TRUE(run_until([&] { return !snap.recording.active; }, 8s));
+    const std::string path = snap.recording.path;
+    ASSERT_FALSE(path.empty());
+    EXPECT_EQ(std::filesystem::path(path).parent_path(), root);
+    auto ds = Dataset::open(path);
+    ASSERT_TRUE(ds) << to_string(ds.error());
+    EXPECT_GE(ds->frame_count(), 15);
+    EXPECT_EQ(static_cast<std::uint64_t>(ds->frame_count()), snap.recording.frames);
+    EXPECT_TRUE(ds->has_navdata());
+    std::filesystem::remove_all(root);
 }
 
 }  // namespace
