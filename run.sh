@@ -4,5 +4,7 @@ set -euo pipefail
 cd "$(dirname "$0")"
 scripts/install-deps.sh build
 scripts/build.sh build -DCMAKE_BUILD_TYPE=Release
-echo "ardrone-gs: the window does not exist yet; showing what the protocol stack reads from a real AR.Drone 2 capture:"
+# The ground-station window, on the built-in virtual drone (warehouse scenario) unless arguments
+# say otherwise (--sim SCENARIO, --replay DATASET, or a subcommand). Without a display the program
+# says so and points to the headless subcommands.
 exec build/bin/ardrone-gs "$@"

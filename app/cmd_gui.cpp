@@ -2,15 +2,21 @@
 #ifdef GS_HAVE_GUI
 
 #include "app/command.hpp"
+#include "app/gui_adapter.hpp"
 #include "app/gui_entry.hpp"
+#include "app/session.hpp"
+#include "drone/dataset/dataset.hpp"
+#include "drone/sim/scenarios.hpp"
 #include "ui/app_window.hpp"
 #include "ui/demo_snapshot.hpp"
 #include "ui/settings.hpp"
 
+#include <chrono>
 #include <filesystem>
 #include <iostream>
 #include <memory>
 #include <string>
+#include <thread>
 
 namespace gs::app {
 namespace {
@@ -20,6 +26,8 @@ struct GuiOpts {
     bool demo = false;
     std::string sim;
     std::string replay;
+    bool autopilot = false;
+    std::string classifier;
     int frames = 0;
     int screenshot_every = 0;
     std::string out;
@@ -38,8 +46,14 @@ CommandRegistration reg(-1000, [](CLI::App& root) {
                   "(needs an X display: use xvfb-run -a on a headless machine)");
     root.add_flag("--demo", o.demo, "Show canned demo data instead of a drone (testing)")
         ->group("");
-    root.add_option("--sim", o.sim, "Fly the built-in virtual drone with this scenario");
-    root.add_option("--replay", o.replay, "Replay a recorded dataset directory");
+    root.add_option("--sim", o.sim,
+                    "Fly the built-in virtual drone in this scenario (the default, with "
+                    "'warehouse', when neither --sim nor --replay is given)");
+    root.add_option("--replay", o.replay, "Replay a recorded dataset directory")->excludes("--sim");
+    root.add_flag("--autopilot", o.autopilot,
+                  "Virtual drone: fly the scenario's scripted flight (manual keys still land "
+                  "and emergency-stop it)");
+    root.add_option("--classifier", o.classifier, "Obstacle classifier (thesis, flow)");
     root.add_option("--frames", o.frames, "Stop after N frames (offscreen: required)")
         ->check(CLI::PositiveNumber);
     root.add_option("--screenshot-every", o.screenshot_every,
@@ -62,11 +76,21 @@ int run_gui() {
         std::cerr << "ardrone-gs: " << m << '\n';
         return code;
     };
-    if (!o.sim.empty() || !o.replay.empty())
-        return err("--sim and --replay are not wired to the window yet in this build; use --demo",
-                   2);
     if (o.offscreen && o.out.empty()) return err("--offscreen needs --out DIR", 2);
     if (o.offscreen && o.frames <= 0) return err("--offscreen needs --frames N", 2);
+    // Bad names fail here, before a window opens.
+    const std::string scenario = o.sim.empty() ? "warehouse" : o.sim;
+    if (o.replay.empty() && !o.demo) {
+        if (auto sc = sim::resolve_scene(scenario); !sc) return err(sim::to_string(sc.error()), 2);
+    }
+    if (!o.replay.empty()) {
+        if (auto d = Dataset::open(o.replay); !d)
+            return err("cannot replay " + o.replay + ": " + to_string(d.error()), 2);
+    }
+    if (!o.classifier.empty()) {
+        if (!vision::make_classifier(o.classifier, vision::CameraCalibration{}))
+            return err("unknown classifier '" + o.classifier + "'", 2);
+    }
     if (!ui::display_available()) return err(ui::no_display_message(), 3);
 
     ui::AppOptions ao;
@@ -84,14 +108,49 @@ int run_gui() {
         ao.config_dir = ui::config_dir();
     }
 
+    SessionOptions so;
+    if (!o.classifier.empty()) so.classifier = o.classifier;
+    // Offscreen replay is lock-stepped: window frame k shows dataset frame k, classified, so a
+    // screenshot does not depend on how fast the machine renders.
+    const bool lockstep = o.offscreen && !o.replay.empty();
+    so.replay_lockstep = lockstep;
+    Session session(so);
+    GuiAdapter adapter(session);
+    adapter.set_sim_autopilot(o.autopilot);
+    if (!o.demo) {
+        if (!o.replay.empty())
+            session.request(OpenReplay{o.replay});
+        else
+            session.request(StartSim{scenario, o.autopilot});
+    }
+
     const bool demo = o.demo;
-    auto provide = [demo](ui::GuiSnapshot& s, int frame) {
-        if (demo)
+    const bool offscreen_live = o.offscreen && !demo && o.replay.empty();
+    const auto t0 = std::chrono::steady_clock::now();
+    auto provide = [&](ui::GuiSnapshot& s, int frame) {
+        if (demo) {
             ui::make_demo_snapshot(s, frame);
-        else if (frame == 0)
-            s = ui::demo_no_link();
+            return;
+        }
+        if (lockstep) {
+            // Ask for dataset frame `frame` and wait (bounded) until it is classified.
+            const auto before = session.frames_processed();
+            const auto info = session.replay().latest();
+            const bool more = !info || !info->open || info->frame + 1 < info->frame_count;
+            if (more && session.request(ReplayStep{1})) {
+                const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+                while (session.frames_processed() == before &&
+                       std::chrono::steady_clock::now() < deadline)
+                    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+            }
+        } else if (offscreen_live) {
+            // Live sources run in real time: 30 window frames per second, so --frames N covers
+            // N/30 s of flight whatever the renderer's speed.
+            std::this_thread::sleep_until(t0 + std::chrono::microseconds(33'333) * frame);
+        }
+        adapter.fill(s);
     };
-    auto consume = [](const ui::Actions&) {};  // wired to the link by the adapter (next step)
+    auto consume = [&](const ui::Actions& a) { adapter.consume(a); };
     std::string detail;
     auto r = ui::run_window(ao, provide, consume, &detail);
     if (!r) {

@@ -52,6 +52,14 @@ void ConnectionWindow::draw(const GuiSnapshot& s, ViewState& v, Actions& a) {
 
     // Source choice and connect/disconnect.
     Settings& st = v.settings;
+    // The choice follows the source actually connected (the window may have been started on the
+    // virtual drone from the command line), so Disconnect + Connect comes back to the same one.
+    const bool live = c.state != LinkState::Disconnected && c.state != LinkState::Replay;
+    if (live && (c.source == SourceKind::Sim) != st.use_sim) {
+        st.use_sim = c.source == SourceKind::Sim;
+        if (st.use_sim) st.sim_scenario = c.scenario;
+        v.settings_dirty = true;
+    }
     int src = st.use_sim ? 1 : 0;
     if (ImGui::RadioButton("Drone", &src, 0)) {
         st.use_sim = false;

@@ -1,0 +1,516 @@
+#ifdef GS_HAVE_GUI
+
+#include "app/gui_adapter.hpp"
+
+#include "drone/navdata_layout.hpp"
+#include "drone/sim/scenarios.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <type_traits>
+
+namespace gs::app {
+
+namespace {
+
+ui::LinkState to_ui(link::ConnectionState s) {
+    switch (s) {
+        case link::ConnectionState::Disconnected:
+            return ui::LinkState::Disconnected;
+        case link::ConnectionState::Bootstrapping:
+        case link::ConnectionState::Configuring:
+            return ui::LinkState::Connecting;
+        case link::ConnectionState::Connected:
+            return ui::LinkState::Connected;
+        case link::ConnectionState::LinkLost:
+            return ui::LinkState::Lost;
+    }
+    return ui::LinkState::Disconnected;
+}
+
+std::uint32_t to_rgba(vision::Rgb c, unsigned alpha = 255) {
+    return ui::rgba(c.r, c.g, c.b, alpha);
+}
+
+double age_ms(TimeNs now, TimeNs last) {
+    return last > 0 ? ns_to_ms(now - last) : kUnknown;
+}
+
+// One navdata field as text: numbers with %g, arrays as [a, b, ...].
+template <class T>
+void format_field(std::string& out, const T& v) {
+    if constexpr (std::is_same_v<T, bool>) {
+        out += v ? "1" : "0";
+    } else if constexpr (std::is_floating_point_v<T>) {
+        char b[32];
+        std::snprintf(b, sizeof b, "%.6g", static_cast<double>(v));
+        out += b;
+    } else if constexpr (std::is_arithmetic_v<T>) {
+        out += std::to_string(+v);
+    } else if constexpr (std::is_same_v<T, navdata::GpsChannel>) {
+        out += "{sat " + std::to_string(+v.sat) + ", cn0 " + std::to_string(+v.cn0) + "}";
+    } else {
+        out += '[';
+        bool first = true;
+        for (const auto& e : v) {
+            if (!first) out += ", ";
+            first = false;
+            format_field(out, e);
+        }
+        out += ']';
+    }
+}
+
+// Every field of every option present, grouped by option, in wire order, names with units.
+void navdata_fields(const navdata::Navdata& nd, std::vector<ui::TelemetryField>& out) {
+    out.clear();
+    navdata::layout::for_each_option_type([&]<class T>(std::type_identity<T>) {
+        using S = navdata::layout::Spec<T>;
+        const auto& opt = nd.*S::member;
+        if (!opt) return;
+        S::fields(*opt, [&](std::size_t, std::string_view name, std::string_view unit,
+                            const auto& field) {
+            ui::TelemetryField f;
+            f.group = std::string(S::name);
+            f.name = std::string(name);
+            if (!unit.empty()) f.name += " [" + std::string(unit) + "]";
+            format_field(f.value, field);
+            out.push_back(std::move(f));
+        });
+    });
+}
+
+const vision::PlotSeries* find(const vision::FrameResult& r, std::string_view name) {
+    return r.find_series(name);
+}
+
+ui::SeriesData series_data(const vision::PlotSeries& ps, std::string name) {
+    ui::SeriesData sd;
+    sd.name = std::move(name);
+    const std::size_t n = ps.points.size();
+    sd.x.resize(n);
+    sd.y.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        sd.x[i] = ps.points[i].x;
+        sd.y[i] = ps.points[i].y;
+    }
+    return sd;
+}
+
+// Last finite value of a series (a threshold drawn as a line).
+double last_value(const vision::PlotSeries* ps) {
+    if (!ps) return kUnknown;
+    for (std::size_t i = ps->points.size(); i-- > 0;)
+        if (std::isfinite(ps->points[i].y)) return ps->points[i].y;
+    return kUnknown;
+}
+
+constexpr std::array<const char*, 3> kRegionNames = {"left", "center", "right"};
+constexpr std::array<const char*, 3> kSeriesPrefix = {"left", "centre", "right"};
+
+void classifier_output(const PipelineOutput& o, ui::ClassifierOutput& c) {
+    const vision::FrameResult& r = o.result;
+    c.decisions.clear();
+    for (std::size_t i = 0; i < 3; ++i) {
+        const vision::RegionDecision& d = r.regions[i];
+        c.decisions.push_back({kRegionNames[i], d.unsafe, d.score, d.threshold});
+    }
+    c.cycle_ms = r.timings.total_ms;
+
+    ui::Overlay& ov = c.overlay;
+    ov = ui::Overlay{};
+    for (std::size_t i = 0; i < r.overlay.bars.size() && i < 3; ++i) {
+        const auto& b = r.overlay.bars[i];
+        const vision::RegionDecision& d = r.regions[i];
+        ov.regions.push_back(
+            {kRegionNames[i], b.rect.x, b.rect.x + b.rect.width, d.unsafe, d.score, d.threshold});
+    }
+    for (const auto& l : r.overlay.lines)
+        ov.boundaries.push_back(
+            {{l.a.x, l.a.y}, {l.b.x, l.b.y}, to_rgba(l.colour, 150), l.thickness_px});
+    for (const auto& p : r.overlay.points) {
+        if (p.filled) {
+            ov.center_points.push_back({{p.p.x, p.p.y}, to_rgba(p.colour), p.radius_px * 0.8f});
+            continue;
+        }
+        // A tracked point coloured by its score: a small ring in the "trajectories" layer.
+        ui::OverlayPolyline ring;
+        constexpr int kSides = 8;
+        for (int k = 0; k <= kSides; ++k) {
+            const double a = 2.0 * std::numbers::pi * k / kSides;
+            ring.points.push_back({p.p.x + p.radius_px * static_cast<float>(std::cos(a)),
+                                   p.p.y + p.radius_px * static_cast<float>(std::sin(a))});
+        }
+        ring.rgba = to_rgba(p.colour, 230);
+        ring.thickness = 1.5f;
+        ov.trajectories.push_back(std::move(ring));
+    }
+
+    // Plots: the named ones the plots window knows, then any other series.
+    c.plots.clear();
+    std::vector<const vision::PlotSeries*> used;
+    auto take = [&](std::string_view name) {
+        const vision::PlotSeries* ps = find(r, name);
+        if (ps) used.push_back(ps);
+        return ps;
+    };
+    ui::PlotData scores{"scores", "Region scores", "frame", "score", {}, {}};
+    for (std::size_t i = 0; i < 3; ++i) {
+        const std::string p = kSeriesPrefix[i];
+        if (const auto* s = take(p + ".score"))
+            scores.series.push_back(series_data(*s, kRegionNames[i]));
+        const double thr = last_value(take(p + ".threshold"));
+        if (!std::isfinite(thr)) continue;
+        // Left and right usually share one threshold: one "side" line instead of two labels.
+        bool merged = false;
+        for (auto& t : scores.thresholds)
+            if (std::fabs(t.y - thr) < 1e-9) {
+                t.name = i == 2 && t.name == "left threshold" ? "side threshold" : t.name;
+                merged = true;
+            }
+        if (!merged)
+            scores.thresholds.push_back({std::string(kRegionNames[i]) + " threshold", thr, 0});
+    }
+    if (!scores.series.empty()) c.plots.push_back(std::move(scores));
+
+    ui::PlotData scale{"center_scale", "Centre scale", "frame", "ratio", {}, {}};
+    for (const char* n :
+         {"centre.scale_raw", "centre.scale_filtered", "centre.scale_fitted", "centre.rate_raw"})
+        if (const auto* s = take(n))
+            scale.series.push_back(series_data(*s, std::string(n).substr(7)));
+    if (!scale.series.empty()) c.plots.push_back(std::move(scale));
+
+    ui::PlotData traj{"trajectories_x", "Trajectory x over frames", "frame", "px", {}, {}};
+    const std::size_t n_traces = std::min<std::size_t>(r.traces.size(), 16);
+    for (std::size_t k = 0; k < n_traces; ++k) {
+        const vision::TrajectoryTrace& t = r.traces[k];
+        ui::SeriesData sd;
+        sd.name = "track " + std::to_string(t.id);
+        for (int i = 0; i < t.count; ++i) {
+            sd.x.push_back(static_cast<double>(t.last_frame - t.count + 1 + i));
+            sd.y.push_back(t.x[static_cast<std::size_t>(i)]);
+        }
+        traj.series.push_back(std::move(sd));
+    }
+    if (!traj.series.empty()) c.plots.push_back(std::move(traj));
+
+    ui::PlotData more{"classifier_other", "Other classifier series", "frame", "", {}, {}};
+    for (const auto& ps : r.series)
+        if (std::find(used.begin(), used.end(), &ps) == used.end() && ps.points.size() > 0)
+            more.series.push_back(series_data(ps, ps.name));
+    if (!more.series.empty()) c.plots.push_back(std::move(more));
+}
+
+}  // namespace
+
+void GuiAdapter::Rate::update(std::uint64_t n, TimeNs now) {
+    if (t0 == 0 || n < n0) {
+        t0 = now;
+        n0 = n;
+        return;
+    }
+    const TimeNs dt = now - t0;
+    if (dt < ms_to_ns(500)) return;
+    hz = static_cast<double>(n - n0) * 1e9 / static_cast<double>(dt);
+    t0 = now;
+    n0 = n;
+}
+
+GuiAdapter::GuiAdapter(Session& session, Clock& clock)
+    : session_(session), clock_(clock), scenarios_(sim::list_scenes()) {}
+
+void GuiAdapter::note(std::string m) {
+    messages_.push_back(std::move(m));
+    while (messages_.size() > kMaxMessages) messages_.pop_front();
+}
+
+void GuiAdapter::on_source_change() {
+    nav_valid_ = false;
+    replay_nav_valid_ = false;
+    out_.reset();
+    manual_ = false;
+    last_pilot_ = {};
+    camera_channel_ = 0;
+    at_rate_ = video_bytes_rate_ = nav_rate_ = Rate{};
+    shown_source_id_ = source_.id;
+}
+
+void GuiAdapter::fill_link(ui::GuiSnapshot& s, TimeNs now) {
+    const link::LinkStatus st = source_.link->status();
+    s.connection.state = to_ui(st.state);
+    s.connection.reason = st.reason;
+
+    ui::StreamHealth& n = s.link.navdata;
+    n = ui::StreamHealth{};
+    n.active = source_.link->running();
+    n.rate_hz = st.navdata.rate_hz;
+    n.age_ms = age_ms(st.now_ns, st.navdata.last_ns);
+    n.packets = st.navdata.accepted;
+    n.gaps = st.machine.sequence_gaps;
+    n.drops = st.machine.out_of_order + st.navdata.foreign_dropped + st.navdata.oversize;
+    n.checksum_failures = st.navdata.checksum_failures;
+    n.decode_errors = st.navdata.parse_errors;
+
+    ui::StreamHealth& v = s.link.video;
+    v = ui::StreamHealth{};
+    v.active = st.video.connected;
+    v.rate_hz = st.video.fps;
+    v.age_ms = age_ms(st.now_ns, st.video.last_frame_ns);
+    video_bytes_rate_.update(st.video.bytes, now);
+    v.bytes_per_s = video_bytes_rate_.hz;
+    v.packets = st.video.decoded;
+    v.gaps = st.video.frame_gaps;
+    v.drops = out_ ? out_->frames_dropped : 0;  // frames the classifier could not keep up with
+    v.decode_errors = st.video.decode_errors;
+    v.idr_waits = st.video.idr_waits;
+
+    ui::StreamHealth& a = s.link.at;
+    a = ui::StreamHealth{};
+    a.active = source_.link->running();
+    at_rate_.update(st.at.counters.datagrams, now);
+    a.rate_hz = at_rate_.hz;
+    a.age_ms = st.at.period_ms_last;
+    a.packets = st.at.counters.datagrams;
+    a.drops = st.at.counters.stale_moves_dropped;
+    a.decode_errors = st.at.send_errors + st.at.counters.encode_errors;
+}
+
+void GuiAdapter::fill_telemetry(ui::GuiSnapshot& s) {
+    ui::Telemetry& t = s.telemetry;
+    if (source_.link) {
+        if (source_.link->navdata().read_if_newer(nav_gen_, nav_)) {
+            nav_valid_ = true;
+            nav_dirty_ = true;
+        }
+        t.valid = nav_valid_;
+        t.battery_low_pct = source_.link->config_used().min_takeoff_battery_pct;
+        if (!nav_valid_) {
+            t.fields.clear();
+            t.state.reset();
+            t.ctrl_state.clear();
+            return;
+        }
+        t.nav = nav_.state;
+        if (nav_dirty_) {
+            navdata_fields(nav_.data, t.fields);
+            nav_dirty_ = false;
+        }
+    } else if (source_.kind == SessionSource::Replay) {
+        if (session_.replay_nav().read_if_newer(rnav_gen_, replay_nav_)) replay_nav_valid_ = true;
+        t.valid = replay_nav_valid_;
+        t.nav = replay_nav_;
+        t.fields.clear();
+        if (!replay_nav_valid_) return;
+        auto num = [&](const char* name, double v, const char* unit) {
+            char b[48];
+            std::snprintf(b, sizeof b, "%.3f", v);
+            t.fields.push_back({"dataset", std::string(name) + " [" + unit + "]",
+                                std::isfinite(v) ? b : "unknown"});
+        };
+        num("roll", replay_nav_.roll_deg, "deg");
+        num("pitch", replay_nav_.pitch_deg, "deg");
+        num("yaw", replay_nav_.yaw_deg, "deg");
+        num("vx", replay_nav_.vx_mps, "m/s");
+        num("vy", replay_nav_.vy_mps, "m/s");
+        num("vz", replay_nav_.vz_mps, "m/s");
+        num("altitude", replay_nav_.altitude_m, "m");
+        num("battery", replay_nav_.battery_pct, "%");
+    } else {
+        t = ui::Telemetry{};
+        return;
+    }
+    if (t.nav.drone_state)
+        t.state = ui::DroneStateBits::from_raw(*t.nav.drone_state);
+    else
+        t.state.reset();
+    t.ctrl_state = t.nav.ctrl_state ? ui::ctrl_state_name(*t.nav.ctrl_state) : std::string{};
+}
+
+void GuiAdapter::fill_output(ui::GuiSnapshot& s) {
+    std::shared_ptr<const PipelineOutput> o;
+    if (session_.output().read_if_newer(out_gen_, o) && o && o->source_id == source_.id)
+        out_ = std::move(o);
+    if (session_.classifier().read_if_newer(cls_gen_, cls_)) {
+        if (!cls_.error.empty()) note("classifier: " + cls_.error);
+    }
+    ui::ClassifierOutput& c = s.classifier;
+    c.available = cls_.available;
+    c.active = cls_.active;
+    c.params.clear();
+    for (const auto& p : cls_.params)
+        c.params.push_back({p.info.name, p.info.value, p.info.min, p.info.max, p.default_value,
+                            p.info.type != vision::ParamType::Real, p.info.description});
+
+    ui::VideoFrame& v = s.video;
+    if (!out_) {
+        v = ui::VideoFrame{};
+        c.decisions.clear();
+        c.overlay = ui::Overlay{};
+        c.plots.clear();
+        c.cycle_ms = kUnknown;
+        return;
+    }
+    if (v.index != out_->frame.index || v.bgr.data != out_->frame.image.data) {
+        v.bgr = out_->frame.image;  // shared, never rewritten by the pipeline
+        v.index = out_->frame.index;
+        v.t_ns = out_->frame.t_ns;
+        v.fps = out_->fps;
+        v.latency_ms = out_->latency_ms;
+        v.camera = camera_channel_ == 1 ? "bottom" : "front";
+        classifier_output(*out_, c);
+    }
+}
+
+void GuiAdapter::poll_results() {
+    for (auto it = pending_.begin(); it != pending_.end();) {
+        if (it->result.wait_for(std::chrono::seconds(0)) != std::future_status::ready) {
+            ++it;
+            continue;
+        }
+        const link::CommandResult r = it->result.get();
+        if (!r.ok())
+            note(it->what + " " + link::to_string(r.code) +
+                 (r.reason.empty() ? "" : ": " + r.reason));
+        else if (!r.reason.empty())
+            note(it->what + ": " + r.reason);
+        it = pending_.erase(it);
+    }
+}
+
+void GuiAdapter::fill(ui::GuiSnapshot& s) {
+    const TimeNs now = clock_.now_ns();
+    s.now_ns = now;
+    if (session_.source().read_if_newer(source_gen_, source_)) {
+        if (!source_.error.empty()) note(source_.error);
+    }
+    if (source_.id != shown_source_id_) on_source_change();
+    while (auto m = session_.next_message()) note(std::move(*m));
+    poll_results();
+
+    ui::ConnectionInfo& c = s.connection;
+    c.scenarios = scenarios_;
+    c.address = source_.address;
+    c.scenario = source_.scenario;
+    switch (source_.kind) {
+        case SessionSource::None:
+            c.state = ui::LinkState::Disconnected;
+            c.source = last_kind_;
+            c.reason = source_.error.empty() ? "not connected" : source_.error;
+            s.link = ui::LinkHealth{};
+            break;
+        case SessionSource::Drone:
+        case SessionSource::Sim:
+            c.source =
+                source_.kind == SessionSource::Sim ? ui::SourceKind::Sim : ui::SourceKind::Drone;
+            last_kind_ = c.source;
+            fill_link(s, now);
+            break;
+        case SessionSource::Replay:
+            c.state = ui::LinkState::Replay;
+            c.source = ui::SourceKind::Replay;
+            c.reason.clear();
+            c.address = source_.path;
+            s.link = ui::LinkHealth{};
+            break;
+    }
+    fill_telemetry(s);
+    fill_output(s);
+
+    session_.replay().read_if_newer(replay_gen_, replay_);
+    ui::ReplayStatus& r = s.replay;
+    r.open = replay_.open;
+    r.path = replay_.path;
+    r.frame = std::max<std::int64_t>(replay_.frame, 0);
+    r.frame_count = replay_.frame_count;
+    r.fps = replay_.fps;
+    r.playing = replay_.playing;
+    r.speed = replay_.speed;
+    r.loop = replay_.loop;
+    r.error = replay_.error;
+
+    if (auto rec = session_.recording().latest()) {
+        ui::RecordingStatus& rs = s.recording;
+        rs.active = rec->status.recording;
+        rs.path = rec->status.path.empty() ? rec->last_path : rec->status.path;
+        rs.duration_s = rec->status.duration_s;
+        rs.frames = rec->status.frames;
+        rs.navdata = rec->status.navdata;
+        rs.drops = rec->status.drops;
+        rs.disk_bytes = rec->status.bytes;
+        rs.disk_free_bytes = rec->disk_free_bytes;
+        rs.error = rec->status.error;
+    } else {
+        s.recording = ui::RecordingStatus{};
+    }
+
+    s.messages.assign(messages_.begin(), messages_.end());
+}
+
+void GuiAdapter::command(link::Command c, bool report_success) {
+    const std::string what = link::command_name(c);
+    if (!source_.link) {
+        note(what + ": not connected to a drone");
+        return;
+    }
+    pending_.push_back({what, source_.link->submit(std::move(c))});
+    if (report_success) note(what + " sent");
+}
+
+void GuiAdapter::consume(const ui::Actions& a) {
+    // Flight: emergency first, whatever else happened in the frame.
+    if (a.emergency) command(link::Emergency{}, true);
+    if (a.takeoff) command(link::Takeoff{});
+    if (a.land) command(link::Land{});
+    if (a.flat_trim) command(link::FlatTrim{});
+    if (a.switch_camera) {
+        camera_channel_ = 1 - camera_channel_;
+        command(link::SwitchCamera{camera_channel_});
+    }
+    // Manual input wins: while the user steers, every change goes out as Move (the link repeats
+    // the current command every 30 ms); letting go sends one Hover.
+    if (source_.link) {
+        if (a.manual) {
+            if (!manual_ || !(a.pilot == last_pilot_)) {
+                (void)source_.link->submit(
+                    link::Move{a.pilot.roll, a.pilot.pitch, a.pilot.gaz, a.pilot.yaw});
+                ++moves_sent_;
+            }
+            manual_ = true;
+            last_pilot_ = a.pilot;
+        } else if (manual_) {
+            (void)source_.link->submit(link::Hover{});
+            ++hovers_sent_;
+            manual_ = false;
+            last_pilot_ = {};
+        }
+    }
+
+    if (a.disconnect) session_.request(CloseSource{});
+    if (a.connect) {
+        if (a.connect->sim)
+            session_.request(StartSim{a.connect->scenario, sim_autopilot_});
+        else
+            session_.request(ConnectDrone{a.connect->address});
+    }
+    if (a.record_start) session_.request(RecordStart{});
+    if (a.record_stop) session_.request(RecordStop{});
+
+    if (a.replay_open) session_.request(OpenReplay{*a.replay_open});
+    if (a.replay_play) session_.request(ReplayPlay{true});
+    if (a.replay_pause) session_.request(ReplayPlay{false});
+    if (a.replay_step != 0) session_.request(ReplayStep{a.replay_step});
+    if (a.replay_seek) session_.request(ReplaySeek{*a.replay_seek});
+    if (a.replay_speed) session_.request(ReplaySpeed{*a.replay_speed});
+    if (a.replay_loop) session_.request(ReplayLoop{*a.replay_loop});
+
+    if (a.classifier_select) session_.request(SelectClassifier{*a.classifier_select});
+    for (const auto& [name, value] : a.param_changes)
+        session_.request(SetClassifierParam{name, value});
+}
+
+}  // namespace gs::app
+
+#endif  // GS_HAVE_GUI

@@ -1,0 +1,92 @@
+#pragma once
+// Between the Session and the window, on the UI thread: fill() copies the session's latest values
+// (link status and counters, the navdata sample, the classified frame and its result, replay and
+// classifier state, messages) into one ui::GuiSnapshot per frame; consume() turns the window's
+// Actions into typed drone commands (DroneLink::submit, never blocking) and session requests.
+// Results of commands arrive later through their futures and are shown as messages, so a refused
+// take-off says why. Built only with the window (GS_HAVE_GUI).
+#ifdef GS_HAVE_GUI
+
+#include "app/session.hpp"
+#include "ui/actions.hpp"
+#include "ui/snapshot.hpp"
+
+#include <chrono>
+#include <deque>
+#include <future>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace gs::app {
+
+class GuiAdapter {
+public:
+    explicit GuiAdapter(Session& session, Clock& clock = SteadyClock::instance());
+
+    // The snapshot for the frame about to be drawn. Reuses `s`'s buffers; never blocks.
+    void fill(ui::GuiSnapshot& s);
+    // What the user asked for in that frame. Never blocks.
+    void consume(const ui::Actions& a);
+
+    // A virtual drone started from the window's Connect button flies its scripted flight.
+    void set_sim_autopilot(bool on) { sim_autopilot_ = on; }
+    // Adds a line to the window's message log.
+    void note(std::string m);
+
+    std::uint64_t moves_sent() const { return moves_sent_; }
+    std::uint64_t hovers_sent() const { return hovers_sent_; }
+
+private:
+    struct Rate {
+        TimeNs t0 = 0;
+        std::uint64_t n0 = 0;
+        double hz = kUnknown;
+        void update(std::uint64_t n, TimeNs now);
+    };
+    struct Pending {
+        std::string what;
+        std::future<link::CommandResult> result;
+    };
+
+    void on_source_change();
+    void fill_link(ui::GuiSnapshot& s, TimeNs now);
+    void fill_telemetry(ui::GuiSnapshot& s);
+    void fill_output(ui::GuiSnapshot& s);
+    void poll_results();
+    void command(link::Command c, bool report_success = false);
+
+    Session& session_;
+    Clock& clock_;
+    std::vector<std::string> scenarios_;
+
+    std::uint64_t source_gen_ = 0, nav_gen_ = 0, out_gen_ = 0, cls_gen_ = 0, replay_gen_ = 0,
+                  rnav_gen_ = 0;
+    SourceInfo source_;
+    std::uint64_t shown_source_id_ = ~0ull;
+    ui::SourceKind last_kind_ = ui::SourceKind::Sim;
+    link::NavSample nav_;
+    bool nav_valid_ = false;
+    bool nav_dirty_ = false;
+    std::shared_ptr<const PipelineOutput> out_;
+    ClassifierInfo cls_;
+    ReplayInfo replay_;
+    NavState replay_nav_;
+    bool replay_nav_valid_ = false;
+    Rate at_rate_, video_bytes_rate_, nav_rate_;
+
+    // Piloting: manual input is sent as Move while it lasts, then one Hover.
+    bool manual_ = false;
+    ui::PilotInput last_pilot_;
+    std::uint64_t moves_sent_ = 0, hovers_sent_ = 0;
+    int camera_channel_ = 0;
+    bool sim_autopilot_ = false;
+
+    std::vector<Pending> pending_;
+    std::deque<std::string> messages_;
+    static constexpr std::size_t kMaxMessages = 40;
+};
+
+}  // namespace gs::app
+
+#endif  // GS_HAVE_GUI

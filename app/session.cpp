@@ -1,0 +1,559 @@
+#include "app/session.hpp"
+
+#include "drone/dataset/video_frames.hpp"
+#include "drone/sim/scenarios.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <ctime>
+
+namespace gs::app {
+
+const char* to_string(SessionSource s) {
+    switch (s) {
+        case SessionSource::None:
+            return "none";
+        case SessionSource::Drone:
+            return "drone";
+        case SessionSource::Sim:
+            return "virtual drone";
+        case SessionSource::Replay:
+            return "replay";
+    }
+    return "?";
+}
+
+namespace {
+
+constexpr TimeNs kIdleWaitNs = ms_to_ns(20);
+constexpr std::size_t kImagePool = 6;
+
+// A frame buffer the pipeline owns: a replayed image is copied into a buffer nobody else holds,
+// because the dataset reader reuses its own buffer for the next frame while the window may still
+// be drawing the previous one.
+cv::Mat& free_buffer(std::vector<cv::Mat>& pool) {
+    for (cv::Mat& m : pool)
+        if (m.u == nullptr || m.u->refcount <= 1) return m;
+    if (pool.size() < kImagePool) return pool.emplace_back();
+    pool.front() = cv::Mat();  // everything still in use: let the oldest go, allocate anew
+    return pool.front();
+}
+
+CameraCalibration front_calibration() {
+    auto c = default_calibration(CameraId::Front, GS_ASSETS_DIR);
+    if (c) return *c;
+    CameraCalibration d;  // PROTOCOL.md §6 nominal values if the asset is missing
+    d.width = 640;
+    d.height = 360;
+    d.fx = d.fy = 560.0;
+    d.cx = 320.0;
+    d.cy = 180.0;
+    return d;
+}
+
+}  // namespace
+
+std::filesystem::path default_record_root() {
+    const char* home = std::getenv("HOME");
+    if (home && *home) return std::filesystem::path(home) / "ardrone-gs" / "flights";
+    return "flights";
+}
+
+// Everything about the open source; lives on the session thread.
+struct Session::Current {
+    SessionSource kind = SessionSource::None;
+    std::uint64_t id = 0;
+    std::string address, scenario, path;
+    std::shared_ptr<sim::VirtualDrone> drone;
+    std::shared_ptr<link::DroneLink> link;
+    std::shared_ptr<BoundedQueue<FrameSample>> frames;
+    std::unique_ptr<DatasetSource> replay;
+    ReplayInfo rinfo;
+    std::vector<cv::Mat> pool;
+    // Pipeline rate.
+    TimeNs rate_t0 = 0;
+    std::uint64_t rate_n = 0;
+    double fps = kUnknown;
+};
+
+Session::Session(SessionOptions options, Clock& clock)
+    : opts_(std::move(options)),
+      clock_(clock),
+      cur_(std::make_unique<Current>()),
+      pipeline_(opts_.classifier, front_calibration()) {
+    if (!pipeline_.ok()) (void)pipeline_.select(std::string(vision::kDefaultClassifier));
+    publish_source();
+    publish_replay();
+    publish_classifier();
+    thread_ = std::thread([this] { run(); });
+}
+
+Session::~Session() {
+    running_ = false;
+    requests_.close();
+    if (thread_.joinable()) thread_.join();
+    close_current();
+}
+
+bool Session::request(SessionRequest r) {
+    return requests_.push(std::move(r));
+}
+
+void Session::message(std::string m) {
+    messages_.push(std::move(m));
+}
+
+void Session::publish_source(std::string error) {
+    SourceInfo s;
+    s.kind = cur_->kind;
+    s.id = cur_->id;
+    s.address = cur_->address;
+    s.scenario = cur_->scenario;
+    s.path = cur_->path;
+    s.error = std::move(error);
+    s.link = cur_->link;
+    s.virtual_drone = cur_->drone;
+    source_.publish(std::move(s));
+}
+
+void Session::publish_replay() {
+    replay_.publish(cur_->rinfo);
+}
+
+void Session::publish_classifier(std::string error) {
+    ClassifierInfo c;
+    c.active = pipeline_.classifier_name();
+    for (auto n : vision::classifier_names()) c.available.emplace_back(n);
+    if (pipeline_.ok()) {
+        // Defaults from a fresh instance: what "reset to default" goes back to.
+        const auto fresh = vision::make_classifier(c.active, vision::CameraCalibration{});
+        std::vector<vision::ParamInfo> defaults;
+        if (fresh) defaults = fresh->params();
+        for (auto& p : pipeline_.classifier().params()) {
+            ParamState ps;
+            ps.default_value = p.value;
+            for (const auto& d : defaults)
+                if (d.name == p.name) ps.default_value = d.value;
+            ps.info = std::move(p);
+            c.params.push_back(std::move(ps));
+        }
+    }
+    c.error = std::move(error);
+    classifier_.publish(std::move(c));
+}
+
+void Session::close_current() {
+    record_stop();  // the recorder holds a reference to the link
+    Current& c = *cur_;
+    if (c.frames) c.frames->close();
+    if (c.link) c.link->stop();
+    if (c.drone) c.drone->stop();
+    const bool had = c.kind != SessionSource::None;
+    c.frames.reset();
+    c.link.reset();
+    c.drone.reset();
+    c.replay.reset();
+    c.kind = SessionSource::None;
+    c.address.clear();
+    c.scenario.clear();
+    c.path.clear();
+    c.rinfo = ReplayInfo{};
+    c.fps = kUnknown;
+    c.rate_n = 0;
+    if (had) {
+        c.id = next_id_++;
+        pipeline_.reset();
+    }
+}
+
+void Session::open_drone(const std::string& address) {
+    close_current();
+    link::LinkConfig lc;
+    lc.drone_address = address.empty() ? "192.168.1.1" : address;
+    auto l = std::make_shared<link::DroneLink>(lc, clock_);
+    if (auto st = l->start(); !st) {
+        publish_source("cannot connect to " + lc.drone_address + ": " + st.error());
+        message("connect failed: " + st.error());
+        return;
+    }
+    Current& c = *cur_;
+    c.kind = SessionSource::Drone;
+    c.id = next_id_++;
+    c.address = lc.drone_address;
+    c.link = std::move(l);
+    c.frames = c.link->subscribe_frames(opts_.frame_queue);
+    pipeline_.set_calibration(front_calibration());
+    pipeline_.reset();
+    publish_source();
+    publish_replay();
+    message("connecting to the drone at " + c.address);
+}
+
+void Session::open_sim(const StartSim& s) {
+    close_current();
+    const std::string name = s.scenario.empty() ? "warehouse" : s.scenario;
+    auto scene = sim::resolve_scene(name);
+    if (!scene) {
+        publish_source("scenario '" + name + "': " + sim::to_string(scene.error()));
+        message("virtual drone: " + sim::to_string(scene.error()));
+        return;
+    }
+    sim::VirtualDroneOptions vo;
+    vo.bind_address = "127.0.0.1";
+    vo.at_port = vo.navdata_port = vo.video_port = vo.control_port = 0;  // ephemeral
+    vo.scene = std::move(*scene);
+    vo.autopilot = s.autopilot;
+    vo.video = opts_.sim_video;
+    vo.core.battery_pct = opts_.sim_battery_pct;
+    auto drone = std::make_shared<sim::VirtualDrone>(std::move(vo));
+    if (auto st = drone->start(); !st) {
+        publish_source("cannot start the virtual drone: " + st.error());
+        message("virtual drone: " + st.error());
+        return;
+    }
+    link::LinkConfig lc;
+    lc.drone_address = "127.0.0.1";
+    lc.bind_address = "127.0.0.1";
+    lc.at_port = drone->at_port();
+    lc.navdata_port = drone->navdata_port();
+    lc.video_port = drone->video_port();
+    lc.control_port = drone->control_port();
+    lc.video = opts_.sim_video;
+    auto l = std::make_shared<link::DroneLink>(lc, clock_);
+    if (auto st = l->start(); !st) {
+        drone->stop();
+        publish_source("cannot open the link to the virtual drone: " + st.error());
+        message("virtual drone link: " + st.error());
+        return;
+    }
+    Current& c = *cur_;
+    c.kind = SessionSource::Sim;
+    c.id = next_id_++;
+    c.scenario = drone->scene().name.empty() ? name : drone->scene().name;
+    c.address = "127.0.0.1:" + std::to_string(drone->navdata_port());
+    c.drone = std::move(drone);
+    c.link = std::move(l);
+    c.frames = c.link->subscribe_frames(opts_.frame_queue);
+    pipeline_.set_calibration(front_calibration());
+    pipeline_.reset();
+    publish_source();
+    publish_replay();
+    message("virtual drone '" + c.scenario + "' on " + c.address +
+            (s.autopilot ? " (autopilot)" : ""));
+}
+
+void Session::open_replay(const std::string& path) {
+    close_current();
+    auto ds = Dataset::open(path);
+    if (!ds) {
+        publish_source("cannot open " + path + ": " + to_string(ds.error()));
+        message("replay: cannot open " + path + ": " + to_string(ds.error()));
+        return;
+    }
+    auto frames = open_frames(*ds);
+    if (!frames) {
+        publish_source("no frames in " + path + ": " + to_string(frames.error()));
+        message("replay: " + to_string(frames.error()));
+        return;
+    }
+    for (const auto& w : ds->warnings()) message("replay: " + w);
+    const CameraCalibration calib = ds->calibration();
+    const double fps = ds->info().fps;
+    const std::int64_t n = ds->frame_count();
+    Current& c = *cur_;
+    c.replay = std::make_unique<DatasetSource>(
+        std::move(*ds), std::move(*frames), clock_,
+        opts_.replay_lockstep ? Pacing::fastest() : Pacing::realtime());
+    const bool play = opts_.replay_autoplay && !opts_.replay_lockstep;
+    c.replay->set_paused(!play);
+    c.kind = SessionSource::Replay;
+    c.id = next_id_++;
+    c.path = path;
+    c.rinfo = ReplayInfo{};
+    c.rinfo.open = true;
+    c.rinfo.path = path;
+    c.rinfo.frame_count = n;
+    c.rinfo.fps = fps;
+    c.rinfo.playing = play;
+    pipeline_.set_calibration(calib);
+    pipeline_.reset();
+    publish_source();
+    publish_replay();
+    message("replay: " + path + " (" + std::to_string(n) + " frames)");
+}
+
+void Session::handle(SessionRequest& r) {
+    Current& c = *cur_;
+    std::visit(
+        [&](auto& q) {
+            using T = std::decay_t<decltype(q)>;
+            if constexpr (std::is_same_v<T, ConnectDrone>) {
+                open_drone(q.address);
+            } else if constexpr (std::is_same_v<T, StartSim>) {
+                open_sim(q);
+            } else if constexpr (std::is_same_v<T, OpenReplay>) {
+                open_replay(q.path);
+            } else if constexpr (std::is_same_v<T, CloseSource>) {
+                const bool had = c.kind != SessionSource::None;
+                close_current();
+                publish_source();
+                publish_replay();
+                if (had) message("disconnected");
+            } else if constexpr (std::is_same_v<T, RecordStart>) {
+                record_start(q.dir);
+            } else if constexpr (std::is_same_v<T, RecordStop>) {
+                record_stop();
+            } else if constexpr (std::is_same_v<T, SelectClassifier>) {
+                if (pipeline_.select(q.name)) {
+                    publish_classifier();
+                    message("classifier: " + q.name);
+                } else {
+                    publish_classifier("unknown classifier '" + q.name + "'");
+                }
+            } else if constexpr (std::is_same_v<T, SetClassifierParam>) {
+                if (!pipeline_.ok()) return;
+                const auto st = pipeline_.classifier().set_param(q.name, q.value);
+                if (st == vision::ParamStatus::Ok)
+                    publish_classifier();
+                else
+                    publish_classifier(q.name + ": " + vision::to_string(st));
+            } else {
+                // Replay controls: ignored (and said so) without a replay.
+                if (!c.replay) {
+                    message("no replay open");
+                    return;
+                }
+                if constexpr (std::is_same_v<T, ReplayPlay>) {
+                    if (q.play && c.rinfo.ended) {
+                        (void)c.replay->seek(0);
+                        pipeline_.reset();
+                        c.rinfo.ended = false;
+                    }
+                    c.replay->set_paused(!q.play);
+                    c.rinfo.playing = q.play;
+                } else if constexpr (std::is_same_v<T, ReplayStep>) {
+                    c.replay->set_paused(true);
+                    c.rinfo.playing = false;
+                    (void)replay_step(q.delta);
+                } else if constexpr (std::is_same_v<T, ReplaySeek>) {
+                    const auto f = std::clamp<std::int64_t>(q.frame, 0, c.rinfo.frame_count - 1);
+                    if (c.replay->seek(f)) {
+                        pipeline_.reset();  // the classifier's history is of other frames
+                        c.rinfo.ended = false;
+                        if (!c.rinfo.playing) (void)replay_step(0);
+                    }
+                } else if constexpr (std::is_same_v<T, ReplaySpeed>) {
+                    const double s = std::clamp(q.speed, Pacing::kMinSpeed, Pacing::kMaxSpeed);
+                    if (!opts_.replay_lockstep) c.replay->set_pacing(Pacing::realtime(s));
+                    c.rinfo.speed = s;
+                } else if constexpr (std::is_same_v<T, ReplayLoop>) {
+                    c.rinfo.loop = q.loop;
+                }
+                publish_replay();
+            }
+        },
+        r);
+}
+
+// Shows one frame while paused: delta +1 the next, -1 the previous, 0 the one at the position.
+bool Session::replay_step(int delta) {
+    Current& c = *cur_;
+    DatasetSource& src = *c.replay;
+    std::int64_t target = src.position();
+    if (delta < 0) {
+        target = c.rinfo.frame - 1;
+        if (target < 0) return false;
+    }
+    if (delta <= 0 && target != src.position()) {
+        if (!src.seek(target)) return false;
+        pipeline_.reset();
+    }
+    FrameSample f;
+    const SourceStatus st = src.step(f);
+    if (st == SourceStatus::End) {
+        c.rinfo.ended = true;
+        return false;
+    }
+    if (st != SourceStatus::Sample) {
+        c.rinfo.error = src.last_error();
+        return false;
+    }
+    replay_nav_.publish(f.nav);
+    process(f, f.recv_ns);
+    return true;
+}
+
+// Pulls what is due from a playing replay. Returns true when a frame was processed; `wait_ns`
+// says how long nothing will be due.
+bool Session::replay_tick(TimeNs& wait_ns) {
+    Current& c = *cur_;
+    DatasetSource& src = *c.replay;
+    NavState nav;
+    bool have_nav = false;
+    while (src.next_nav(nav) == SourceStatus::Sample) have_nav = true;
+    if (have_nav) replay_nav_.publish(nav);
+    FrameSample f;
+    const SourceStatus st = src.next(f);
+    switch (st) {
+        case SourceStatus::Sample:
+            process(f, f.recv_ns);
+            return true;
+        case SourceStatus::NotYet:
+            wait_ns = std::clamp<TimeNs>(src.wait_hint_ns(), 0, kIdleWaitNs);
+            return false;
+        case SourceStatus::End:
+            if (c.rinfo.loop && c.rinfo.frame_count > 0) {
+                (void)src.seek(0);
+                pipeline_.reset();
+                return false;
+            }
+            if (!c.rinfo.ended) {
+                c.rinfo.ended = true;
+                c.rinfo.playing = false;
+                src.set_paused(true);
+                publish_replay();
+                message("replay: end of the flight");
+            }
+            wait_ns = kIdleWaitNs;
+            return false;
+        case SourceStatus::Error:
+            c.rinfo.error = src.last_error();
+            c.rinfo.playing = false;
+            src.set_paused(true);
+            publish_replay();
+            message("replay: " + c.rinfo.error);
+            wait_ns = kIdleWaitNs;
+            return false;
+        case SourceStatus::Paused:
+            wait_ns = kIdleWaitNs;
+            return false;
+    }
+    return false;
+}
+
+void Session::process(FrameSample& f, TimeNs recv_ns) {
+    Current& c = *cur_;
+    if (c.kind == SessionSource::Replay && !f.image.empty()) {
+        cv::Mat& buf = free_buffer(c.pool);
+        f.image.copyTo(buf);
+        f.image = buf;
+    }
+    auto out = std::make_shared<PipelineOutput>();
+    out->source_id = c.id;
+    out->classifier = pipeline_.classifier_name();
+    if (pipeline_.ok() && !f.image.empty()) out->result = pipeline_.process(f);
+    const TimeNs now = clock_.now_ns();
+    if (recv_ns > 0) out->latency_ms = ns_to_ms(now - recv_ns);
+    if (c.rate_n == 0) c.rate_t0 = now;
+    ++c.rate_n;
+    if (now - c.rate_t0 >= ms_to_ns(1000)) {
+        c.fps = static_cast<double>(c.rate_n - 1) * 1e9 / static_cast<double>(now - c.rate_t0);
+        c.rate_t0 = now;
+        c.rate_n = 1;
+    }
+    out->fps = c.fps;
+    out->frames_dropped = c.frames ? c.frames->dropped() : 0;
+    out->frame = std::move(f);
+    if (c.kind == SessionSource::Replay) {
+        c.rinfo.frame = out->frame.index;
+        publish_replay();
+    }
+    output_.publish(std::move(out));
+    ++processed_;
+}
+
+void Session::record_start(const std::string& dir) {
+    Current& c = *cur_;
+    if (!c.link) {
+        message("recording needs a drone or the virtual drone (a replay is already recorded)");
+        return;
+    }
+    if (recorder_ && recorder_->recording()) {
+        message("already recording to " + last_record_path_);
+        return;
+    }
+    std::filesystem::path path = dir;
+    if (path.empty()) {
+        const std::time_t t = std::time(nullptr);
+        std::tm tm{};
+        localtime_r(&t, &tm);
+        char name[64];
+        std::strftime(name, sizeof name, "%Y-%m-%d_%H%M%S", &tm);
+        path = (opts_.record_root.empty() ? default_record_root() : opts_.record_root) / name;
+    }
+    std::error_code ec;
+    std::filesystem::create_directories(path.parent_path(), ec);
+    recorder_ = std::make_unique<record::Recorder>(*c.link, c.drone.get());
+    record::RecorderOptions ro;
+    ro.writer.calibration = front_calibration();
+    ro.writer.source = c.kind == SessionSource::Sim ? "simulated (virtual drone)" : "recorded";
+    if (auto st = recorder_->start(path, ro); !st) {
+        message("recording failed: " + st.error());
+        recorder_.reset();
+        RecordingInfo ri;
+        ri.status.error = st.error();
+        ri.last_path = last_record_path_;
+        recording_.publish(std::move(ri));
+        return;
+    }
+    last_record_path_ = path.string();
+    last_space_check_ = 0;
+    message("recording to " + last_record_path_);
+    publish_recording(clock_.now_ns());
+}
+
+void Session::record_stop() {
+    if (!recorder_) return;
+    const record::RecorderStatus st = recorder_->stop();
+    recorder_.reset();
+    RecordingInfo ri;
+    ri.status = st;
+    ri.status.recording = false;
+    ri.disk_free_bytes = disk_free_bytes_;
+    ri.last_path = last_record_path_;
+    recording_.publish(std::move(ri));
+    message("recording stopped: " + std::to_string(st.frames) + " frames, " +
+            std::to_string(st.navdata) + " navdata in " + last_record_path_ +
+            (st.drops ? ", " + std::to_string(st.drops) + " dropped" : ""));
+}
+
+void Session::publish_recording(TimeNs now) {
+    if (!recorder_) return;
+    if (now - last_space_check_ > ms_to_ns(2000)) {  // statvfs is a syscall: every 2 s is enough
+        std::error_code ec;
+        const auto sp = std::filesystem::space(last_record_path_, ec);
+        disk_free_bytes_ = ec ? kUnknown : static_cast<double>(sp.available);
+        last_space_check_ = now;
+    }
+    RecordingInfo ri;
+    ri.status = recorder_->status();
+    ri.disk_free_bytes = disk_free_bytes_;
+    ri.last_path = last_record_path_;
+    recording_.publish(std::move(ri));
+    last_record_publish_ = now;
+}
+
+void Session::run() {
+    while (running_) {
+        // Requests first: connecting, switching classifier, replay controls.
+        while (auto r = requests_.try_pop()) handle(*r);
+        if (recorder_) {
+            const TimeNs now = clock_.now_ns();
+            if (now - last_record_publish_ >= ms_to_ns(100)) publish_recording(now);
+        }
+        Current& c = *cur_;
+        if (c.frames) {
+            auto f = c.frames->pop_for(std::chrono::nanoseconds(kIdleWaitNs));
+            if (f) process(*f, f->recv_ns);
+            continue;
+        }
+        TimeNs wait = kIdleWaitNs;
+        if (c.replay && !opts_.replay_lockstep && replay_tick(wait)) continue;
+        if (auto r = requests_.pop_for(std::chrono::nanoseconds(std::max<TimeNs>(wait, 1'000'000))))
+            handle(*r);
+    }
+}
+
+}  // namespace gs::app

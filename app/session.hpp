@@ -1,0 +1,224 @@
+#pragma once
+// The window's session: owns the current source (a real drone through a DroneLink, the built-in
+// virtual drone on loopback with a DroneLink to it, or a recorded dataset replayed through a
+// DatasetSource) and the pipeline thread that runs frames through the ObstaclePipeline.
+//
+// Threads: the caller (the UI thread) only posts requests to a bounded queue and reads
+// latest-value slots; the session thread opens and closes sources (binding sockets, loading a
+// scene and its textures, opening a dataset: all slow or failing), pulls frames (live: a bounded
+// subscription of 2 frames, oldest dropped; replay: the source's pacing) through the classifier
+// and publishes the results. Flight commands go straight to the link (DroneLink::submit never
+// blocks), so the UI never waits on the network, the disk or the classifier.
+
+#include "app/pipeline.hpp"
+#include "drone/clock.hpp"
+#include "drone/dataset/dataset_source.hpp"
+#include "drone/link/drone_link.hpp"
+#include "drone/record/recorder.hpp"
+#include "drone/sample.hpp"
+#include "drone/sim/virtual_drone.hpp"
+#include "drone/sync.hpp"
+#include "vision/classifier.hpp"
+
+#include <atomic>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <thread>
+#include <variant>
+#include <vector>
+
+namespace gs::app {
+
+enum class SessionSource { None, Drone, Sim, Replay };
+const char* to_string(SessionSource s);
+
+// ---- Requests (UI thread -> session thread) -------------------------------------------------
+
+struct ConnectDrone {
+    std::string address;  // "192.168.1.1"
+};
+struct StartSim {
+    std::string scenario;    // shipped scene name or scene JSON path; empty = "warehouse"
+    bool autopilot = false;  // fly the scene's scripted flight after boot
+};
+struct OpenReplay {
+    std::string path;  // dataset directory
+};
+struct CloseSource {};
+struct ReplayPlay {
+    bool play = true;
+};
+struct ReplayStep {
+    int delta = 1;  // +1 next frame, -1 previous frame
+};
+struct ReplaySeek {
+    std::int64_t frame = 0;
+};
+struct ReplaySpeed {
+    double speed = 1.0;  // clamped to [0.25, 8]
+};
+struct ReplayLoop {
+    bool loop = false;
+};
+struct SelectClassifier {
+    std::string name;
+};
+struct SetClassifierParam {
+    std::string name;
+    double value = 0;
+};
+struct RecordStart {
+    std::string dir;  // empty: a new timestamped folder under SessionOptions::record_root
+};
+struct RecordStop {};
+using SessionRequest = std::variant<ConnectDrone, StartSim, OpenReplay, CloseSource, ReplayPlay,
+                                    ReplayStep, ReplaySeek, ReplaySpeed, ReplayLoop,
+                                    SelectClassifier, SetClassifierParam, RecordStart, RecordStop>;
+
+// ---- Published state (session thread -> readers) --------------------------------------------
+
+// The current source. Changes only when a source opens or closes (`id` increments each time).
+struct SourceInfo {
+    SessionSource kind = SessionSource::None;
+    std::uint64_t id = 0;
+    std::string address;   // drone address ("127.0.0.1:<port>" for the virtual drone)
+    std::string scenario;  // virtual drone scene name
+    std::string path;      // replayed dataset
+    std::string error;     // why the last open failed (kind is then None), else empty
+    std::shared_ptr<link::DroneLink> link;             // Drone and Sim
+    std::shared_ptr<sim::VirtualDrone> virtual_drone;  // Sim
+};
+
+struct ReplayInfo {
+    bool open = false;
+    std::string path;
+    std::int64_t frame = -1;  // index of the frame shown last (-1 before the first)
+    std::int64_t frame_count = 0;
+    double fps = kUnknown;
+    bool playing = false;
+    double speed = 1.0;
+    bool loop = false;
+    bool ended = false;
+    std::string error;
+};
+
+// The recorder's status plus the free space where it writes.
+struct RecordingInfo {
+    record::RecorderStatus status;
+    double disk_free_bytes = kUnknown;
+    std::string last_path;  // the last dataset written (kept after stop)
+};
+
+struct ParamState {
+    vision::ParamInfo info;
+    double default_value = 0;
+};
+
+struct ClassifierInfo {
+    std::string active;
+    std::vector<std::string> available;
+    std::vector<ParamState> params;
+    std::string error;  // last rejected selection / parameter, empty if none
+};
+
+// One classified frame: the frame itself (image shared, never rewritten afterwards) and a copy
+// of the classifier's result.
+struct PipelineOutput {
+    std::uint64_t source_id = 0;
+    FrameSample frame;
+    vision::FrameResult result;
+    std::string classifier;
+    double fps = kUnknown;             // frames classified per second
+    double latency_ms = kUnknown;      // receive (live) to classified
+    std::uint64_t frames_dropped = 0;  // frames the pipeline did not keep up with (live)
+};
+
+struct SessionOptions {
+    std::string classifier = std::string(vision::kDefaultClassifier);
+    double sim_battery_pct = 100.0;  // the virtual drone's battery at boot
+    bool sim_video = true;
+    bool replay_autoplay = true;  // a replay starts playing when opened
+    // Replay frames advance only on ReplayStep (nothing paced): the offscreen window uses it so
+    // that window frame k shows dataset frame k, whatever the machine's speed.
+    bool replay_lockstep = false;
+    std::size_t frame_queue = 2;  // live frames waiting for the classifier
+    // Where recordings go when RecordStart names no folder: <root>/<YYYY-MM-DD_HHMMSS>.
+    // Empty: $HOME/ardrone-gs/flights (./flights without HOME).
+    std::filesystem::path record_root;
+};
+
+// $HOME/ardrone-gs/flights, or ./flights.
+std::filesystem::path default_record_root();
+
+class Session {
+public:
+    explicit Session(SessionOptions options = {}, Clock& clock = SteadyClock::instance());
+    ~Session();
+    Session(const Session&) = delete;
+    Session& operator=(const Session&) = delete;
+
+    // Posts a request to the session thread. False when the queue is full (counted, reported).
+    bool request(SessionRequest r);
+
+    // Latest values (any thread).
+    const LatestValue<SourceInfo>& source() const { return source_; }
+    const LatestValue<ReplayInfo>& replay() const { return replay_; }
+    const LatestValue<ClassifierInfo>& classifier() const { return classifier_; }
+    const LatestValue<std::shared_ptr<const PipelineOutput>>& output() const { return output_; }
+    // Replay telemetry (the dataset's navdata stream at the replay position).
+    const LatestValue<NavState>& replay_nav() const { return replay_nav_; }
+    const LatestValue<RecordingInfo>& recording() const { return recording_; }
+    // Human-readable events from the session thread ("virtual drone 'warehouse' on 127.0.0.1").
+    // Bounded; the oldest is dropped when nobody reads.
+    std::optional<std::string> next_message() { return messages_.try_pop(); }
+
+    std::uint64_t requests_dropped() const { return requests_.dropped(); }
+    // Frames classified since construction (any source).
+    std::uint64_t frames_processed() const { return processed_.load(); }
+
+private:
+    struct Current;
+    void run();
+    void handle(SessionRequest& r);
+    void open_drone(const std::string& address);
+    void open_sim(const StartSim& s);
+    void open_replay(const std::string& path);
+    void close_current();
+    void publish_source(std::string error = {});
+    void publish_replay();
+    void publish_classifier(std::string error = {});
+    void process(FrameSample& f, TimeNs recv_ns);
+    bool replay_tick(TimeNs& wait_ns);
+    bool replay_step(int delta);
+    void message(std::string m);
+    void record_start(const std::string& dir);
+    void record_stop();
+    void publish_recording(TimeNs now);
+
+    SessionOptions opts_;
+    Clock& clock_;
+    std::unique_ptr<Current> cur_;  // session thread only
+    ObstaclePipeline pipeline_;     // session thread only
+    std::uint64_t next_id_ = 1;
+
+    BoundedQueue<SessionRequest> requests_{256};
+    BoundedQueue<std::string> messages_{64, QueueFull::DropOldest};
+    LatestValue<SourceInfo> source_;
+    LatestValue<ReplayInfo> replay_;
+    LatestValue<ClassifierInfo> classifier_;
+    LatestValue<std::shared_ptr<const PipelineOutput>> output_;
+    LatestValue<NavState> replay_nav_;
+    LatestValue<RecordingInfo> recording_;
+    std::unique_ptr<record::Recorder> recorder_;  // session thread only; before the link dies
+    std::string last_record_path_;
+    TimeNs last_record_publish_ = 0, last_space_check_ = 0;
+    double disk_free_bytes_ = kUnknown;
+    std::atomic<std::uint64_t> processed_{0};
+    std::atomic<bool> running_{true};
+    std::thread thread_;
+};
+
+}  // namespace gs::app

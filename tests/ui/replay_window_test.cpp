@@ -1,0 +1,175 @@
+// The window replaying a flight: a flight past a pillar on the left is rendered with the virtual
+// drone's renderer and stored as a dataset (frames/ + frames.csv + flight.json, DATASET.md); the
+// obstacle pipeline finds the frames where it flags only the left region; the real program then
+// replays the flight offscreen under Xvfb (lock-stepped: window frame k shows dataset frame k)
+// and the screenshot's region bars must be red on the left and green elsewhere, as decided.
+#ifndef GS_HAVE_GUI
+#define GS_HAVE_GUI 1
+#endif
+#include "app/pipeline.hpp"
+#include "drone/dataset/dataset.hpp"
+#include "drone/dataset/dataset_source.hpp"
+#include "drone/dataset/video_frames.hpp"
+#include "drone/sim/renderer.hpp"
+#include "drone/sim/scenarios.hpp"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+namespace {
+
+namespace fs = std::filesystem;
+using namespace gs;
+
+constexpr double kFps = 30.0;
+constexpr double kStartX = 2.5;  // m along the flight line (the pillar's near face is at 7 m)
+constexpr int kFrames = 120;     // 4 s at 1 m/s: up to 0.5 m before the pillar's face
+
+// Straight flight at 1 m altitude and 1 m/s along the start heading of thesis_pillar_left.
+void write_flight(const fs::path& dir) {
+    auto scene = sim::resolve_scene("thesis_pillar_left");
+    ASSERT_TRUE(scene) << sim::to_string(scene.error());
+    const sim::CameraCalibration cal = sim::default_front_calibration();
+    auto r = sim::Renderer::create(*scene, cal, sim::CameraKind::Front);
+    ASSERT_TRUE(r);
+    fs::create_directories(dir / "frames");
+    nlohmann::json fj = {
+        {"format", "ardrone-dataset"},
+        {"version", 1},
+        {"camera", "front"},
+        {"width", cal.width},
+        {"height", cal.height},
+        {"fps", kFps},
+        {"frames", kFrames},
+        {"images", "frames"},
+        {"source", "rendered (test)"},
+        {"calibration",
+         {{"fx", cal.fx}, {"fy", cal.fy}, {"cx", cal.cx}, {"cy", cal.cy}, {"dist", cal.dist}}}};
+    std::ofstream(dir / "flight.json") << fj.dump(2);
+    std::ofstream csv(dir / "frames.csv");
+    csv << "frame,t_ms,roll_deg,pitch_deg,yaw_deg,vx_mps,vy_mps,vz_mps,altitude_m\n";
+    cv::Mat img;
+    for (int i = 0; i < kFrames; ++i) {
+        const double t = i / kFps;
+        sim::Pose p;
+        p.x_m = scene->start.x_m + kStartX + 1.0 * t;
+        p.y_m = scene->start.y_m;
+        p.z_m = 1.0;
+        r->render(p, img);
+        char name[32];
+        std::snprintf(name, sizeof name, "%06d.png", i);
+        ASSERT_TRUE(
+            cv::imwrite((dir / "frames" / name).string(), img, {cv::IMWRITE_PNG_COMPRESSION, 1}));
+        csv << i << ',' << t * 1000.0 << ",0,0,0,1,0,0,1\n";
+    }
+}
+
+// Per frame: which regions the pipeline (the window's own classifier path) flags.
+std::vector<std::array<bool, 3>> classify(const fs::path& dir) {
+    std::vector<std::array<bool, 3>> out;
+    auto ds = Dataset::open(dir);
+    EXPECT_TRUE(ds) << (ds ? "" : to_string(ds.error()));
+    if (!ds) return out;
+    auto frames = open_frames(*ds);
+    EXPECT_TRUE(frames);
+    if (!frames) return out;
+    app::ObstaclePipeline pipe(std::string(vision::kDefaultClassifier), ds->calibration());
+    const CameraCalibration calib = ds->calibration();
+    DatasetSource src(std::move(*ds), std::move(*frames), SteadyClock::instance(),
+                      Pacing::fastest());
+    FrameSample f;
+    while (src.next(f) == SourceStatus::Sample) {
+        const auto& res = pipe.process(f);
+        out.push_back({res.regions[0].unsafe, res.regions[1].unsafe, res.regions[2].unsafe});
+    }
+    (void)calib;
+    return out;
+}
+
+int run(const std::string& cmd, const fs::path& log, std::string& output) {
+    const int st = std::system((cmd + " >" + log.string() + " 2>&1").c_str());
+    std::ifstream in(log);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    output = ss.str();
+    return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+}
+
+TEST(ReplayWindow, OffscreenReplayOfALeftPillarFlightShowsTheLeftBarRedAndTheOthersGreen) {
+    const fs::path root =
+        fs::temp_directory_path() / ("gs_replay_window_" + std::to_string(getpid()));
+    fs::remove_all(root);
+    const fs::path flight = root / "flight";
+    write_flight(flight);
+    if (HasFatalFailure()) return;
+
+    const auto flags = classify(flight);
+    ASSERT_EQ(flags.size(), static_cast<std::size_t>(kFrames));
+    // The last frame flagging the left region only (the pillar passes on the left).
+    int k = -1;
+    int left_only = 0, any_left = 0;
+    for (int i = 0; i < kFrames; ++i) {
+        const auto& f = flags[static_cast<std::size_t>(i)];
+        if (f[0]) ++any_left;
+        if (f[0] && !f[1] && !f[2]) {
+            ++left_only;
+            k = i;
+        }
+    }
+    ASSERT_GE(k, 0) << "the classifier never flagged only the left region on this flight";
+    std::cout << "left only on " << left_only << " frames (left at all: " << any_left
+              << "), last at frame " << k << '\n';
+    EXPECT_GE(left_only, 5) << "a left flag on a pillar passing on the left should last";
+
+    const fs::path out = root / "shots";
+    const int n = k + 1;  // window frame k (0-based) shows dataset frame k
+    const std::string cmd =
+        std::string("ASAN_OPTIONS=detect_leaks=0 xvfb-run -a -s '-screen 0 1920x1080x24' ") +
+        GS_BINARY + " --offscreen --width 1280 --height 720 --replay " + flight.string() +
+        " --frames " + std::to_string(n) + " --out " + out.string();
+    std::string output;
+    const int code = run(cmd, root / "log.txt", output);
+    ASSERT_EQ(code, 0) << cmd << "\n" << output;
+    char name[32];
+    std::snprintf(name, sizeof name, "frame_%06d", n);
+    const cv::Mat img = cv::imread((out / (std::string(name) + ".png")).string());
+    ASSERT_FALSE(img.empty()) << output;
+    std::ifstream js(out / (std::string(name) + ".json"));
+    const nlohmann::json layout = nlohmann::json::parse(js);
+    const auto& bars = layout.at("region_bars");
+    ASSERT_EQ(bars.size(), 3u);
+    for (const auto& b : bars) {
+        const auto rc = b.at("rect");
+        const double x0 = rc[0], y0 = rc[1], x1 = rc[2], y1 = rc[3];
+        ASSERT_GT(x1 - x0, 20.0);
+        int red = 0, green = 0;
+        for (double x = x0 + 3; x < x0 + 13; x += 2) {
+            const cv::Vec3b p =
+                img.at<cv::Vec3b>(static_cast<int>(0.5 * (y0 + y1)), static_cast<int>(x));
+            if (p[2] > 170 && p[1] < 90 && p[0] < 90) ++red;
+            if (p[1] > 150 && p[2] < 110 && p[0] < 130) ++green;
+        }
+        if (b.at("name") == "left") {
+            EXPECT_TRUE(b.at("flagged").get<bool>());
+            EXPECT_EQ(red, 5) << "left bar not red";
+        } else {
+            EXPECT_FALSE(b.at("flagged").get<bool>()) << b.at("name");
+            EXPECT_EQ(green, 5) << b.at("name") << " bar not green";
+        }
+    }
+    if (!std::getenv("GS_KEEP_TEST_OUTPUT")) fs::remove_all(root);
+}
+
+}  // namespace

@@ -1,0 +1,226 @@
+// The window wired to a drone: synthetic key presses go through Gui::frame -> GuiAdapter ->
+// DroneLink -> loopback -> the virtual drone, and what the virtual drone did (its flight state,
+// its drone_state bits, the AT datagrams on the wire) is checked. Real sockets and threads, so
+// waits are bounded polls on the drone's own state, never fixed sleeps standing in for logic.
+#ifndef GS_HAVE_GUI
+#define GS_HAVE_GUI 1
+#endif
+#include "app/gui_adapter.hpp"
+#include "app/session.hpp"
+#include "drone/at_parser.hpp"
+#include "drone/dataset/dataset.hpp"
+#include "imgui_fixture.hpp"
+
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <functional>
+#include <thread>
+
+namespace gs::ui::test {
+namespace {
+
+using namespace std::chrono_literals;
+using app::GuiAdapter;
+using app::Session;
+using app::SessionOptions;
+
+class Wiring : public ImGuiFixture {
+protected:
+    void start(SessionOptions so, const std::string& scenario) {
+        session = std::make_unique<Session>(so);
+        adapter = std::make_unique<GuiAdapter>(*session);
+        ASSERT_TRUE(session->request(app::StartSim{scenario, false}));
+    }
+    void TearDown() override {
+        adapter.reset();
+        session.reset();
+        ImGuiFixture::TearDown();
+    }
+    // One window frame: snapshot from the session, draw, hand the actions back.
+    Actions step(const InputState& in = {}) {
+        adapter->fill(snap);
+        Actions a = frame(gui, snap, in);
+        adapter->consume(a);
+        return a;
+    }
+    // Window frames (~100 per second) until `pred` holds or `timeout` passes.
+    bool run_until(const std::function<bool()>& pred, std::chrono::milliseconds timeout,
+                   const InputState& in = {}) {
+        const auto t0 = std::chrono::steady_clock::now();
+        while (std::chrono::steady_clock::now() - t0 < timeout) {
+            step(in);
+            if (pred()) return true;
+            std::this_thread::sleep_for(10ms);
+        }
+        return false;
+    }
+    static InputState key(PilotKey k) {
+        InputState in;
+        in.keys.set(static_cast<std::size_t>(Keymap::defaults().key(k)));
+        return in;
+    }
+    app::SourceInfo src() const { return session->source().latest().value_or(app::SourceInfo{}); }
+
+    std::unique_ptr<Session> session;
+    std::unique_ptr<GuiAdapter> adapter;
+    Gui gui;
+    GuiSnapshot snap;
+};
+
+// Every PCMD the link sent, parsed from the AT datagrams it published as raw events.
+std::vector<at::Pcmd> sent_pcmds(BoundedQueue<link::RawEvent>& raw) {
+    std::vector<at::Pcmd> out;
+    while (auto e = raw.try_pop()) {
+        if (e->kind != link::RawEvent::Kind::At) continue;
+        auto p = at::parse_datagram(std::span<const std::uint8_t>(e->bytes));
+        if (!p) continue;
+        for (const auto& c : p->commands)
+            if (const auto* pc = std::get_if<at::Pcmd>(&c.body)) out.push_back(*pc);
+    }
+    return out;
+}
+
+TEST_F(Wiring, TakeoffKeyWHeldAndEscapeReachTheVirtualDroneAsAtCommands) {
+    SessionOptions so;
+    so.sim_video = false;  // flight only: keeps the test light
+    start(so, "thesis_pillar_center");
+    ASSERT_TRUE(run_until([&] { return snap.connection.state == LinkState::Connected; }, 8s))
+        << snap.connection.reason;
+    EXPECT_EQ(snap.connection.source, SourceKind::Sim);
+    const auto s = src();
+    ASSERT_TRUE(s.link && s.virtual_drone);
+    auto drone = s.virtual_drone;
+    auto raw = s.link->subscribe_raw(8192);
+
+    // T: one take-off edge; the virtual drone climbs to its hover.
+    const Actions ta = step(key(PilotKey::Takeoff));
+    EXPECT_TRUE(ta.takeoff);
+    ASSERT_TRUE(
+        run_until([&] { return drone->status().flight.major == sim::CtrlMajor::Hovering; }, 10s))
+        << "never hovering; messages: " << (snap.messages.empty() ? "" : snap.messages.back());
+    EXPECT_TRUE(snap.telemetry.state && snap.telemetry.state->flying);
+
+    // W held for a second and a half: forward (nose down) on the wire and in the drone.
+    const double x0 = drone->ground_truth().pose.x_m;
+    (void)sent_pcmds(*raw);  // forget the take-off's hover PCMDs
+    const InputState w = key(PilotKey::Forward);
+    const auto t0 = std::chrono::steady_clock::now();
+    double min_pitch_deg = 0;
+    while (std::chrono::steady_clock::now() - t0 < 1500ms) {
+        step(w);
+        min_pitch_deg = std::min(min_pitch_deg, drone->status().flight.pitch_deg);
+        std::this_thread::sleep_for(10ms);
+    }
+    EXPECT_EQ(adapter->moves_sent(), 1u) << "a held key is one Move, repeated by the link";
+    const auto pcmds = sent_pcmds(*raw);
+    int forward = 0;
+    for (const auto& p : pcmds)
+        if ((p.flags & 1) && p.pitch < 0 && p.roll == 0 && p.gaz == 0 && p.yaw == 0) ++forward;
+    // The link repeats the command every 30 ms: ~50 in 1.5 s.
+    EXPECT_GE(forward, 30) << pcmds.size() << " PCMDs sent";
+    const float gain = Keymap::defaults().keyboard_gain;
+    bool exact = false;
+    for (const auto& p : pcmds) exact = exact || p.pitch == -gain;
+    EXPECT_TRUE(exact) << "PCMD pitch should be -" << gain;
+    EXPECT_LT(min_pitch_deg, -3.0) << "the drone never pitched nose down";
+    EXPECT_GT(drone->ground_truth().pose.x_m - x0, 0.3) << "the drone did not move forward";
+
+    // Letting go: one Hover, PCMD flags back to 0.
+    step();
+    EXPECT_EQ(adapter->hovers_sent(), 1u);
+    std::this_thread::sleep_for(100ms);
+    step();
+    const auto after = sent_pcmds(*raw);
+    ASSERT_FALSE(after.empty());
+    EXPECT_EQ(after.back().flags & 1, 0) << "hover after release";
+
+    // Escape: emergency; the drone cuts its motors and reports bit 31.
+    const Actions ea = step(key(PilotKey::Emergency));
+    EXPECT_TRUE(ea.emergency);
+    ASSERT_TRUE(run_until([&] { return (drone->status().drone_state >> 31) & 1u; }, 5s))
+        << "emergency bit never set";
+    EXPECT_FALSE(drone->status().flight.motors_on);
+    ASSERT_TRUE(
+        run_until([&] { return snap.telemetry.state && snap.telemetry.state->emergency; }, 3s));
+}
+
+TEST_F(Wiring, TakeoffRefusedOnLowBatteryShowsTheReasonAsAMessage) {
+    SessionOptions so;
+    so.sim_video = false;
+    so.sim_battery_pct = 12.0;
+    start(so, "thesis_pillar_center");
+    ASSERT_TRUE(run_until([&] { return snap.connection.state == LinkState::Connected; }, 8s));
+    ASSERT_TRUE(run_until([&] { return snap.telemetry.valid; }, 3s));
+    step(key(PilotKey::Takeoff));
+    auto has_refusal = [&] {
+        for (const auto& m : snap.messages)
+            if (m.find("takeoff") != std::string::npos &&
+                m.find("rejected: battery") != std::string::npos)
+                return true;
+        return false;
+    };
+    ASSERT_TRUE(run_until(has_refusal, 3s)) << (snap.messages.empty() ? "" : snap.messages.back());
+    EXPECT_FALSE(src().virtual_drone->status().flight.motors_on);
+}
+
+TEST_F(Wiring, HudBatteryGaugeShowsTheNavdataBatteryOfTheVirtualDrone) {
+    SessionOptions so;
+    so.sim_battery_pct = 37.0;
+    start(so, "warehouse");
+    ASSERT_TRUE(run_until([&] { return snap.telemetry.valid && !snap.video.bgr.empty(); }, 10s))
+        << snap.connection.reason;
+    step();
+    const double nav_pct = snap.telemetry.nav.battery_pct;
+    // Navdata carries whole percent; the drone idles down from 37 % very slowly.
+    ASSERT_GE(nav_pct, 36.0);
+    ASSERT_LE(nav_pct, 37.0);
+    const LayoutReport& l = gui.view().layout;
+    char want[16];
+    std::snprintf(want, sizeof want, "%.0f%%", nav_pct);
+    EXPECT_EQ(l.battery_text, want);
+    const double inner = static_cast<double>(l.battery_outline.w()) - 4.0;
+    ASSERT_GT(inner, 10.0);
+    EXPECT_NEAR(static_cast<double>(l.battery_fill.w()) / inner, nav_pct / 100.0, 0.005);
+    EXPECT_EQ(l.battery_color, colors::kWarn) << "below 40 % the gauge is amber";
+    // Every navdata field is listed, grouped by option.
+    bool demo_battery = false;
+    for (const auto& f : snap.telemetry.fields)
+        demo_battery =
+            demo_battery || (f.group == "demo" && f.name.rfind("vbat_flying_percentage", 0) == 0 &&
+                             std::stod(f.value) == nav_pct);
+    EXPECT_TRUE(demo_battery);
+}
+
+TEST_F(Wiring, RKeyRecordsTheVirtualDroneAsADatasetThatOpensForReplay) {
+    const std::filesystem::path root =
+        std::filesystem::temp_directory_path() / ("gs_wiring_rec_" + std::to_string(::getpid()));
+    std::filesystem::remove_all(root);
+    SessionOptions so;
+    so.record_root = root;
+    start(so, "thesis_pillar_left");
+    ASSERT_TRUE(run_until([&] { return !snap.video.bgr.empty(); }, 10s)) << snap.connection.reason;
+    const Actions ra = step(key(PilotKey::Record));
+    EXPECT_TRUE(ra.record_start);
+    ASSERT_TRUE(run_until([&] { return snap.recording.active && snap.recording.frames >= 15; }, 8s))
+        << snap.recording.error << (snap.messages.empty() ? "" : " / " + snap.messages.back());
+    step();  // release R
+    const Actions rb = step(key(PilotKey::Record));
+    EXPECT_TRUE(rb.record_stop);
+    ASSERT_TRUE(run_until([&] { return !snap.recording.active; }, 8s));
+    const std::string path = snap.recording.path;
+    ASSERT_FALSE(path.empty());
+    EXPECT_EQ(std::filesystem::path(path).parent_path(), root);
+    auto ds = Dataset::open(path);
+    ASSERT_TRUE(ds) << to_string(ds.error());
+    EXPECT_GE(ds->frame_count(), 15);
+    EXPECT_EQ(static_cast<std::uint64_t>(ds->frame_count()), snap.recording.frames);
+    EXPECT_TRUE(ds->has_navdata());
+    std::filesystem::remove_all(root);
+}
+
+}  // namespace
+}  // namespace gs::ui::test
