@@ -59,6 +59,7 @@ cv::Matx33d rot_z(double a) {
 // Camera axes (x right, y down, z optical) expressed in the body frame, as columns.
 cv::Matx33d body_from_camera(CameraKind k) {
     if (k == CameraKind::Front) return {0, 0, 1, 1, 0, 0, 0, 1, 0};
+    if (k == CameraKind::Top) return {0, -1, 0, -1, 0, 0, 0, 0, -1};
     return {0, -1, 0, 1, 0, 0, 0, 0, 1};
 }
 

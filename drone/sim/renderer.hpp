@@ -22,6 +22,8 @@ namespace gs::sim {
 enum class CameraKind {
     Front,   // looks along the body x axis; image right = body right
     Bottom,  // looks down; image right = body right, image top = body forward
+    Top,     // looks up at the ceiling; image top = body forward, image right = body LEFT (the
+             // view from below: mounted back to back with Bottom, as in the thesis' rig)
 };
 
 enum class RenderError { InvalidCalibration, CalibrationNotInvertible };

@@ -230,5 +230,34 @@ TEST(SimRender, BottomCameraSeesTheFloorScaleWithHeight) {
     EXPECT_NEAR(dy[dy.size() / 2], 70.2, 4.0);  // fy 701.65 x 0.1 m / 1 m
 }
 
+TEST(SimRender, TopCameraSeesTheCeilingMirroredAcross) {
+    const Scene s = load("thesis_open_hall.json");  // ceiling at 8 m
+    Renderer r = make(s, CameraKind::Top);
+    cv::Mat a, b;
+    r.render(Pose{0, 0, 5.0, 0, 0, 0}, a);
+    r.render(Pose{0.1, 0.1, 5.0, 0, 0, 0}, b);
+    // 3 m below the ceiling, 0.1 m forward and 0.1 m right: the ceiling slides towards the image
+    // bottom (forward is up) and to the image RIGHT (right is to the left) by ~f * 0.1 / 3 px.
+    std::vector<cv::Point2f> p0, p1;
+    cv::goodFeaturesToTrack(grey(a), p0, 300, 0.01, 8);
+    ASSERT_GE(p0.size(), 30u);
+    std::vector<uchar> st;
+    std::vector<float> err;
+    cv::calcOpticalFlowPyrLK(grey(a), grey(b), p0, p1, st, err, cv::Size(31, 31), 4);
+    std::vector<double> dx, dy;
+    for (std::size_t i = 0; i < p0.size(); ++i)
+        if (st[i] && std::abs(p0[i].x - 320) < 120 && std::abs(p0[i].y - 219) < 80) {
+            dx.push_back(p1[i].x - p0[i].x);
+            dy.push_back(p1[i].y - p0[i].y);
+        }
+    ASSERT_GE(dx.size(), 10u);
+    auto median = [](std::vector<double> v) {
+        std::nth_element(v.begin(), v.begin() + long(v.size() / 2), v.end());
+        return v[v.size() / 2];
+    };
+    EXPECT_NEAR(median(dx), 23.35, 2.0);  // fx 700.49 x 0.1 / 3
+    EXPECT_NEAR(median(dy), 23.39, 2.0);  // fy 701.65 x 0.1 / 3
+}
+
 }  // namespace
 }  // namespace gs::sim

@@ -1,0 +1,544 @@
+#include "vision/odometry.hpp"
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/video/tracking.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numbers>
+
+namespace gs::vision {
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+constexpr double kNaNd = std::numeric_limits<double>::quiet_NaN();
+
+bool finite(double v) {
+    return std::isfinite(v);
+}
+
+double ms_since(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+cv::Matx22d mount_axes(CameraMount m) {
+    const cv::Matx33d b = body_from_camera(m);
+    return {b(0, 0), b(0, 1), b(1, 0), b(1, 1)};
+}
+
+// Level-frame rotation for roll and pitch (FRD, as the renderer and navdata define them).
+cv::Matx33d tilt_rotation(double roll_deg, double pitch_deg) {
+    const double cr = std::cos(roll_deg * kDeg), sr = std::sin(roll_deg * kDeg);
+    const double cp = std::cos(pitch_deg * kDeg), sp = std::sin(pitch_deg * kDeg);
+    const cv::Matx33d ry{cp, 0, sp, 0, 1, 0, -sp, 0, cp};
+    const cv::Matx33d rx{1, 0, 0, 0, cr, -sr, 0, sr, cr};
+    return ry * rx;
+}
+
+}  // namespace
+
+double wrap_deg(double a) {
+    if (!finite(a)) return a;
+    a = std::fmod(a + 180.0, 360.0);
+    if (a < 0) a += 360.0;
+    return a - 180.0;
+}
+
+// ---- Pure pieces ----------------------------------------------------------------------------
+
+HomographyParts decompose_homography(const cv::Matx33d& h) {
+    HomographyParts p;
+    const double h33 = h(2, 2);
+    if (!finite(h33) || h33 == 0.0) return p;
+    const cv::Matx33d n = h * (1.0 / h33);
+    p.r = {n(0, 0), n(0, 1), n(1, 0), n(1, 1)};
+    p.t = {n(0, 2), n(1, 2)};
+    p.s = {n(2, 0), n(2, 1)};
+    p.angle_rad = std::atan2(p.r(1, 0), p.r(0, 0));
+    p.ok = finite(p.angle_rad) && finite(p.t[0]) && finite(p.t[1]);
+    return p;
+}
+
+cv::Vec2d pixels_to_metres(cv::Vec2d t_px, double fx_px, double fy_px, double distance_m) {
+    return {t_px[0] / fx_px * distance_m, t_px[1] / fy_px * distance_m};
+}
+
+double focal_length_px(double focal_length, double sensor_size, int resolution_px) {
+    // Eq. 3.15 as printed (F = f W / w) has the ratio inverted: a focal length in pixels is the
+    // focal length over the size of one pixel, f / (W / w).
+    return focal_length * resolution_px / sensor_size;
+}
+
+const char* to_string(CameraMount m) {
+    return m == CameraMount::Top ? "top" : "bottom";
+}
+
+cv::Matx33d body_from_camera(CameraMount m) {
+    // Columns: camera x (image right), y (image down), z (optical axis) in body FRD.
+    if (m == CameraMount::Top) return {0, -1, 0, -1, 0, 0, 0, 0, -1};
+    return {0, -1, 0, 1, 0, 0, 0, 0, 1};
+}
+
+BodyMotion body_motion_from_homography(const cv::Matx33d& h_px, double fx_px, double fy_px,
+                                       double distance_m, CameraMount mount) {
+    // Normalised image coordinates: H_n = F^-1 H F (eq. 3.14 applied to the whole mapping, so the
+    // rotation block is free of the pixel aspect ratio too).
+    const cv::Matx33d f{fx_px, 0, 0, 0, fy_px, 0, 0, 0, 1};
+    const cv::Matx33d f_inv{1 / fx_px, 0, 0, 0, 1 / fy_px, 0, 0, 0, 1};
+    const HomographyParts p = decompose_homography(f_inv * h_px * f);
+    BodyMotion m;
+    if (!p.ok) return m;
+    const cv::Matx22d a = mount_axes(mount);
+    m.r_body = a * p.r * a.t();
+    const cv::Vec2d t_body = a * (p.t * distance_m);
+    // Floor points move by the inverse of the camera's motion: x_i = R x_{i-1} - R_i^T dC.
+    m.forward_m = -t_body[0];
+    m.right_m = -t_body[1];
+    m.yaw_deg = -std::atan2(m.r_body(1, 0), m.r_body(0, 0)) / kDeg;
+    return m;
+}
+
+BodyMotion combine_motions(const BodyMotion& a, const BodyMotion& b) {
+    BodyMotion m;
+    m.forward_m = (a.forward_m + b.forward_m) / 2;
+    m.right_m = (a.right_m + b.right_m) / 2;
+    m.r_body = (a.r_body + b.r_body) * 0.5;
+    m.yaw_deg = -std::atan2(m.r_body(1, 0), m.r_body(0, 0)) / kDeg;
+    return m;
+}
+
+// ---- Filters --------------------------------------------------------------------------------
+
+FilteredMotion OdometryFilter::apply(double forward_m, double right_m, double yaw_deg) {
+    FilteredMotion o{forward_m, right_m, yaw_deg, false, false};
+    if (p_.spike_filter &&
+        (std::abs(forward_m) > p_.spike_translation_m ||
+         std::abs(right_m) > p_.spike_translation_m || std::abs(yaw_deg) > p_.spike_rotation_deg)) {
+        o = {0, 0, 0, true, false};
+    } else if (p_.rotation_gate && std::abs(yaw_deg) > p_.rotation_gate_deg) {
+        o.forward_m = o.right_m = 0;
+        o.rotation_gated = true;
+    }
+    const int n = std::clamp(p_.smoothing_samples, 1, kMaxSmoothing);
+    if (n > 1) {
+        fx_[next_] = o.forward_m;
+        fy_[next_] = o.right_m;
+        next_ = (next_ + 1) % n;
+        count_ = std::min(count_ + 1, n);
+        double sx = 0, sy = 0;
+        for (int i = 0; i < count_; ++i) {
+            sx += fx_[i];
+            sy += fy_[i];
+        }
+        o.forward_m = sx / count_;
+        o.right_m = sy / count_;
+    }
+    return o;
+}
+
+const PlanarPose& TrajectoryIntegrator::add(double forward_m, double right_m, double yaw_deg) {
+    pose_.yaw_deg += yaw_deg;
+    const double c = std::cos(pose_.yaw_deg * kDeg), s = std::sin(pose_.yaw_deg * kDeg);
+    pose_.x_m += c * forward_m - s * right_m;
+    pose_.y_m += s * forward_m + c * right_m;
+    return pose_;
+}
+
+// ---- Parameters -----------------------------------------------------------------------------
+
+const char* to_string(YawSource s) {
+    switch (s) {
+        case YawSource::Visual:
+            return "visual";
+        case YawSource::Navdata:
+            return "navdata";
+        case YawSource::Fused:
+            return "fused";
+    }
+    return "?";
+}
+
+std::optional<YawSource> yaw_source_from_string(const std::string& s) {
+    if (s == "visual") return YawSource::Visual;
+    if (s == "navdata") return YawSource::Navdata;
+    if (s == "fused") return YawSource::Fused;
+    return std::nullopt;
+}
+
+const char* to_string(CameraStatus s) {
+    switch (s) {
+        case CameraStatus::Ok:
+            return "ok";
+        case CameraStatus::First:
+            return "first frame";
+        case CameraStatus::NoDistance:
+            return "no distance";
+        case CameraStatus::TooFewPoints:
+            return "too few tracked points";
+        case CameraStatus::NoHomography:
+            return "no homography";
+        case CameraStatus::TooFewInliers:
+            return "too few inliers";
+    }
+    return "?";
+}
+
+const ParamTable<OdometryParams>& odometry_param_table() {
+    static const ParamTable<OdometryParams> t = [] {
+        using P = OdometryParams;
+        ParamTable<P> tab;
+        tab.add("odo.max_corners", &P::max_corners, 8, 5000, "Shi-Tomasi corners per frame")
+            .add("odo.quality_level", &P::quality_level, 1e-4, 0.5,
+                 "Shi-Tomasi strength relative to the strongest corner")
+            .add("odo.min_corner_distance_px", &P::min_corner_distance_px, 1, 100,
+                 "minimum distance between corners")
+            .add("odo.block_size", &P::block_size, 3, 15, "Shi-Tomasi window")
+            .add("odo.lk_window_px", &P::lk_window_px, 5, 81, "Lucas-Kanade window")
+            .add("odo.lk_levels", &P::lk_levels, 0, 6, "Lucas-Kanade pyramid levels")
+            .add("odo.lk_iterations", &P::lk_iterations, 1, 100, "Lucas-Kanade iterations")
+            .add("odo.lk_epsilon", &P::lk_epsilon, 1e-4, 1, "Lucas-Kanade convergence (px)")
+            .add("odo.ransac_threshold_px", &P::ransac_threshold_px, 0.1, 20,
+                 "RANSAC reprojection threshold (eq. 3.12)")
+            .add("odo.min_inliers", &P::min_inliers, 4, 1000,
+                 "fewer homography inliers: no estimate from that camera")
+            .add("odo.centre_on_principal_point", &P::centre_on_principal_point, 0, 1,
+                 "homography about the principal point (thesis: pixel origin)")
+            .add("odo.undistort", &P::undistort, 0, 1, "undistort points first")
+            .add("odo.tilt_compensation", &P::tilt_compensation, 0, 1,
+                 "derotate points by navdata roll/pitch")
+            .add("odo.yaw_fusion_weight", &P::yaw_fusion_weight, 0, 1,
+                 "navdata share of the rotation when the yaw source is fused")
+            .add("filter.spike_filter", &P::spike_filter, 0, 1,
+                 "zero a sample over the spike bounds (eq. 3.20)")
+            .add("filter.spike_translation_m", &P::spike_translation_m, 0.001, 10,
+                 "spike bound on x and y per sample")
+            .add("filter.spike_rotation_deg", &P::spike_rotation_deg, 0.01, 180,
+                 "spike bound on rotation per sample")
+            .add("filter.rotation_gate", &P::rotation_gate, 0, 1,
+                 "zero the translation while rotating")
+            .add("filter.rotation_gate_deg", &P::rotation_gate_deg, 0.01, 180,
+                 "rotation per sample above which translation is zeroed")
+            .add("filter.smoothing_samples", &P::smoothing_samples, 1,
+                 OdometryFilter::kMaxSmoothing, "moving average of x and y (eq. 3.19: 4)");
+        return tab;
+    }();
+    return t;
+}
+
+// ---- Per-camera estimator -------------------------------------------------------------------
+
+namespace {
+
+class CameraOdometry {
+public:
+    CameraOdometry(const CameraCalibration& calib, CameraMount mount, const OdometryParams& p)
+        : calib_(calib), mount_(mount), p_(p) {}
+
+    void reset() { have_prev_ = false; }
+
+    CameraEstimate process(const cv::Mat& image, double distance_m, double roll_deg,
+                           double pitch_deg) {
+        CameraEstimate e;
+        auto t0 = std::chrono::steady_clock::now();
+        if (image.channels() == 3)
+            cv::cvtColor(image, grey_, cv::COLOR_BGR2GRAY);
+        else if (image.channels() == 4)
+            cv::cvtColor(image, grey_, cv::COLOR_BGRA2GRAY);
+        else
+            image.copyTo(grey_);
+
+        if (have_prev_ && !prev_corners_.empty()) {
+            const cv::TermCriteria crit(cv::TermCriteria::COUNT | cv::TermCriteria::EPS,
+                                        p_.lk_iterations, p_.lk_epsilon);
+            cv::calcOpticalFlowPyrLK(prev_grey_, grey_, prev_corners_, cur_pts_, status_, err_,
+                                     cv::Size(p_.lk_window_px, p_.lk_window_px), p_.lk_levels,
+                                     crit);
+            src_.clear();
+            dst_.clear();
+            const float w = static_cast<float>(grey_.cols), h = static_cast<float>(grey_.rows);
+            for (std::size_t i = 0; i < prev_corners_.size(); ++i) {
+                const cv::Point2f q = cur_pts_[i];
+                if (!status_[i] || q.x < 0 || q.y < 0 || q.x > w - 1 || q.y > h - 1) continue;
+                src_.push_back(prev_corners_[i]);
+                dst_.push_back(q);
+            }
+            e.corners = static_cast<int>(prev_corners_.size());
+            e.tracked = static_cast<int>(src_.size());
+            e.track_ms = ms_since(t0);
+            t0 = std::chrono::steady_clock::now();
+            estimate(e, distance_m, roll_deg, pitch_deg);
+            e.homography_ms = ms_since(t0);
+        } else {
+            e.status = CameraStatus::First;
+        }
+
+        // The thesis extracts corners in every frame and tracks them into the next.
+        const auto td = std::chrono::steady_clock::now();
+        cv::goodFeaturesToTrack(grey_, prev_corners_, p_.max_corners, p_.quality_level,
+                                p_.min_corner_distance_px, cv::noArray(), p_.block_size);
+        e.track_ms += ms_since(td);
+        std::swap(prev_grey_, grey_);
+        prev_roll_ = roll_deg;
+        prev_pitch_ = pitch_deg;
+        have_prev_ = true;
+        return e;
+    }
+
+private:
+    // Raw pixels -> the homography's pixel space (undistorted, optionally levelled, centred).
+    void prepare(std::vector<cv::Point2f>& pts, double roll_deg, double pitch_deg) const {
+        if (p_.undistort && calib_.has_distortion()) calib_.undistort_points(pts, pts);
+        const bool level = p_.tilt_compensation && finite(roll_deg) && finite(pitch_deg);
+        const cv::Matx33d b = body_from_camera(mount_);
+        const cv::Matx33d r =
+            level ? b.t() * tilt_rotation(roll_deg, pitch_deg) * b : cv::Matx33d::eye();
+        const double ox = p_.centre_on_principal_point ? calib_.cx : 0.0;
+        const double oy = p_.centre_on_principal_point ? calib_.cy : 0.0;
+        for (cv::Point2f& q : pts) {
+            double x = q.x, y = q.y;
+            if (level) {
+                const cv::Vec3d ray =
+                    r * cv::Vec3d((x - calib_.cx) / calib_.fx, (y - calib_.cy) / calib_.fy, 1.0);
+                x = ray[0] / ray[2] * calib_.fx + calib_.cx;
+                y = ray[1] / ray[2] * calib_.fy + calib_.cy;
+            }
+            q = {static_cast<float>(x - ox), static_cast<float>(y - oy)};
+        }
+    }
+
+    void estimate(CameraEstimate& e, double distance_m, double roll_deg, double pitch_deg) {
+        if (e.tracked < std::max(4, p_.min_inliers)) {
+            e.status = CameraStatus::TooFewPoints;
+            return;
+        }
+        prepare(src_, prev_roll_, prev_pitch_);
+        prepare(dst_, roll_deg, pitch_deg);
+        const cv::Mat h =
+            cv::findHomography(src_, dst_, cv::RANSAC, p_.ransac_threshold_px, mask_, 2000, 0.995);
+        if (h.empty()) {
+            e.status = CameraStatus::NoHomography;
+            return;
+        }
+        e.inliers = cv::countNonZero(mask_);
+        if (e.inliers < p_.min_inliers) {
+            e.status = CameraStatus::TooFewInliers;
+            return;
+        }
+        if (!finite(distance_m) || distance_m <= 0) {
+            e.status = CameraStatus::NoDistance;
+            return;
+        }
+        e.h_px = cv::Matx33d(h);
+        // Without centring the homography is about the pixel origin (the thesis); the mapping to
+        // metres is the same, the translation then also carries c - R c.
+        e.motion = body_motion_from_homography(e.h_px, calib_.fx, calib_.fy, distance_m, mount_);
+        e.status = CameraStatus::Ok;
+    }
+
+    CameraCalibration calib_;
+    CameraMount mount_;
+    const OdometryParams& p_;
+    bool have_prev_ = false;
+    double prev_roll_ = kNaNd, prev_pitch_ = kNaNd;
+    cv::Mat grey_, prev_grey_, mask_;
+    std::vector<cv::Point2f> prev_corners_, cur_pts_, src_, dst_;
+    std::vector<std::uint8_t> status_;
+    std::vector<float> err_;
+};
+
+}  // namespace
+
+struct VisualOdometry::Impl {
+    OdometryParams params;
+    CameraOdometry bottom;
+    std::optional<CameraOdometry> top;
+    OdometryFilter filter;
+    TrajectoryIntegrator integrator;
+    PlanarPose start;
+    PlanarPose nav_pose;
+    OdometrySample last;
+    std::vector<PlanarPose> path, nav_path;
+    std::int64_t index = 0;
+    double prev_yaw = kNaNd, nav_yaw0 = kNaNd, prev_vx = kNaNd, prev_vy = kNaNd;
+    std::int64_t prev_t_ns = 0;
+    bool nav_valid = false;
+
+    Impl(const CameraCalibration& b, std::optional<CameraCalibration> t, const OdometryParams& p)
+        : params(p), bottom(b, CameraMount::Bottom, params), filter(p.filter()) {
+        if (t) top.emplace(*t, CameraMount::Top, params);
+    }
+};
+
+VisualOdometry::VisualOdometry(const CameraCalibration& bottom,
+                               std::optional<CameraCalibration> top, const OdometryParams& params)
+    : impl_(std::make_unique<Impl>(bottom, std::move(top), params)) {
+    reset();
+}
+VisualOdometry::~VisualOdometry() = default;
+VisualOdometry::VisualOdometry(VisualOdometry&&) noexcept = default;
+VisualOdometry& VisualOdometry::operator=(VisualOdometry&&) noexcept = default;
+
+void VisualOdometry::reset(PlanarPose start) {
+    Impl& m = *impl_;
+    m.bottom.reset();
+    if (m.top) m.top->reset();
+    m.filter.reset();
+    m.integrator.reset(start);
+    m.start = start;
+    m.nav_pose = start;
+    m.path.clear();
+    m.nav_path.clear();
+    m.index = 0;
+    m.prev_yaw = m.nav_yaw0 = m.prev_vx = m.prev_vy = kNaNd;
+    m.prev_t_ns = 0;
+    m.nav_valid = false;
+    m.last = {};
+    m.last.pose = m.last.nav_pose = start;
+}
+
+const OdometrySample& VisualOdometry::update(const OdometryInput& in) {
+    Impl& m = *impl_;
+    const auto t0 = std::chrono::steady_clock::now();
+    OdometrySample& s = m.last;
+    s = {};
+    s.index = m.index;
+    s.t_ns = in.t_ns;
+    s.bottom = m.bottom.process(in.bottom, in.bottom_distance_m, in.roll_deg, in.pitch_deg);
+    if (m.top) s.top = m.top->process(in.top, in.top_distance_m, in.roll_deg, in.pitch_deg);
+
+    const bool b_ok = s.bottom.ok(), t_ok = m.top && s.top.ok();
+    s.valid = b_ok || t_ok;
+    if (b_ok && t_ok)
+        s.raw = combine_motions(s.bottom.motion, s.top.motion);
+    else if (b_ok)
+        s.raw = s.bottom.motion;
+    else if (t_ok)
+        s.raw = s.top.motion;
+    s.yaw_visual_deg = s.raw.yaw_deg;
+
+    if (finite(in.yaw_deg) && finite(m.prev_yaw) && m.index > 0)
+        s.yaw_navdata_deg = wrap_deg(in.yaw_deg - m.prev_yaw);
+
+    double yaw = s.yaw_visual_deg;
+    const bool nav = finite(s.yaw_navdata_deg);
+    if (m.params.yaw_source == YawSource::Navdata && nav)
+        yaw = s.yaw_navdata_deg;
+    else if (m.params.yaw_source == YawSource::Fused && nav)
+        yaw = s.valid ? m.params.yaw_fusion_weight * s.yaw_navdata_deg +
+                            (1 - m.params.yaw_fusion_weight) * s.yaw_visual_deg
+                      : s.yaw_navdata_deg;
+    if (m.index > 0) {
+        s.out = m.filter.apply(s.raw.forward_m, s.raw.right_m, yaw);
+        s.pose = m.integrator.add(s.out.forward_m, s.out.right_m, s.out.yaw_deg);
+    } else {
+        s.pose = m.integrator.pose();
+    }
+
+    // Navdata path: body velocities (trapezoid over the interval) turned by the navdata heading.
+    if (finite(in.yaw_deg) && !finite(m.nav_yaw0)) m.nav_yaw0 = in.yaw_deg;
+    if (m.index > 0 && finite(in.vx_mps) && finite(in.vy_mps) && finite(in.yaw_deg)) {
+        const double dt = static_cast<double>(in.t_ns - m.prev_t_ns) * 1e-9;
+        const double vx = finite(m.prev_vx) ? (m.prev_vx + in.vx_mps) / 2 : in.vx_mps;
+        const double vy = finite(m.prev_vy) ? (m.prev_vy + in.vy_mps) / 2 : in.vy_mps;
+        const double head = m.start.yaw_deg + wrap_deg(in.yaw_deg - m.nav_yaw0);
+        const double c = std::cos(head * kDeg), sn = std::sin(head * kDeg);
+        m.nav_pose.x_m += (c * vx - sn * vy) * dt;
+        m.nav_pose.y_m += (sn * vx + c * vy) * dt;
+        m.nav_pose.yaw_deg = head;
+        m.nav_valid = true;
+    }
+    s.nav_path_valid = m.nav_valid;
+    s.nav_pose = m.nav_pose;
+    m.prev_yaw = in.yaw_deg;
+    m.prev_vx = in.vx_mps;
+    m.prev_vy = in.vy_mps;
+    m.prev_t_ns = in.t_ns;
+    m.path.push_back(s.pose);
+    m.nav_path.push_back(s.nav_pose);
+    ++m.index;
+    s.total_ms = ms_since(t0);
+    return s;
+}
+
+const OdometrySample& VisualOdometry::last() const {
+    return impl_->last;
+}
+const std::vector<PlanarPose>& VisualOdometry::path() const {
+    return impl_->path;
+}
+const std::vector<PlanarPose>& VisualOdometry::nav_path() const {
+    return impl_->nav_path;
+}
+const OdometryParams& VisualOdometry::params() const {
+    return impl_->params;
+}
+bool VisualOdometry::two_cameras() const {
+    return impl_->top.has_value();
+}
+
+// ---- Evaluation -----------------------------------------------------------------------------
+
+ErrorStats error_stats(std::span<const double> e) {
+    ErrorStats s;
+    double sum = 0;
+    for (double v : e) {
+        if (!finite(v)) continue;
+        s.min = s.n == 0 ? v : std::min(s.min, v);
+        s.max = s.n == 0 ? v : std::max(s.max, v);
+        sum += v;
+        ++s.n;
+    }
+    if (s.n > 0) s.mean = sum / s.n;
+    return s;
+}
+
+std::vector<SampleTruth> truth_from_poses(std::span<const PlanarPose> poses) {
+    std::vector<SampleTruth> out(poses.size());
+    for (std::size_t i = 1; i < poses.size(); ++i) {
+        const double dx = poses[i].x_m - poses[i - 1].x_m, dy = poses[i].y_m - poses[i - 1].y_m;
+        const double c = std::cos(poses[i].yaw_deg * kDeg), s = std::sin(poses[i].yaw_deg * kDeg);
+        out[i] = {c * dx + s * dy, -s * dx + c * dy,
+                  wrap_deg(poses[i].yaw_deg - poses[i - 1].yaw_deg)};
+    }
+    return out;
+}
+
+OdometryErrors evaluate_odometry(std::span<const OdometrySample> samples,
+                                 std::span<const PlanarPose> truth) {
+    OdometryErrors r;
+    const std::size_t n = std::min(samples.size(), truth.size());
+    if (n == 0) return r;
+    const std::vector<SampleTruth> gt = truth_from_poses(truth.first(n));
+    bool any_nav = false;
+    for (std::size_t i = 1; i < n; ++i) {
+        const OdometrySample& s = samples[i];
+        r.x_abs_m.push_back(std::abs(s.out.forward_m - gt[i].forward_m));
+        r.y_abs_m.push_back(std::abs(s.out.right_m - gt[i].right_m));
+        r.yaw_abs_deg.push_back(std::abs(s.out.yaw_deg - gt[i].yaw_deg));
+        const double nav = std::abs(s.yaw_navdata_deg - gt[i].yaw_deg);
+        r.yaw_nav_abs_deg.push_back(nav);
+        any_nav = any_nav || finite(nav);
+        r.distance_travelled_m +=
+            std::hypot(truth[i].x_m - truth[i - 1].x_m, truth[i].y_m - truth[i - 1].y_m);
+        r.max_path_error_m = std::max(
+            r.max_path_error_m, std::hypot(s.pose.x_m - truth[i].x_m, s.pose.y_m - truth[i].y_m));
+    }
+    if (!any_nav) r.yaw_nav_abs_deg.clear();
+    r.x = error_stats(r.x_abs_m);
+    r.y = error_stats(r.y_abs_m);
+    r.yaw = error_stats(r.yaw_abs_deg);
+    r.yaw_nav = error_stats(r.yaw_nav_abs_deg);
+    const OdometrySample& e = samples[n - 1];
+    const PlanarPose& g = truth[n - 1];
+    r.end_error_m = std::hypot(e.pose.x_m - g.x_m, e.pose.y_m - g.y_m);
+    r.end_error_pct =
+        r.distance_travelled_m > 0 ? 100.0 * r.end_error_m / r.distance_travelled_m : kNaNd;
+    r.end_yaw_error_deg = wrap_deg(e.pose.yaw_deg - g.yaw_deg);
+    if (e.nav_path_valid)
+        r.nav_end_error_m = std::hypot(e.nav_pose.x_m - g.x_m, e.nav_pose.y_m - g.y_m);
+    return r;
+}
+
+}  // namespace gs::vision
