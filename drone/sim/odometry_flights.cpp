@@ -156,18 +156,6 @@ std::string fixed3(double v) {
     return buf;
 }
 
-gs::CameraCalibration to_dataset_calibration(const CameraCalibration& c) {
-    gs::CameraCalibration d;
-    d.fx = c.fx;
-    d.fy = c.fy;
-    d.cx = c.cx;
-    d.cy = c.cy;
-    d.dist = c.dist;
-    d.width = c.width;
-    d.height = c.height;
-    d.source = c.source;
-    return d;
-}
 
 }  // namespace
 
@@ -285,7 +273,7 @@ Expected<OdometryFlightSummary, std::string> write_odometry_flight(const fs::pat
     if (ec) return Unexpected("cannot create " + dir.string() + ": " + ec.message());
 
     const Scene scene = odometry_scene(p, seed);
-    const CameraCalibration calib = default_bottom_calibration();
+    const gs::CameraCalibration calib = builtin_calibration(CameraId::Bottom);
     auto rb = Renderer::create(scene, calib, CameraKind::Bottom);
     if (!rb) return Unexpected("bottom renderer: " + to_string(rb.error()));
     std::optional<Renderer> rt;
@@ -343,7 +331,7 @@ Expected<OdometryFlightSummary, std::string> write_odometry_flight(const fs::pat
     info.fps = p.fps;
     info.frames = sum.frames;
     info.images = "frames";
-    info.calibration = to_dataset_calibration(calib);
+    info.calibration = calib;
     info.source = "simulated: odometry test " + to_string(p.test) + ", seed " +
                   std::to_string(seed) + (p.top_camera ? ", two cameras" : "");
     std::ostringstream top_json;

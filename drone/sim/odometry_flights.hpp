@@ -12,7 +12,7 @@
 // (frame,bottom_m,top_m).
 
 #include "drone/dataset/dataset.hpp"
-#include "drone/sim/calibration.hpp"
+#include "drone/calibration.hpp"
 #include "drone/sim/scene.hpp"
 
 #include <cstdint>

@@ -7,6 +7,7 @@
 #define GS_HAVE_GUI 1
 #endif
 #include "app/pipeline.hpp"
+#include "drone/calibration.hpp"
 #include "drone/dataset/dataset.hpp"
 #include "drone/dataset/dataset_source.hpp"
 #include "drone/dataset/video_frames.hpp"
@@ -41,7 +42,7 @@ constexpr int kFrames = 120;     // 4 s at 1 m/s: up to 0.5 m before the pillar'
 void write_flight(const fs::path& dir) {
     auto scene = sim::resolve_scene("thesis_pillar_left");
     ASSERT_TRUE(scene) << sim::to_string(scene.error());
-    const sim::CameraCalibration cal = sim::default_front_calibration();
+    const CameraCalibration cal = builtin_calibration(CameraId::Front);
     auto r = sim::Renderer::create(*scene, cal, sim::CameraKind::Front);
     ASSERT_TRUE(r);
     fs::create_directories(dir / "frames");

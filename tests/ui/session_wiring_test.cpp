@@ -16,6 +16,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <functional>
 #include <thread>
@@ -171,7 +172,13 @@ TEST_F(Wiring, HudBatteryGaugeShowsTheNavdataBatteryOfTheVirtualDrone) {
     SessionOptions so;
     so.sim_battery_pct = 37.0;
     start(so, "warehouse");
-    ASSERT_TRUE(run_until([&] { return snap.telemetry.valid && !snap.video.bgr.empty(); }, 10s))
+    // Bootstrap navdata carries no demo option (battery unknown): wait for the configured stream.
+    ASSERT_TRUE(run_until(
+        [&] {
+            return snap.telemetry.valid && !std::isnan(snap.telemetry.nav.battery_pct) &&
+                   !snap.video.bgr.empty();
+        },
+        10s))
         << snap.connection.reason;
     step();
     const double nav_pct = snap.telemetry.nav.battery_pct;
