@@ -3,7 +3,7 @@
 set -euo pipefail
 cd "$(dirname "$0")"
 scripts/install-deps.sh build
-scripts/build.sh build -DCMAKE_BUILD_TYPE=Release
+GS_TARGETS=ardrone-gs scripts/build.sh build -DCMAKE_BUILD_TYPE=Release
 # The ground-station window, on the built-in virtual drone (warehouse scenario) unless arguments
 # say otherwise (--sim SCENARIO, --replay DATASET, or a subcommand). Without a display the program
 # says so and points to the headless subcommands.
