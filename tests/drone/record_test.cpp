@@ -92,8 +92,10 @@ protected:
         }
         const auto during = rec.status();
         recording_seen_ = during.recording && during.path == (*dir_ / "rec").string();
+        const auto gen0 = flight_->link->video().generation();
         std::this_thread::sleep_for(2500ms);
         final_ = rec.stop();
+        frames_seen_ = flight_->link->video().generation() - gen0;
     }
     static void TearDownTestSuite() {
         delete flight_;
@@ -105,6 +107,7 @@ protected:
     static inline Flight* flight_ = nullptr;
     static inline record::RecorderStatus final_;
     static inline bool recording_seen_ = false;
+    static inline std::uint64_t frames_seen_ = 0;  // frames the link decoded while recording
 };
 
 TEST_F(RecorderFlight, WritesADatasetTheReaderOpensWithGroundTruth) {
@@ -112,9 +115,12 @@ TEST_F(RecorderFlight, WritesADatasetTheReaderOpensWithGroundTruth) {
     EXPECT_FALSE(final_.recording);
     auto d = Dataset::open(*dir_ / "rec");
     ASSERT_TRUE(d) << to_string(d.error());
-    // 2.5 s at 30 fps
-    EXPECT_GE(d->frame_count(), 45);  // the renderer slows down on a loaded machine
+    // 2.5 s at 30 fps: up to ~75 frames. The virtual drone renders slower on a loaded machine
+    // (or under the sanitizers), so what counts is that every frame the link received is there,
+    // less those before the first IDR (at most a GOP of 15) and the one in flight at each end.
     EXPECT_LE(d->frame_count(), 80);
+    EXPECT_GE(d->frame_count() + 15 + 2, static_cast<std::int64_t>(frames_seen_));
+    EXPECT_GE(d->frame_count(), 5);
     EXPECT_EQ(d->info().frames, d->frame_count());
     EXPECT_FALSE(d->calibration_is_default());  // written into flight.json
     EXPECT_TRUE(d->video_path());
@@ -207,13 +213,17 @@ TEST(Recorder, AStalledConsumerNeverBlocksTheLink) {
     const auto frames0 = flight.link->video().generation();
     std::this_thread::sleep_for(1000ms);
     const auto st = flight.link->status();
+    const auto frames = flight.link->video().generation() - frames0;
     EXPECT_EQ(raw->size(), 4u);
     EXPECT_EQ(units->size(), 2u);
-    EXPECT_GT(raw->dropped(), 20u);    // navdata at 15 Hz + AT at 33 Hz + video chunks, for 1 s
-    EXPECT_GT(units->dropped(), 15u);  // 30 fps
+    EXPECT_GT(raw->dropped(), 20u);  // navdata at 15 Hz + AT at 33 Hz + video chunks, for 1 s
+    // Every access unit past the queue's 2 is dropped and counted (30 fps; fewer when the
+    // virtual drone renders slowly on a loaded machine); one may be in flight at each end.
+    EXPECT_GE(units->dropped() + 2 + 2, frames);
+    EXPECT_GT(units->dropped(), 3u);
     EXPECT_EQ(st.state, link::ConnectionState::Connected);
     EXPECT_GT(st.navdata.accepted, nav0 + 10);
-    EXPECT_GT(flight.link->video().generation(), frames0 + 10);
+    EXPECT_GT(frames, 5u);
     flight.link->unsubscribe(raw.get());
     flight.link->unsubscribe(units.get());
     const auto dropped = raw->dropped();
