@@ -41,7 +41,10 @@ TimeNs DatasetSource::media_now() {
 SourceStatus DatasetSource::deliver(FrameSample& out) {
     const auto& row = dataset_.frames()[static_cast<std::size_t>(next_frame_)];
     if (auto e = frames_->read(next_frame_, image_)) {
-        last_error_ = to_string(*e);
+        // The frame is skipped: the caller counts it, and the next call goes on after it.
+        last_error_ = "frame " + std::to_string(next_frame_) + ": " + to_string(*e);
+        ++next_frame_;
+        ++errors_;
         return SourceStatus::Error;
     }
     out.index = next_frame_;

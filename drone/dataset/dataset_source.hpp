@@ -30,6 +30,8 @@ public:
 
     const Dataset& dataset() const { return dataset_; }
     std::int64_t position() const { return next_frame_; }  // index next() returns next
+    // Frames that could not be read (each reported once as Error, then skipped).
+    std::int64_t read_errors() const { return errors_; }
 
 private:
     TimeNs media_now();
@@ -52,6 +54,7 @@ private:
     TimeNs paused_media_ns_ = 0;
     TimeNs wait_hint_ns_ = 0;
     std::string last_error_;
+    std::int64_t errors_ = 0;
     cv::Mat image_;
 };
 

@@ -130,7 +130,10 @@ TEST(DatasetSource, UnreadableFrameIsAnErrorNotACrash) {
     FrameSample f;
     ASSERT_EQ(src.next(f), SourceStatus::Sample);
     ASSERT_EQ(src.next(f), SourceStatus::Error);
-    EXPECT_EQ(src.last_error(), "frames/000001.png: not a decodable PNG/JPEG image");
+    EXPECT_EQ(src.last_error(), "frame 1: frames/000001.png: not a decodable PNG/JPEG image");
+    EXPECT_EQ(src.read_errors(), 1);
+    // The bad frame is skipped, not retried forever.
+    EXPECT_EQ(src.next(f), SourceStatus::End);
 }
 
 TEST(Thesis, ExportThenImportRoundTrip) {
