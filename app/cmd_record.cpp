@@ -4,6 +4,7 @@
 // frames (DIR/live_decisions.csv: the decisions replay must reproduce).
 #include "app/command.hpp"
 #include "app/pipeline.hpp"
+#include "app/replay_run.hpp"
 #include "drone/dataset/csv.hpp"
 #include "drone/link/drone_link.hpp"
 #include "drone/record/recorder.hpp"
@@ -63,7 +64,7 @@ LiveDecisions run_pipeline(const std::string& name, const CameraCalibration& cal
         }
         return r;
     }
-    std::fputs("frame,t_ms,left,center,right,left_score,center_score,right_score\n", f);
+    std::fputs(decisions_csv_header().c_str(), f);
     while (true) {
         auto s = frames.pop_for(std::chrono::milliseconds(50));
         if (!s) {
@@ -71,11 +72,7 @@ LiveDecisions run_pipeline(const std::string& name, const CameraCalibration& cal
             continue;
         }
         const vision::FrameResult& res = pipeline.process(*s);
-        std::string line = std::to_string(s->index) + ',' + csv::format_ms(s->t_ns);
-        for (auto reg : vision::kRegions) line += res.region(reg).unsafe ? ",1" : ",0";
-        for (auto reg : vision::kRegions) line += ',' + csv::format_number(res.region(reg).score);
-        line += '\n';
-        std::fputs(line.c_str(), f);
+        std::fputs(decisions_csv_row(s->index, s->t_ns, &res).c_str(), f);
         std::fflush(f);  // whole lines, so a killed recording keeps what was decided
         ++r.frames;
     }

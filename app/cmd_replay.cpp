@@ -1,0 +1,119 @@
+// `ardrone-gs replay DATASET --out DIR`: the obstacle pipeline over a recorded (or imported, or
+// rendered) flight without a display. Writes DIR/decisions.csv (one row per frame),
+// DIR/summary.json (frames, decode errors, timing, flagged frames per region; the flight's score
+// when it is labelled), with --video DIR/overlay.mp4 (the frames with the overlay drawn;
+// --undistort shows the undistorted image) and with --plots PNG plots of the classifier's series in
+// DIR/plots/.
+#include "app/command.hpp"
+#include "app/replay_outputs.hpp"
+#include "app/replay_run.hpp"
+#include "drone/dataset/thesis.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <fstream>
+#include <iostream>
+#include <memory>
+
+namespace gs::app {
+namespace {
+namespace fs = std::filesystem;
+
+struct Opts {
+    std::string dataset;
+    std::string out;
+    std::string classifier{vision::kDefaultClassifier};
+    std::string calibration;
+    std::vector<std::string> set;
+    bool video = false;
+    bool undistort = false;
+    bool plots = false;
+    bool quiet = false;
+};
+
+int run(const Opts& o) {
+    auto ds = open_any_dataset(o.dataset);
+    if (!ds) throw fail(ds.error());
+    for (const auto& w : ds->warnings())
+        std::cerr << "ardrone-gs: " << o.dataset << ": " << w << '\n';
+    const fs::path out = o.out;
+    std::error_code ec;
+    fs::create_directories(out, ec);
+    if (ec) throw fail("cannot create " + out.string() + ": " + ec.message());
+
+    ReplaySettings rs;
+    rs.classifier = o.classifier;
+    if (!o.calibration.empty()) rs.calibration_file = o.calibration;
+    rs.set = o.set;
+
+    ReplayOutputs outputs(out, ds->calibration());
+    if (auto e = outputs.open_decisions(out / "decisions.csv")) throw fail(*e);
+    if (o.video) {
+        if (auto e = outputs.open_video(out / "overlay.mp4", ds->info(), o.undistort))
+            throw fail(*e);
+    }
+    if (o.plots) outputs.enable_plots();
+
+    Progress progress("replay " + fs::path(o.dataset).filename().string(), ds->frame_count(),
+                      !o.quiet);
+    auto stats = replay_dataset(
+        *ds, rs, [&](const FrameSample& s, const vision::FrameResult* r) { outputs.frame(s, r); },
+        &progress);
+    if (!stats) throw fail(o.dataset + ": " + stats.error());
+    if (auto e = outputs.finish(o.plots ? out / "plots" : fs::path())) throw fail(*e);
+
+    nlohmann::json j = summary_json(*ds, rs, *stats);
+    if (ds->labels()) {
+        const FlightScore sc =
+            score_flight(ds->labels()->scenario, ds->label_rows().value_or(std::vector<LabelRow>{}),
+                         stats->flags);
+        j["score"] = score_json(sc);
+    }
+    if (auto e = write_json_file(out / "summary.json", j)) throw fail(*e);
+
+    if (!o.quiet) {
+        std::cout << "replayed " << stats->processed << " of " << stats->frames << " frames of "
+                  << o.dataset << " with '" << rs.classifier << "' in " << fixed(stats->wall_s, 2)
+                  << " s (" << fixed(stats->processed / std::max(stats->wall_s, 1e-9), 0)
+                  << " frames/s); flagged frames: left " << stats->flagged[0] << ", center "
+                  << stats->flagged[1] << ", right " << stats->flagged[2];
+        if (stats->decode_errors > 0)
+            std::cout << "; " << stats->decode_errors
+                      << " frames could not be decoded (first: " << stats->first_error << ")";
+        std::cout << "\nwrote " << (out / "decisions.csv").string() << ", summary.json"
+                  << (o.video ? ", overlay.mp4" : "") << (o.plots ? ", plots/" : "") << '\n';
+    }
+    return stats->decode_errors > 0 && stats->processed == 0 ? 1 : 0;
+}
+
+CommandRegistration reg(30, [](CLI::App& root) {
+    auto o = std::make_shared<Opts>();
+    auto* sub = root.add_subcommand(
+        "replay",
+        "Run the obstacle classifier over a dataset headless: decisions.csv, summary.json");
+    sub->add_option("DATASET", o->dataset,
+                    "Dataset directory (DATASET.md), or a thesis-style image folder with its IMU "
+                    "text file")
+        ->required();
+    sub->add_option("--out,-o", o->out, "Output directory (created)")->required();
+    sub->add_option("--classifier", o->classifier, "Obstacle classifier: thesis or flow")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"thesis", "flow"}));
+    sub->add_option("--calibration", o->calibration,
+                    "Camera calibration JSON (instead of flight.json's or the default)")
+        ->check(CLI::ExistingFile);
+    sub->add_option("--set", o->set, "Classifier parameter key=value (repeatable)");
+    sub->add_flag("--video", o->video, "Also write overlay.mp4: the frames with the overlay");
+    sub->add_flag("--undistort", o->undistort,
+                  "With --video: show the undistorted image (straight lines come out straight)")
+        ->needs("--video");
+    sub->add_flag("--plots", o->plots, "Also write PNG plots of the classifier's series (plots/)");
+    sub->add_flag("--quiet,-q", o->quiet, "No progress or summary line");
+    sub->callback([o] {
+        const int rc = run(*o);
+        if (rc != 0) throw CLI::RuntimeError(rc);
+    });
+});
+
+}  // namespace
+}  // namespace gs::app

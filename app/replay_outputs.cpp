@@ -1,0 +1,290 @@
+#include "app/replay_outputs.hpp"
+
+#include "drone/dataset/thesis.hpp"
+#include "drone/dataset/writer.hpp"
+#include "vision/plot_image.hpp"
+
+#include <opencv2/imgcodecs.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+
+namespace gs::app {
+namespace fs = std::filesystem;
+
+Expected<Dataset, std::string> open_any_dataset(const std::string& path) {
+    std::error_code ec;
+    if (!fs::is_directory(path, ec)) return Unexpected(path + ": not a directory");
+    if (fs::exists(fs::path(path) / "flight.json", ec)) {
+        auto d = Dataset::open(path);
+        if (!d) return Unexpected(path + ": " + to_string(d.error()));
+        return std::move(*d);
+    }
+    // No flight.json: a thesis-style folder (images + one IMU line per image)?
+    auto t = open_thesis_folder(path);
+    if (!t)
+        return Unexpected(path +
+                          ": no flight.json (not a dataset), and not a thesis-style "
+                          "image folder either: " +
+                          to_string(t.error()));
+    return std::move(*t);
+}
+
+std::string fixed(double v, int decimals) {
+    if (!std::isfinite(v)) return "-";
+    char b[48];
+    std::snprintf(b, sizeof b, "%.*f", decimals, v);
+    return b;
+}
+
+ReplayOutputs::ReplayOutputs(fs::path dir, const CameraCalibration& calib)
+    : dir_(std::move(dir)), calib_(calib) {}
+
+ReplayOutputs::~ReplayOutputs() {
+    if (decisions_ != nullptr) std::fclose(decisions_);
+}
+
+std::optional<std::string> ReplayOutputs::open_decisions(const fs::path& file) {
+    decisions_ = std::fopen(file.c_str(), "w");
+    if (decisions_ == nullptr) return "cannot create " + file.string();
+    decisions_path_ = file;
+    if (std::fputs(decisions_csv_header().c_str(), decisions_) < 0)
+        return "cannot write " + file.string();
+    return std::nullopt;
+}
+
+std::optional<std::string> ReplayOutputs::open_video(const fs::path& file, const DatasetInfo& info,
+                                                     bool undistort) {
+    Mp4WriterConfig c;
+    c.width = info.width;
+    c.height = info.height;
+    c.fps = info.fps;
+    auto w = Mp4Writer::create(file, c);
+    if (!w) return file.string() + ": " + w.error();
+    video_ = std::move(*w);
+    undistort_ = undistort;
+    if (undistort) undistorter_.set_calibration(to_vision(calib_));
+    return std::nullopt;
+}
+
+namespace {
+
+// Overlay primitives (raw, distorted pixels) moved to the undistorted image (same camera matrix).
+void undistort_overlay(const vision::Overlay& in, const vision::CameraCalibration& cal,
+                       vision::Overlay& out) {
+    out = in;  // bars stay where they are: the region bar is drawn across the top
+    std::vector<cv::Point2f> pts, und;
+    pts.reserve(in.points.size() + 2 * in.lines.size());
+    for (const auto& p : in.points) pts.push_back(p.p);
+    for (const auto& l : in.lines) {
+        pts.push_back(l.a);
+        pts.push_back(l.b);
+    }
+    und.resize(pts.size());
+    cal.undistort_points(pts, und);  // undistorted pixels (P = K): the Undistorter's view
+    std::size_t k = 0;
+    for (auto& p : out.points) p.p = und[k++];
+    for (auto& l : out.lines) {
+        l.a = und[k++];
+        l.b = und[k++];
+    }
+}
+
+vision::Rgb series_colour(const std::string& name) {
+    if (name.find("threshold") != std::string::npos) return {220, 40, 40};
+    if (name.find("filtered") != std::string::npos) return {220, 40, 40};
+    if (name.find("fitted") != std::string::npos) return {30, 160, 30};
+    if (name.find("rejected") != std::string::npos) return {240, 140, 0};
+    if (name.find("rate") != std::string::npos) return {130, 60, 200};
+    return {30, 90, 220};
+}
+
+}  // namespace
+
+void ReplayOutputs::frame(const FrameSample& s, const vision::FrameResult* r) {
+    if (decisions_ != nullptr) {
+        const std::string row = decisions_csv_row(s.index, s.t_ns, r);
+        if (std::fputs(row.c_str(), decisions_) < 0 && !error_)
+            error_ = "cannot write " + decisions_path_.string();
+    }
+    if (r == nullptr) return;
+    if (plots_) collect_series(*r);
+    if (video_ && !s.image.empty()) {
+        if (undistort_) {
+            undistorter_.apply(s.image).copyTo(canvas_);
+            undistort_overlay(r->overlay, to_vision(calib_).scaled_to(s.image.cols, s.image.rows),
+                              mapped_);
+            vision::draw_overlay(canvas_, mapped_);
+        } else {
+            s.image.copyTo(canvas_);
+            vision::draw_overlay(canvas_, r->overlay);
+        }
+        if (auto e = video_->write(canvas_); e && !error_) error_ = "overlay.mp4: " + *e;
+    }
+}
+
+void ReplayOutputs::collect_series(const vision::FrameResult& r) {
+    for (const vision::PlotSeries& ps : r.series) {
+        if (ps.points.empty()) continue;
+        const vision::PlotPoint& p = ps.points.back();
+        if (p.x != static_cast<double>(r.frame_index)) continue;  // not updated this frame
+        vision::PlotLine& l = series_[ps.name];
+        if (l.label.empty()) {
+            l.label = ps.name;
+            l.colour = series_colour(ps.name);
+            l.dashed = ps.name.find("threshold") != std::string::npos;
+            l.markers = ps.name.find("rejected") != std::string::npos;
+        }
+        l.x.push_back(p.x);
+        l.y.push_back(p.y);
+    }
+    for (const vision::TrajectoryTrace& t : r.traces) {
+        auto [it, fresh] = traces_.try_emplace(t.id);
+        vision::PlotLine& l = it->second;
+        if (fresh) {
+            // First seen: its earlier x history comes with it.
+            for (int i = 0; i + 1 < t.count; ++i) {
+                l.x.push_back(static_cast<double>(t.last_frame - (t.count - 1 - i)));
+                l.y.push_back(t.x[static_cast<std::size_t>(i)]);
+            }
+        }
+        if (t.count > 0) {
+            l.x.push_back(static_cast<double>(t.last_frame));
+            l.y.push_back(t.x[static_cast<std::size_t>(t.count - 1)]);
+        }
+        const double score = std::isfinite(t.score) ? t.score : 0.0;
+        l.colour = vision::blue_to_red(std::clamp(score / 4.0, 0.0, 1.0));
+    }
+}
+
+std::optional<std::string> ReplayOutputs::write_plots(const fs::path& dir) const {
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    if (ec) return "cannot create " + dir.string() + ": " + ec.message();
+    auto save = [&](const std::string& name,
+                    const vision::PlotSpec& spec) -> std::optional<std::string> {
+        const fs::path f = dir / name;
+        if (!cv::imwrite(f.string(), vision::render_plot(spec)))
+            return "cannot write " + f.string();
+        return std::nullopt;
+    };
+    auto find = [&](const std::string& n) -> const vision::PlotLine* {
+        auto it = series_.find(n);
+        return it == series_.end() ? nullptr : &it->second;
+    };
+    // Each region's score against its threshold.
+    for (const auto& [key, title] : std::vector<std::pair<std::string, std::string>>{
+             {"left", "left"}, {"centre", "center"}, {"right", "right"}}) {
+        vision::PlotSpec s;
+        s.title = title + " region: score and threshold";
+        s.x_label = "frame";
+        for (const char* suffix : {".score", ".threshold"})
+            if (const auto* l = find(key + suffix)) s.lines.push_back(*l);
+        if (auto e = save(title + "_score.png", s)) return e;
+    }
+    // The centre's scale series (thesis figs. 3.32-3.36: raw, filtered, fitted).
+    vision::PlotSpec c;
+    c.title = "center region: homography scale";
+    c.x_label = "frame";
+    for (const auto& [name, l] : series_)
+        if (name.rfind("centre.", 0) == 0 && name != "centre.score" && name != "centre.threshold" &&
+            name.find("rate") == std::string::npos)
+            c.lines.push_back(l);
+    if (auto e = save("center_scale.png", c)) return e;
+    if (const auto* rate = find("centre.rate_raw")) {
+        vision::PlotSpec rs;
+        rs.title = "center region: expansion rate (1/s)";
+        rs.x_label = "frame";
+        rs.lines.push_back(*rate);
+        if (auto e = save("center_rate.png", rs)) return e;
+    }
+    // Trajectories' x over frames (thesis fig. 3.25), coloured by their last score.
+    vision::PlotSpec t;
+    t.title = "trajectories: x over frames (colour: score, blue low, red high)";
+    t.x_label = "frame";
+    t.y_label = "x (px)";
+    t.legend = false;
+    t.height = 420;
+    for (const auto& [id, l] : traces_)
+        if (l.x.size() >= 10) t.lines.push_back(l);
+    return save("trajectories_x.png", t);
+}
+
+std::optional<std::string> ReplayOutputs::finish(const fs::path& plots_dir) {
+    if (decisions_ != nullptr) {
+        if (std::fclose(decisions_) != 0 && !error_)
+            error_ = "cannot write " + decisions_path_.string();
+        decisions_ = nullptr;
+    }
+    if (video_) {
+        if (auto e = video_->close(); e && !error_) error_ = "overlay.mp4: " + *e;
+        video_.reset();
+    }
+    if (plots_ && !plots_dir.empty() && !error_) error_ = write_plots(plots_dir);
+    return error_;
+}
+
+nlohmann::json summary_json(const Dataset& d, const ReplaySettings& s, const ReplayStats& st) {
+    nlohmann::json j;
+    j["dataset"] = d.dir().string();
+    j["classifier"] = s.classifier;
+    nlohmann::json params = nlohmann::json::object();
+    for (const auto& [k, v] : st.params) {
+        double x = 0;
+        if (!vision::parse_param_value(v, x)) {
+            params[k] = v;
+        } else if (std::abs(x) < 1e15 && x == std::floor(x)) {
+            params[k] = static_cast<std::int64_t>(x);
+        } else {
+            params[k] = x;
+        }
+    }
+    j["parameters"] = params;
+    j["calibration"] = s.calibration_file           ? *s.calibration_file
+                       : d.calibration_is_default() ? "default (assets)"
+                                                    : "flight.json";
+    j["frames"] = st.frames;
+    j["processed"] = st.processed;
+    j["decode_errors"] = st.decode_errors;
+    if (!st.first_error.empty()) j["first_decode_error"] = st.first_error;
+    j["flagged_frames"] = {
+        {"left", st.flagged[0]}, {"center", st.flagged[1]}, {"right", st.flagged[2]}};
+    j["timing"] = {{"wall_s", st.wall_s},
+                   {"cpu_s", st.cpu_s},
+                   {"frames_per_s", st.wall_s > 0 ? double(st.processed) / st.wall_s : 0.0},
+                   {"read_ms_p50", st.read_ms_p50},
+                   {"read_ms_p99", st.read_ms_p99},
+                   {"classify_ms_mean", st.classify_ms_mean},
+                   {"classify_ms_p50", st.classify_ms_p50},
+                   {"classify_ms_p99", st.classify_ms_p99}};
+    return j;
+}
+
+nlohmann::json score_json(const FlightScore& s) {
+    auto opt = [](const auto& o) { return o ? nlohmann::json(*o) : nlohmann::json(nullptr); };
+    return {{"scenario", to_string(s.scenario)},
+            {"tp", s.tp},
+            {"fp", s.fp},
+            {"fn", s.fn},
+            {"tn", s.tn},
+            {"detection_frame", opt(s.detection_frame)},
+            {"detection_distance_m", opt(s.detection_distance_m)},
+            {"late_detection_distance_m", opt(s.late_detection_distance_m)},
+            {"false_positive_regions", s.false_regions_text()},
+            {"first_false_positive_frame", opt(s.first_false_frame)},
+            {"flagged_frames",
+             {{"left", s.flagged_frames[0]},
+              {"center", s.flagged_frames[1]},
+              {"right", s.flagged_frames[2]}}},
+            {"scored_frames", s.scored_frames},
+            {"unscored_frames", s.unscored_frames}};
+}
+
+std::optional<std::string> write_json_file(const fs::path& file, const nlohmann::json& j) {
+    const std::string text = j.dump(2) + "\n";
+    if (auto e = write_file_atomic(file, text, file.filename().string())) return to_string(*e);
+    return std::nullopt;
+}
+
+}  // namespace gs::app

@@ -1,0 +1,80 @@
+#pragma once
+// A dataset replayed headless through the obstacle pipeline, as fast as possible: the same
+// DatasetSource the window plays and the same ObstaclePipeline, so a flight decides the same on
+// every run and wherever it is played. Shared by `replay` and `eval`.
+
+#include "app/pipeline.hpp"
+#include "drone/dataset/dataset.hpp"
+#include "drone/dataset/scoring.hpp"
+#include "vision/classifier.hpp"
+
+#include <cstdint>
+#include <cstdio>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace gs::app {
+
+// decisions.csv (the replay contract of issue #5 and `record`'s live_decisions.csv).
+std::string decisions_csv_header();
+// One row; a frame that could not be decoded (result null) has empty decision and score fields.
+std::string decisions_csv_row(std::int64_t frame, TimeNs t_ns, const vision::FrameResult* result);
+
+struct ReplaySettings {
+    std::string classifier{vision::kDefaultClassifier};
+    std::optional<std::string> calibration_file;  // overrides flight.json / the default
+    std::vector<std::string> set;                 // classifier parameter overrides key=value
+};
+
+// Parses key=value overrides and applies them; the error names the first bad one.
+[[nodiscard]] std::optional<std::string> apply_overrides(vision::ObstacleClassifier& c,
+                                                         const std::vector<std::string>& set);
+
+struct ReplayStats {
+    std::int64_t frames = 0;         // rows in frames.csv
+    std::int64_t processed = 0;      // frames through the classifier
+    std::int64_t decode_errors = 0;  // frames that could not be read (skipped, row left empty)
+    std::string first_error;
+    std::array<std::int64_t, 3> flagged{};  // frames each region was reported unsafe
+    double wall_s = 0, cpu_s = 0;           // whole replay, this thread
+    // Per frame, milliseconds: reading (decode) and classifying.
+    double read_ms_p50 = 0, read_ms_p99 = 0, classify_ms_p50 = 0, classify_ms_p99 = 0;
+    double classify_ms_mean = 0;
+    std::vector<RegionFlags> flags;  // per frame, for scoring
+    vision::ParamMap params;         // the classifier's parameters as run
+};
+
+// What the caller sees for each frame (result null when the frame could not be decoded).
+using ReplayFrameFn =
+    std::function<void(const FrameSample& sample, const vision::FrameResult* result)>;
+
+// Progress on a terminal: "label: frames done / total, rate, time left", rewritten in place;
+// silent when stderr is not a terminal (CI logs) or when disabled.
+class Progress {
+public:
+    Progress(std::string label, std::int64_t total, bool enabled);
+    void update(std::int64_t done);
+    void finish();
+
+private:
+    std::string label_;
+    std::int64_t total_;
+    bool enabled_;
+    double t0_s_;
+    double last_print_s_ = -1;
+};
+
+// Replays `dataset` through a fresh pipeline. Errors: unknown classifier, bad override, no
+// frames, calibration file unreadable. Decode errors are counted, not fatal.
+[[nodiscard]] Expected<ReplayStats, std::string> replay_dataset(const Dataset& dataset,
+                                                                const ReplaySettings& settings,
+                                                                const ReplayFrameFn& on_frame,
+                                                                Progress* progress = nullptr);
+
+// Thread CPU time in seconds (the honest number on a shared machine).
+double thread_cpu_seconds();
+double wall_seconds();
+
+}  // namespace gs::app
