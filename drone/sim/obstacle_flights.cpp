@@ -1,0 +1,395 @@
+#include "drone/sim/obstacle_flights.hpp"
+
+#include "drone/dataset/csv.hpp"
+#include "drone/dataset/writer.hpp"
+#include "drone/h264_encoder.hpp"
+#include "drone/sim/drone_core.hpp"
+#include "drone/sim/renderer.hpp"
+#include "drone/sim/rng.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <numbers>
+#include <optional>
+
+namespace gs::sim {
+namespace fs = std::filesystem;
+
+nlohmann::json ObstacleFlightInfo::extra_labels() const {
+    nlohmann::json j;
+    j["scenario"] = scenario;
+    j["source"] = "ardrone-gs virtual drone, rendered offline (ground truth)";
+    j["scene"] = scene.name;
+    if (!scene.target_id.empty()) j["target"] = scene.target_id;
+    if (!group.empty()) j["group"] = group;
+    if (!split.empty()) j["split"] = split;
+    j["speed_mps"] = params.speed_mps;
+    j["height_m"] = params.height_m;
+    j["roll_wobble_deg"] = params.flight.roll_wobble_deg;
+    j["wind_right_mps"] = params.flight.wind_right_mps;
+    j["yaw_drift_deg_s"] = params.flight.yaw_drift_deg_s;
+    j["seed"] = params.seed;
+    return j;
+}
+
+namespace {
+
+double since_ms(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// Gaussian noise from the deterministic generator (Box-Muller).
+double gauss(Rng& r, double sigma) {
+    if (sigma <= 0) return 0;
+    const double u1 = std::max(r.uniform(), 1e-300), u2 = r.uniform();
+    return sigma * std::sqrt(-2 * std::log(u1)) * std::cos(2 * std::numbers::pi * u2);
+}
+
+std::optional<std::string> write_text(const fs::path& p, const std::string& text) {
+    std::ofstream f(p, std::ios::binary);
+    f << text;
+    f.close();
+    if (!f) return "cannot write " + p.string();
+    return std::nullopt;
+}
+
+}  // namespace
+
+Expected<ObstacleFlightSummary, std::string> write_obstacle_flight(const fs::path& dir,
+                                                                   const ObstacleFlightInfo& fl) {
+    const ObstacleFlightParams& p = fl.params;
+    if (!(p.fps > 0 && p.fps <= 120)) return Unexpected(std::string("fps out of range"));
+    if (!(p.speed_mps > 0 && p.speed_mps <= 5))
+        return Unexpected(std::string("speed out of range"));
+    std::error_code ec;
+    if (fs::exists(dir, ec) && !fs::is_empty(dir, ec))
+        return Unexpected(dir.string() + " exists and is not empty");
+    fs::create_directories(dir, ec);
+    if (ec) return Unexpected("cannot create " + dir.string() + ": " + ec.message());
+
+    const Scene& scene = fl.scene;
+    std::optional<std::size_t> target;
+    if (fl.scenario != "none") {
+        target = find_obstacle(scene, scene.target_id);
+        if (!target)
+            return Unexpected("scene " + scene.name + " has no target obstacle '" +
+                              scene.target_id + "'");
+    }
+
+    const CameraCalibration calib = builtin_calibration(CameraId::Front);
+    auto renderer = Renderer::create(scene, calib, CameraKind::Front);
+    if (!renderer) return Unexpected("renderer: " + to_string(renderer.error()));
+    H264EncoderConfig ec_cfg;
+    ec_cfg.width = calib.width;
+    ec_cfg.height = calib.height;
+    ec_cfg.fps = static_cast<int>(std::lround(p.fps));
+    ec_cfg.gop = 15;
+    ec_cfg.bitrate_bps = p.bitrate_bps;
+    auto encoder = H264Encoder::create(ec_cfg);
+    if (!encoder) return Unexpected("H.264 encoder: " + to_string(encoder.error()));
+
+    // The virtual drone's brain flies the protocol: take off (to ~1 m), climb or sink to the
+    // flight height, hover facing the obstacle, then fly forward.
+    DroneCoreOptions co;
+    co.flight = p.flight;
+    co.start = scene.start;
+    co.start.z_m = 0;
+    co.seed = p.seed;
+    const double climb_rate = 0.5;
+    const double dz = p.height_m - co.flight.takeoff_height_m;
+    const double climb_s = std::abs(dz) / climb_rate;
+    co.autopilot.push_back({"takeoff", 0, 0, 0, 0, 0});
+    if (climb_s > 0.05)
+        co.autopilot.push_back({"move", climb_s, 0, 0, dz > 0 ? climb_rate : -climb_rate, 0});
+    co.autopilot.push_back({"hover", p.settle_s, 0, 0, 0, 0});
+    co.autopilot.push_back({"move", p.max_record_s + 60, p.speed_mps, 0, 0, 0});
+    co.autopilot_enabled = true;
+    DroneCore core(co);
+
+    std::ofstream video(dir / "video.h264", std::ios::binary);
+    if (!video) return Unexpected("cannot create " + (dir / "video.h264").string());
+    std::string frames_csv = frames_csv_header();
+    std::string labels_csv = "frame,distance_m,lateral_m\n";
+
+    Rng noise(mix_seed(p.seed, 0x0b5));
+    std::vector<OutDatagram> sink;
+    std::vector<std::uint8_t> au;
+    cv::Mat image;
+    ObstacleFlightSummary sum;
+    sum.start_distance_m = kUnknown;
+    sum.end_distance_m = kUnknown;
+    const TimeNs frame_ns = static_cast<TimeNs>(std::llround(1e9 / p.fps));
+    const TimeNs limit_ns = static_cast<TimeNs>((p.max_record_s + 60 + climb_s + p.settle_s) * 1e9);
+    std::optional<TimeNs> airborne_ns, record_ns;
+    double start_x = 0, start_y = 0, travelled = 0;
+    std::int64_t index = 0;
+    for (TimeNs t = 0; t < limit_ns; t += frame_ns) {
+        sink.clear();
+        core.advance(t, sink);
+        const FlightState& s = core.flight();
+        if (!airborne_ns && (s.major == CtrlMajor::Hovering || s.major == CtrlMajor::Flying))
+            airborne_ns = t;
+        if (!airborne_ns) continue;
+        if (!record_ns) {
+            if (t < *airborne_ns + static_cast<TimeNs>((climb_s + p.settle_s) * 1e9)) continue;
+            record_ns = t;
+            start_x = s.x_m;
+            start_y = s.y_m;
+        }
+        const Pose pose = core.pose();
+        travelled = std::hypot(s.x_m - start_x, s.y_m - start_y);
+        double distance = kUnknown, lateral = kUnknown;
+        if (target) {
+            const ObstacleHit h =
+                obstacle_relative(scene, *target, pose.x_m, pose.y_m, pose.yaw_deg);
+            distance = h.distance_m;
+            lateral = h.lateral_m;
+        }
+        const double rec_s = static_cast<double>(t - *record_ns) * 1e-9;
+        bool end = rec_s > p.max_record_s;
+        if (fl.scenario == "center")
+            end = end || distance <= p.stop_before_m;
+        else if (fl.scenario == "left" || fl.scenario == "right")
+            end = end || distance < -p.pass_by_m;
+        else
+            end = end || travelled >= p.open_path_m;
+        if (end) break;
+
+        auto t0 = std::chrono::steady_clock::now();
+        renderer->render(pose, image);
+        sum.render_ms += since_ms(t0);
+        t0 = std::chrono::steady_clock::now();
+        bool idr = false;
+        auto n = (*encoder)->encode(image, au, idr);
+        if (!n) return Unexpected("H.264 encoder: " + to_string(n.error()));
+        sum.encode_ms += since_ms(t0);
+        t0 = std::chrono::steady_clock::now();
+        video.write(reinterpret_cast<const char*>(au.data()),
+                    static_cast<std::streamsize>(au.size()));
+        sum.video_bytes += au.size();
+
+        FrameRow row;
+        row.frame = index;
+        row.nav.t_ns = t - *record_ns;
+        row.nav.roll_deg = s.roll_deg + gauss(noise, p.attitude_noise_deg);
+        row.nav.pitch_deg = s.pitch_deg + gauss(noise, p.attitude_noise_deg);
+        row.nav.yaw_deg = s.yaw_deg + gauss(noise, p.attitude_noise_deg);
+        row.nav.vx_mps = s.vx_body_mps() + gauss(noise, p.velocity_noise_mps);
+        row.nav.vy_mps = s.vy_body_mps() + gauss(noise, p.velocity_noise_mps);
+        row.nav.vz_mps = s.vz_mps + gauss(noise, p.velocity_noise_mps);
+        row.nav.altitude_m = s.z_m;
+        row.nav.battery_pct = std::floor(s.battery_pct);
+        row.gt = GroundTruthPose{pose.x_m, pose.y_m, pose.z_m, pose.yaw_deg};
+        frames_csv += frames_csv_row(row);
+        labels_csv += std::to_string(index) + ',' + csv::format_number(distance) + ',' +
+                      csv::format_number(lateral) + '\n';
+        if (index == 0) sum.start_distance_m = distance;
+        sum.end_distance_m = distance;
+        sum.write_ms += since_ms(t0);
+        sum.duration_s = rec_s;
+        ++index;
+    }
+    video.close();
+    if (!video) return Unexpected("cannot write " + (dir / "video.h264").string());
+    if (index == 0) return Unexpected(std::string("the flight never reached its recording phase"));
+    sum.frames = static_cast<int>(index);
+
+    DatasetInfo info;
+    info.camera = CameraId::Front;
+    info.width = calib.width;
+    info.height = calib.height;
+    info.fps = p.fps;
+    info.frames = index;
+    info.calibration = calib;
+    info.source = "rendered: ardrone-gs virtual drone (" + fl.name + ")";
+    if (auto e = write_text(dir / "frames.csv", frames_csv)) return Unexpected(*e);
+    if (auto e = write_text(dir / "labels.csv", labels_csv)) return Unexpected(*e);
+    if (auto e = write_text(dir / "labels.json", fl.extra_labels().dump(2) + "\n"))
+        return Unexpected(*e);
+    // flight.json last: a half-written flight is not a dataset.
+    if (auto e = write_text(dir / "flight.json", flight_json_text(info))) return Unexpected(*e);
+    return sum;
+}
+
+ObstacleFlightInfo scenario_flight(const Scene& scene, double speed_mps, std::uint64_t seed) {
+    ObstacleFlightInfo f;
+    f.name = scene.name;
+    f.scenario = scene.scenario;
+    f.scene = scene;
+    f.params.speed_mps = speed_mps;
+    f.params.height_m = scene.start.z_m;
+    f.params.seed = seed;
+    return f;
+}
+
+namespace {
+
+struct Variation {
+    double speed_mps, height_m, roll_wobble_deg, wobble_hz, wind_right_mps, yaw_drift_deg_s;
+    double start_distance_m;
+};
+
+Variation vary(Rng& r) {
+    Variation v;
+    v.speed_mps = r.uniform(0.6, 1.5);
+    v.height_m = r.uniform(0.8, 1.6);
+    v.roll_wobble_deg = r.uniform(0.0, 2.0);
+    v.wobble_hz = r.uniform(0.3, 1.2);
+    v.wind_right_mps = r.uniform(-0.15, 0.15);
+    v.yaw_drift_deg_s = r.uniform(-2.0, 2.0);
+    v.start_distance_m = r.uniform(6.0, 7.5);
+    return v;
+}
+
+ObstacleFlightParams params_of(const Variation& v, std::uint64_t seed) {
+    ObstacleFlightParams p;
+    p.speed_mps = v.speed_mps;
+    p.height_m = v.height_m;
+    p.flight.roll_wobble_deg = v.roll_wobble_deg;
+    p.flight.roll_wobble_hz = v.wobble_hz;
+    p.flight.wind_right_mps = v.wind_right_mps;
+    p.flight.yaw_drift_deg_s = v.yaw_drift_deg_s;
+    p.seed = seed;
+    return p;
+}
+
+// Half the target's extent across the flight direction (heading 0: world y).
+double half_width_y(const Obstacle& o) {
+    if (o.shape == ObstacleShape::Cylinder) return o.radius_m;
+    const double c = std::abs(std::cos(o.yaw_deg * std::numbers::pi / 180)),
+                 s = std::abs(std::sin(o.yaw_deg * std::numbers::pi / 180));
+    return 0.5 * (o.size_y_m * c + o.size_x_m * s);
+}
+double half_depth_x(const Obstacle& o) {
+    if (o.shape == ObstacleShape::Cylinder) return o.radius_m;
+    const double c = std::abs(std::cos(o.yaw_deg * std::numbers::pi / 180)),
+                 s = std::abs(std::sin(o.yaw_deg * std::numbers::pi / 180));
+    return 0.5 * (o.size_x_m * c + o.size_y_m * s);
+}
+
+// Moves the drone's start so the target sits `lateral` to the side of the flight line (negative:
+// left), its near face `distance` ahead.
+void place_start(Scene& s, const Obstacle& t, double lateral, double distance, double height) {
+    s.start.y_m = t.y_m - lateral;
+    s.start.x_m = t.x_m - half_depth_x(t) - distance;
+    s.start.x_m = std::max(s.start.x_m, s.room.x_min_m + 0.6);
+    s.start.z_m = height;
+    s.start.yaw_deg = 0;
+}
+
+ObstacleFlightInfo flight(std::string name, std::string group, std::string scenario, Scene scene,
+                          const Variation& v, std::uint64_t seed, int index_in_kind) {
+    ObstacleFlightInfo f;
+    f.name = std::move(name);
+    f.group = std::move(group);
+    f.scenario = std::move(scenario);
+    f.scene = std::move(scene);
+    f.scene.scenario = f.scenario;
+    f.scene.name = f.name;
+    f.params = params_of(v, seed);
+    f.split = index_in_kind % 2 == 0 ? "tune" : "test";
+    return f;
+}
+
+char tag(const std::string& scenario) {
+    return scenario == "left" ? 'L' : scenario == "right" ? 'R' : scenario == "center" ? 'C' : 'N';
+}
+
+}  // namespace
+
+std::vector<ObstacleFlightInfo> thesis_suite(std::uint64_t seed) {
+    std::vector<ObstacleFlightInfo> out;
+    Rng rng(mix_seed(seed, 0x5417e));
+    char name[64];
+
+    // Uncluttered (§5.2.2): one artificial obstacle, black cloth with white tape, in a plain
+    // room; 5 left, 5 right, 10 centre.
+    {
+        GeneratorParams gp;
+        gp.scenario = "center";
+        gp.clutter_density = 0.0;
+        gp.texture_richness = 0.15;
+        Scene base = generate_scene(gp, mix_seed(seed, 100));
+        Obstacle& t = base.obstacles[*find_obstacle(base, base.target_id)];
+        t.texture.kind = TextureKind::Tape;
+        t.texture.color_rgb = {25, 25, 28};
+        t.texture.scale_m = 1.0;
+        t.height_m = base.room.height_m;
+        const std::vector<std::pair<std::string, int>> kinds = {
+            {"left", 5}, {"right", 5}, {"center", 10}};
+        for (const auto& [scenario, count] : kinds) {
+            for (int i = 0; i < count; ++i) {
+                const Variation v = vary(rng);
+                Scene s = base;
+                const Obstacle& tt = s.obstacles[*find_obstacle(s, s.target_id)];
+                const double clearance = rng.uniform(0.15, 0.35);
+                const double lat = scenario == "left"    ? -(half_width_y(tt) + clearance)
+                                   : scenario == "right" ? half_width_y(tt) + clearance
+                                                         : rng.uniform(-0.08, 0.08);
+                place_start(s, tt, lat, v.start_distance_m, v.height_m);
+                std::snprintf(name, sizeof name, "uncluttered_%c%02d", tag(scenario), i + 1);
+                out.push_back(flight(name, "uncluttered", scenario, std::move(s), v,
+                                     mix_seed(seed, out.size() + 1), i));
+            }
+        }
+    }
+
+    // Cluttered (§5.2.2): four pillars with paper sheets in a busy room; per pillar 4 centre
+    // flights and 4 past it (pillars 1 and 3 on the right, 2 and 4 on the left).
+    for (int pillar = 0; pillar < 4; ++pillar) {
+        GeneratorParams gp;
+        gp.scenario = "center";
+        gp.clutter_density = 0.9;
+        gp.texture_richness = 0.8;
+        Scene base = generate_scene(gp, mix_seed(seed, 200 + static_cast<std::uint64_t>(pillar)));
+        Obstacle& t = base.obstacles[*find_obstacle(base, base.target_id)];
+        t.texture.kind = TextureKind::Paper;
+        t.texture.scale_m = 1.6;
+        t.height_m = base.room.height_m;
+        const std::string side = pillar % 2 == 0 ? "right" : "left";
+        for (const std::string& scenario : {std::string("center"), side}) {
+            for (int i = 0; i < 4; ++i) {
+                const Variation v = vary(rng);
+                Scene s = base;
+                const Obstacle& tt = s.obstacles[*find_obstacle(s, s.target_id)];
+                const double clearance = rng.uniform(0.15, 0.35);
+                const double lat = scenario == "left"    ? -(half_width_y(tt) + clearance)
+                                   : scenario == "right" ? half_width_y(tt) + clearance
+                                                         : rng.uniform(-0.08, 0.08);
+                place_start(s, tt, lat, v.start_distance_m, v.height_m);
+                std::snprintf(name, sizeof name, "cluttered_p%d_%c%02d", pillar + 1, tag(scenario),
+                              i + 1);
+                out.push_back(flight(name, "cluttered", scenario, std::move(s), v,
+                                     mix_seed(seed, out.size() + 1), pillar * 4 + i));
+            }
+        }
+    }
+
+    // Open space (§5.2.2): a large hall, three paths, ten flights each, nothing in the path.
+    for (int path = 0; path < 3; ++path) {
+        GeneratorParams gp;
+        gp.scenario = "none";
+        gp.start_distance_m = 12.0;
+        gp.clutter_density = 0.35;
+        gp.texture_richness = 0.7;
+        Scene base = generate_scene(gp, mix_seed(seed, 300 + static_cast<std::uint64_t>(path)));
+        // A hall: wide and long, so the far wall stays far (> 6 m) at the end of the path.
+        base.room.x_max_m = std::max(base.room.x_max_m, base.start.x_m + 18.0);
+        for (int i = 0; i < 10; ++i) {
+            const Variation v = vary(rng);
+            Scene s = base;
+            s.start.z_m = v.height_m;
+            s.start.y_m += rng.uniform(-0.3, 0.3);
+            std::snprintf(name, sizeof name, "open_path%d_%02d", path + 1, i + 1);
+            ObstacleFlightInfo f = flight(name, "open", "none", std::move(s), v,
+                                          mix_seed(seed, out.size() + 1), path * 10 + i);
+            f.params.open_path_m = 8.0;
+            out.push_back(std::move(f));
+        }
+    }
+    return out;
+}
+
+}  // namespace gs::sim

@@ -1,0 +1,78 @@
+#pragma once
+// Labelled obstacle flights rendered offline, faster than real time: the thesis' test protocol
+// (§5.2) flown by the virtual drone's own brain and flight model (DroneCore's autopilot: take off,
+// climb to the flight height, hover facing the obstacle, then fly at a set speed), each frame
+// rendered through the AR.Drone 2 front camera model, encoded as the drone does (H.264 Baseline,
+// an IDR every 15 frames) and written as a DATASET.md dataset with ground truth: flight.json,
+// video.h264, frames.csv (attitude and velocities as navdata reports them, gt_* pose),
+// labels.json and labels.csv. Deterministic for (scene, params).
+//
+// The suite mirrors the thesis' 82 flights (table 5.1): 13 left, 13 right, 26 centre, 30 open
+// space, in an uncluttered scenario (taped cloth obstacle, plain room), a cluttered one (four
+// pillars with paper sheets among clutter) and an open hall (three paths), with the variation a
+// real campaign has: speeds 0.6-1.5 m/s, heights, lateral offsets, roll wobble, drift and yaw
+// drift, lighting and textures. Alternate flights of each kind form the tuning and test splits.
+
+#include "drone/calibration.hpp"
+#include "drone/expected.hpp"
+#include "drone/sim/flight_model.hpp"
+#include "drone/sim/scene.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace gs::sim {
+
+struct ObstacleFlightParams {
+    double speed_mps = 1.0;      // forward speed commanded during the approach
+    double height_m = 1.0;       // flight height (the take-off reaches ~1 m, then climbs or sinks)
+    double fps = 30;             // AR.Drone 2 front camera
+    double settle_s = 1.5;       // hover after take-off / climb before the recording starts
+    double stop_before_m = 0.6;  // centre flights end this far before the target's near face
+    double pass_by_m = 1.0;      // side flights end when the target is this far behind
+    double open_path_m = 8.0;    // open-space flights fly this far
+    double max_record_s = 30;    // a flight that never reaches its end stops here
+    FlightParams flight;         // disturbances: wind drift, roll wobble, yaw drift
+    // What navdata reports is the state plus sensor noise (degrees, m/s), from a seeded
+    // generator; 0 = exact.
+    double attitude_noise_deg = 0.05;
+    double velocity_noise_mps = 0.03;
+    int bitrate_bps = 1'500'000;  // the drone's default video bitrate
+    std::uint64_t seed = 1;       // noise
+};
+
+struct ObstacleFlightInfo {
+    std::string name;
+    std::string group;     // uncluttered, cluttered, open (labels.json "group")
+    std::string split;     // tune or test (labels.json "split")
+    std::string scenario;  // left, right, center, none
+    Scene scene;
+    ObstacleFlightParams params;
+    nlohmann::json extra_labels() const;  // what labels.json records about the flight
+};
+
+struct ObstacleFlightSummary {
+    int frames = 0;
+    double duration_s = 0;
+    double start_distance_m = 0;  // target's near face at the first frame (NaN for none)
+    double end_distance_m = 0;
+    double render_ms = 0, encode_ms = 0, write_ms = 0;  // totals
+    std::uint64_t video_bytes = 0;
+};
+
+// Renders and writes `flight` into `dir` (created; must not exist or be empty).
+[[nodiscard]] Expected<ObstacleFlightSummary, std::string> write_obstacle_flight(
+    const std::filesystem::path& dir, const ObstacleFlightInfo& flight);
+
+// The scene and flight for one of the shipped scenarios (assets/scenes: thesis_pillar_left ...),
+// flown as its scenario says at `speed_mps`.
+ObstacleFlightInfo scenario_flight(const Scene& scene, double speed_mps, std::uint64_t seed);
+
+// The 82-flight evaluation suite (thesis table 5.1), deterministic for `seed`.
+std::vector<ObstacleFlightInfo> thesis_suite(std::uint64_t seed = 2026);
+
+}  // namespace gs::sim

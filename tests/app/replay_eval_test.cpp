@@ -1,0 +1,396 @@
+// `ardrone-gs replay`, `eval` and `generate` run as processes on the small labelled flight shipped
+// with the tests (tests/data/flights/ci_pillar_left: the virtual drone past a pillar 0.5 m to the
+// left, rendered by `generate` from tests/data/scenes/ci_pillar_left.json) and on flights the
+// tests render themselves.
+#include "cli_test_util.hpp"
+#include "drone/dataset/csv.hpp"
+#include "drone/dataset/dataset.hpp"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+extern "C" {
+#include <libavcodec/avcodec.h>
+#include <libavformat/avformat.h>
+#include <libswscale/swscale.h>
+}
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace gs::test {
+namespace {
+namespace fs = std::filesystem;
+
+const fs::path kFlight = fs::path(GS_TEST_DATA_DIR) / "flights" / "ci_pillar_left";
+constexpr int kFlightFrames = 153;
+
+fs::path scratch(const std::string& name) {
+    return scratch_dir("replay_eval", name);
+}
+
+nlohmann::json read_json(const fs::path& p) {
+    return nlohmann::json::parse(read_text(p));
+}
+
+csv::Table read_csv(const fs::path& p) {
+    auto t = csv::Table::parse(read_text(p), p.filename().string());
+    EXPECT_TRUE(t) << (t ? "" : to_string(t.error()));
+    return t ? std::move(*t) : *csv::Table::parse("x\n", "empty");
+}
+
+// Every frame of an MP4 file decoded to BGR (libavformat + libavcodec), for checking what
+// `replay --video` drew.
+std::vector<cv::Mat> decode_mp4(const fs::path& file, double& fps) {
+    std::vector<cv::Mat> frames;
+    AVFormatContext* fmt = nullptr;
+    if (avformat_open_input(&fmt, file.c_str(), nullptr, nullptr) < 0) return frames;
+    avformat_find_stream_info(fmt, nullptr);
+    const int si = av_find_best_stream(fmt, AVMEDIA_TYPE_VIDEO, -1, -1, nullptr, 0);
+    if (si < 0) {
+        avformat_close_input(&fmt);
+        return frames;
+    }
+    AVStream* st = fmt->streams[si];
+    fps = av_q2d(st->avg_frame_rate);
+    const AVCodec* codec = avcodec_find_decoder(st->codecpar->codec_id);
+    AVCodecContext* ctx = avcodec_alloc_context3(codec);
+    avcodec_parameters_to_context(ctx, st->codecpar);
+    avcodec_open2(ctx, codec, nullptr);
+    AVPacket* pkt = av_packet_alloc();
+    AVFrame* f = av_frame_alloc();
+    SwsContext* sws = nullptr;
+    auto drain = [&] {
+        while (avcodec_receive_frame(ctx, f) == 0) {
+            cv::Mat bgr(f->height, f->width, CV_8UC3);
+            sws = sws_getCachedContext(sws, f->width, f->height, AVPixelFormat(f->format), f->width,
+                                       f->height, AV_PIX_FMT_BGR24, SWS_BILINEAR, nullptr, nullptr,
+                                       nullptr);
+            std::uint8_t* dst[1] = {bgr.data};
+            const int stride[1] = {static_cast<int>(bgr.step)};
+            sws_scale(sws, f->data, f->linesize, 0, f->height, dst, stride);
+            frames.push_back(bgr);
+        }
+    };
+    while (av_read_frame(fmt, pkt) >= 0) {
+        if (pkt->stream_index == si && avcodec_send_packet(ctx, pkt) == 0) drain();
+        av_packet_unref(pkt);
+    }
+    avcodec_send_packet(ctx, nullptr);
+    drain();
+    sws_freeContext(sws);
+    av_frame_free(&f);
+    av_packet_free(&pkt);
+    avcodec_free_context(&ctx);
+    avformat_close_input(&fmt);
+    return frames;
+}
+
+bool reddish(const cv::Vec3b& bgr) {
+    return bgr[2] > 150 && bgr[1] < 90 && bgr[0] < 90;
+}
+bool greenish(const cv::Vec3b& bgr) {
+    return bgr[1] > 130 && bgr[2] < 90 && bgr[0] < 90;
+}
+
+TEST(ReplayCli, ShippedFlightGivesOneDecisionRowPerFrameAndASummary) {
+    const fs::path out = scratch("thesis");
+    const CmdResult r =
+        run_cli("replay " + kFlight.string() + " --out " + out.string() + " --classifier thesis");
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    EXPECT_NE(r.out.find("replayed 153 of 153 frames"), std::string::npos) << r.out;
+
+    auto ds = Dataset::open(kFlight);
+    ASSERT_TRUE(ds) << to_string(ds.error());
+    ASSERT_EQ(ds->frame_count(), kFlightFrames);
+    const csv::Table d = read_csv(out / "decisions.csv");
+    const std::vector<std::string> header = {"frame", "t_ms",       "left",         "center",
+                                             "right", "left_score", "center_score", "right_score"};
+    ASSERT_EQ(d.header(), header);
+    ASSERT_EQ(d.rows(), static_cast<std::size_t>(kFlightFrames));
+    int left = 0, right = 0;
+    for (std::size_t i = 0; i < d.rows(); ++i) {
+        EXPECT_EQ(d.field(i, 0), std::to_string(i));
+        EXPECT_EQ(d.field(i, 1), csv::format_ms(ds->frames()[i].nav.t_ns)) << i;
+        for (std::size_t c = 2; c < 5; ++c)
+            EXPECT_TRUE(d.field(i, c) == "0" || d.field(i, c) == "1");
+        left += d.field(i, 2) == "1";
+        right += d.field(i, 4) == "1";
+    }
+    EXPECT_GT(left, 0);
+    EXPECT_EQ(right, 0) << "no alarm on the side without an obstacle";
+
+    const nlohmann::json s = read_json(out / "summary.json");
+    EXPECT_EQ(s["classifier"], "thesis");
+    EXPECT_EQ(s["frames"], kFlightFrames);
+    EXPECT_EQ(s["processed"], kFlightFrames);
+    EXPECT_EQ(s["decode_errors"], 0);
+    EXPECT_EQ(s["flagged_frames"]["left"], left);
+    EXPECT_EQ(s["flagged_frames"]["right"], 0);
+    EXPECT_GT(s["timing"]["frames_per_s"].get<double>(), 0.0);
+    EXPECT_DOUBLE_EQ(s["parameters"]["slope_threshold"].get<double>(), 3.5);
+    // The flight is labelled: replay scores it too (left, detected before 0.7 m).
+    EXPECT_EQ(s["score"]["scenario"], "left");
+    EXPECT_EQ(s["score"]["tp"], 1);
+    EXPECT_EQ(s["score"]["fp"], 0);
+    EXPECT_GE(s["score"]["detection_distance_m"].get<double>(), 0.7);
+}
+
+TEST(ReplayCli, TheSameFlightDecidesTheSameOnEveryRun) {
+    for (const char* c : {"flow", "thesis"}) {
+        const fs::path a = scratch(std::string("det_a_") + c),
+                       b = scratch(std::string("det_b_") + c);
+        ASSERT_EQ(
+            run_cli("replay " + kFlight.string() + " -q --classifier " + c + " --out " + a.string())
+                .exit_code,
+            0);
+        ASSERT_EQ(
+            run_cli("replay " + kFlight.string() + " -q --classifier " + c + " --out " + b.string())
+                .exit_code,
+            0);
+        const std::string da = read_text(a / "decisions.csv");
+        EXPECT_EQ(da, read_text(b / "decisions.csv")) << c;
+        EXPECT_GT(da.size(), 1000U);
+    }
+}
+
+TEST(ReplayCli, VideoShowsTheRegionBarAndPlotsAreWritten) {
+    const fs::path out = scratch("video");
+    const CmdResult r = run_cli("replay " + kFlight.string() +
+                                " --classifier flow --video --plots --out " + out.string());
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    double fps = 0;
+    const std::vector<cv::Mat> frames = decode_mp4(out / "overlay.mp4", fps);
+    ASSERT_EQ(frames.size(), static_cast<std::size_t>(kFlightFrames));
+    EXPECT_NEAR(fps, 30.0, 0.01);
+    EXPECT_EQ(frames[0].cols, 640);
+    EXPECT_EQ(frames[0].rows, 360);
+    // The bar across the top follows decisions.csv: red where the region was unsafe.
+    const csv::Table d = read_csv(out / "decisions.csv");
+    int checked_red = 0, checked_green = 0;
+    for (std::size_t i = 0; i < d.rows(); ++i) {
+        const cv::Vec3b left_bar = frames[i].at<cv::Vec3b>(5, 60);
+        const cv::Vec3b right_bar = frames[i].at<cv::Vec3b>(5, 580);
+        if (d.field(i, 2) == "1") {
+            EXPECT_TRUE(reddish(left_bar)) << "frame " << i << " " << left_bar;
+            ++checked_red;
+        } else {
+            EXPECT_TRUE(greenish(left_bar)) << "frame " << i << " " << left_bar;
+            ++checked_green;
+        }
+        EXPECT_TRUE(greenish(right_bar)) << "frame " << i;
+    }
+    EXPECT_GT(checked_red, 5);
+    EXPECT_GT(checked_green, 5);
+    for (const char* p : {"left_score.png", "center_score.png", "right_score.png",
+                          "center_scale.png", "trajectories_x.png"}) {
+        const cv::Mat img = cv::imread((out / "plots" / p).string());
+        ASSERT_FALSE(img.empty()) << p;
+        EXPECT_EQ(img.cols, 900) << p;
+        // Not a blank canvas: plotted lines leave non-grey pixels.
+        int coloured = 0;
+        for (int y = 0; y < img.rows; ++y)
+            for (int x = 0; x < img.cols; ++x) {
+                const cv::Vec3b v = img.at<cv::Vec3b>(y, x);
+                coloured += (std::max({v[0], v[1], v[2]}) - std::min({v[0], v[1], v[2]})) > 60;
+            }
+        EXPECT_GT(coloured, 200) << p;
+    }
+}
+
+TEST(ReplayCli, UndistortedVideoStraightensTheImage) {
+    const fs::path a = scratch("raw_video"), b = scratch("undistorted_video");
+    ASSERT_EQ(
+        run_cli("replay " + kFlight.string() + " -q --classifier flow --video --out " + a.string())
+            .exit_code,
+        0);
+    ASSERT_EQ(run_cli("replay " + kFlight.string() +
+                      " -q --classifier flow --video --undistort --out " + b.string())
+                  .exit_code,
+              0);
+    double fps = 0;
+    const auto ra = decode_mp4(a / "overlay.mp4", fps), rb = decode_mp4(b / "overlay.mp4", fps);
+    ASSERT_EQ(ra.size(), rb.size());
+    ASSERT_FALSE(ra.empty());
+    // Undistortion with the same camera matrix magnifies the periphery: the images differ there.
+    cv::Mat diff;
+    cv::absdiff(ra[0], rb[0], diff);
+    EXPECT_GT(cv::mean(diff)[0] + cv::mean(diff)[1] + cv::mean(diff)[2], 10.0);
+    EXPECT_NE(run_cli("replay " + kFlight.string() + " --undistort --out " + b.string()).exit_code,
+              0)
+        << "--undistort needs --video";
+}
+
+TEST(ReplayCli, BadInputGivesAClearErrorAndANonZeroStatus) {
+    const fs::path out = scratch("bad");
+    CmdResult r = run_cli("replay /nonexistent/flight --out " + out.string());
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_NE(r.out.find("/nonexistent/flight: not a directory"), std::string::npos) << r.out;
+
+    r = run_cli("replay " + kFlight.string() + " --classifier nope --out " + out.string());
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_NE(r.out.find("nope"), std::string::npos) << r.out;
+
+    r = run_cli("replay " + kFlight.string() + " --set no_such_param=3 --out " + out.string());
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_NE(r.out.find("has no parameter 'no_such_param'"), std::string::npos) << r.out;
+
+    r = run_cli("replay " + kFlight.string() + " --set slope_threshold=abc --out " + out.string());
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_NE(r.out.find("not a number"), std::string::npos) << r.out;
+
+    r = run_cli("replay " + kFlight.string() + " --set slope_threshold=1e9 --out " + out.string());
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_NE(r.out.find("out of range ["), std::string::npos) << r.out;
+
+    // A truncated video.h264 is refused with the reason, not replayed half.
+    const fs::path cut = scratch("truncated") / "flight";
+    fs::copy(kFlight, cut, fs::copy_options::recursive);
+    fs::resize_file(cut / "video.h264", 150000);
+    r = run_cli("replay " + cut.string() + " --out " + out.string());
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_NE(r.out.find("video.h264"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("truncated"), std::string::npos) << r.out;
+
+    r = run_cli("replay --help");
+    EXPECT_EQ(r.exit_code, 0);
+    EXPECT_NE(r.out.find("--classifier"), std::string::npos);
+}
+
+TEST(ReplayCli, AnOverriddenThresholdChangesTheDecisions) {
+    const fs::path a = scratch("override");
+    ASSERT_EQ(run_cli("replay " + kFlight.string() +
+                      " -q --classifier thesis --set slope_threshold=50 --out " + a.string())
+                  .exit_code,
+              0);
+    const nlohmann::json s = read_json(a / "summary.json");
+    EXPECT_EQ(s["flagged_frames"]["left"], 0) << "nothing is that steep";
+    EXPECT_DOUBLE_EQ(s["parameters"]["slope_threshold"].get<double>(), 50.0);
+    EXPECT_EQ(s["score"]["fn"], 1);
+}
+
+// Flights the eval tests share: the shipped left flight plus a centre and an open-space flight
+// rendered by `generate` (fast settings), in one folder.
+class EvalCli : public ::testing::Test {
+protected:
+    static void SetUpTestSuite() {
+        root_ = new fs::path(scratch("eval_flights"));
+        const fs::path flights = *root_ / "flights";
+        fs::create_directories(flights);
+        fs::copy(kFlight, flights / "ci_pillar_left", fs::copy_options::recursive);
+        gen_center_ = new CmdResult(
+            run_cli("generate -q --scene thesis_pillar_center --speed 1.5 --bitrate 400 --out " +
+                    (flights / "center").string()));
+        gen_open_ = new CmdResult(
+            run_cli("generate -q --scene thesis_open_hall --speed 1.5 --bitrate 400 --out " +
+                    (flights / "open").string()));
+    }
+    static void TearDownTestSuite() {
+        fs::remove_all(*root_);
+        delete root_;
+        delete gen_center_;
+        delete gen_open_;
+    }
+    void SetUp() override {
+        ASSERT_EQ(gen_center_->exit_code, 0) << gen_center_->out;
+        ASSERT_EQ(gen_open_->exit_code, 0) << gen_open_->out;
+    }
+    static fs::path flights() { return *root_ / "flights"; }
+    static inline fs::path* root_ = nullptr;
+    static inline CmdResult* gen_center_ = nullptr;
+    static inline CmdResult* gen_open_ = nullptr;
+};
+
+TEST_F(EvalCli, GeneratedFlightsAreLabelledDatasets) {
+    auto c = Dataset::open(flights() / "center");
+    ASSERT_TRUE(c) << to_string(c.error());
+    ASSERT_TRUE(c->labels());
+    EXPECT_EQ(c->labels()->scenario, Scenario::Center);
+    ASSERT_TRUE(c->label_rows());
+    ASSERT_EQ(c->label_rows()->size(), static_cast<std::size_t>(c->frame_count()));
+    // The drone flies at the pillar and stops 0.6 m before it (the generator's stop_before_m).
+    EXPECT_GT(c->label_rows()->front().distance_m, 6.5);
+    EXPECT_GT(c->label_rows()->back().distance_m, 0.6);
+    EXPECT_LT(c->label_rows()->back().distance_m, 0.7);
+    EXPECT_FALSE(c->calibration_is_default());
+    auto o = Dataset::open(flights() / "open");
+    ASSERT_TRUE(o) << to_string(o.error());
+    EXPECT_EQ(o->labels()->scenario, Scenario::None);
+    EXPECT_TRUE(std::isnan(o->label_rows()->front().distance_m));
+    // Ground truth: the camera moved about 8 m forward along x.
+    EXPECT_NEAR(o->frames().back().gt.x_m - o->frames().front().gt.x_m, 8.0, 0.1);
+    // Deterministic: the same scene and speed render the same bytes.
+    const fs::path again = scratch("center_again") / "center";
+    ASSERT_EQ(run_cli("generate -q --scene thesis_pillar_center --speed 1.5 --bitrate 400 --out " +
+                      again.string())
+                  .exit_code,
+              0);
+    EXPECT_EQ(read_text(again / "video.h264"), read_text(flights() / "center" / "video.h264"));
+    EXPECT_EQ(read_text(again / "frames.csv"), read_text(flights() / "center" / "frames.csv"));
+}
+
+TEST_F(EvalCli, ScoresEveryFlightAndWritesTheReports) {
+    const fs::path out = scratch("eval_out");
+    const CmdResult r =
+        run_cli("eval " + flights().string() + " --classifier flow --jobs 2 --out " + out.string());
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    EXPECT_NE(r.out.find("evaluated 3 flights"), std::string::npos) << r.out;
+    const nlohmann::json rep = read_json(out / "report.json");
+    ASSERT_EQ(rep["flights"].size(), 3U);
+    int tp = 0, fp = 0, fn = 0, tn = 0;
+    for (const auto& f : rep["flights"]) {
+        const std::string name = f["flight"];
+        // Each flight's own files, and its score equal to what summary.json says.
+        const nlohmann::json s = read_json(out / name / "summary.json");
+        EXPECT_EQ(s["score"]["tp"], f["tp"]) << name;
+        EXPECT_EQ(s["score"]["fp"], f["fp"]) << name;
+        const csv::Table d = read_csv(out / name / "decisions.csv");
+        EXPECT_EQ(static_cast<int>(d.rows()), f["frames"].get<int>()) << name;
+        tp += f["tp"].get<int>();
+        fp += f["fp"].get<int>();
+        fn += f["fn"].get<int>();
+        tn += f["tn"].get<int>();
+        // The scenario comes from labels.json.
+        const std::string want = name == "ci_pillar_left" ? "left"
+                                 : name == "center"       ? "center"
+                                                          : "none";
+        EXPECT_EQ(f["scenario"], want) << name;
+    }
+    EXPECT_EQ(rep["overall"]["tp"], tp);
+    EXPECT_EQ(rep["overall"]["fp"], fp);
+    EXPECT_EQ(rep["overall"]["fn"], fn);
+    EXPECT_EQ(rep["overall"]["tn"], tn);
+    EXPECT_EQ(rep["overall"]["flights"], 3);
+    EXPECT_EQ(rep["overall"]["side_flights"], 1);
+    EXPECT_EQ(rep["overall"]["centre_flights"], 1);
+    EXPECT_EQ(rep["overall"]["open_flights"], 1);
+    // One outcome per flight: TP or FN for the obstacle flights, TN or FP for the open one.
+    EXPECT_EQ(tp + fn, 2);
+    EXPECT_LE(fp, 3);
+    const std::string md = read_text(out / "report.md");
+    EXPECT_NE(md.find("| flight | group | scenario | FP | TP | FN | TN | detection distance"),
+              std::string::npos);
+    EXPECT_NE(md.find("| ci_pillar_left |"), std::string::npos);
+    EXPECT_NE(md.find("| **all** | 3 |"), std::string::npos) << md;
+}
+
+TEST_F(EvalCli, ANamedListEqualsTheFolderAndUnlabelledFlightsAreErrors) {
+    const fs::path a = scratch("eval_list");
+    const CmdResult r =
+        run_cli("eval -q " + (flights() / "ci_pillar_left").string() + " " +
+                (flights() / "center").string() + " --classifier flow --out " + a.string());
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    EXPECT_EQ(read_json(a / "report.json")["flights"].size(), 2U);
+
+    const fs::path bare = scratch("unlabelled") / "flight";
+    fs::copy(kFlight, bare, fs::copy_options::recursive);
+    fs::remove(bare / "labels.json");
+    const CmdResult u = run_cli("eval " + bare.string() + " --out " + scratch("eval_bad").string());
+    EXPECT_NE(u.exit_code, 0);
+    EXPECT_NE(u.out.find("no labels.json"), std::string::npos) << u.out;
+}
+
+}  // namespace
+}  // namespace gs::test
