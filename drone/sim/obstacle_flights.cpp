@@ -30,6 +30,8 @@ nlohmann::json ObstacleFlightInfo::extra_labels() const {
     j["roll_wobble_deg"] = params.flight.roll_wobble_deg;
     j["wind_right_mps"] = params.flight.wind_right_mps;
     j["yaw_drift_deg_s"] = params.flight.yaw_drift_deg_s;
+    j["yaw_wobble_deg"] = params.yaw_wobble_deg;
+    j["yaw_wobble_hz"] = params.yaw_wobble_hz;
     j["seed"] = params.seed;
     return j;
 }
@@ -104,6 +106,15 @@ Expected<ObstacleFlightSummary, std::string> write_obstacle_flight(const fs::pat
     if (climb_s > 0.05)
         co.autopilot.push_back({"move", climb_s, 0, 0, dz > 0 ? climb_rate : -climb_rate, 0});
     co.autopilot.push_back({"hover", p.settle_s, 0, 0, 0, 0});
+    if (p.yaw_wobble_deg > 0 && p.yaw_wobble_hz > 0) {
+        // The approach in 0.1 s steps whose yaw rates follow d/dt of A sin(2 pi f t).
+        const double step_s = 0.1, w = 2 * std::numbers::pi * p.yaw_wobble_hz;
+        for (double ts = 0; ts < p.max_record_s + 5; ts += step_s) {
+            const double rate =
+                p.yaw_wobble_deg * (std::sin(w * (ts + step_s)) - std::sin(w * ts)) / step_s;
+            co.autopilot.push_back({"move", step_s, p.speed_mps, 0, 0, rate});
+        }
+    }
     co.autopilot.push_back({"move", p.max_record_s + 60, p.speed_mps, 0, 0, 0});
     co.autopilot_enabled = true;
     DroneCore core(co);
@@ -227,7 +238,8 @@ ObstacleFlightInfo scenario_flight(const Scene& scene, double speed_mps, std::ui
 namespace {
 
 struct Variation {
-    double speed_mps, height_m, roll_wobble_deg, wobble_hz, wind_right_mps, yaw_drift_deg_s;
+    double speed_mps, height_m, roll_wobble_deg, wobble_hz, wind_right_mps, yaw_wobble_deg;
+    double yaw_wobble_hz;
     double start_distance_m;
 };
 
@@ -238,7 +250,8 @@ Variation vary(Rng& r) {
     v.roll_wobble_deg = r.uniform(0.0, 2.0);
     v.wobble_hz = r.uniform(0.3, 1.2);
     v.wind_right_mps = r.uniform(-0.15, 0.15);
-    v.yaw_drift_deg_s = r.uniform(-2.0, 2.0);
+    v.yaw_wobble_deg = r.uniform(0.0, 3.0);
+    v.yaw_wobble_hz = r.uniform(0.15, 0.5);
     v.start_distance_m = r.uniform(6.0, 7.5);
     return v;
 }
@@ -250,7 +263,8 @@ ObstacleFlightParams params_of(const Variation& v, std::uint64_t seed) {
     p.flight.roll_wobble_deg = v.roll_wobble_deg;
     p.flight.roll_wobble_hz = v.wobble_hz;
     p.flight.wind_right_mps = v.wind_right_mps;
-    p.flight.yaw_drift_deg_s = v.yaw_drift_deg_s;
+    p.yaw_wobble_deg = v.yaw_wobble_deg;
+    p.yaw_wobble_hz = v.yaw_wobble_hz;
     p.seed = seed;
     return p;
 }

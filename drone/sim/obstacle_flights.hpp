@@ -10,8 +10,9 @@
 // The suite mirrors the thesis' 82 flights (table 5.1): 13 left, 13 right, 26 centre, 30 open
 // space, in an uncluttered scenario (taped cloth obstacle, plain room), a cluttered one (four
 // pillars with paper sheets among clutter) and an open hall (three paths), with the variation a
-// real campaign has: speeds 0.6-1.5 m/s, heights, lateral offsets, roll wobble, drift and yaw
-// drift, lighting and textures. Alternate flights of each kind form the tuning and test splits.
+// real campaign has: speeds 0.6-1.5 m/s, heights, lateral offsets, roll wobble, sideways drift
+// and heading wobble, lighting and textures. Alternate flights of each kind form the tuning and
+// test splits.
 
 #include "drone/calibration.hpp"
 #include "drone/expected.hpp"
@@ -37,6 +38,11 @@ struct ObstacleFlightParams {
     double open_path_m = 8.0;    // open-space flights fly this far
     double max_record_s = 30;    // a flight that never reaches its end stops here
     FlightParams flight;         // disturbances: wind drift, roll wobble, yaw drift
+    // The pilot's heading wobble during the approach: the yaw rate commanded so the heading
+    // swings A sin(2 pi f t) about the obstacle's bearing (zero mean: the drone keeps facing it,
+    // as the thesis' pilot did, while the image rotates).
+    double yaw_wobble_deg = 0;
+    double yaw_wobble_hz = 0.3;
     // What navdata reports is the state plus sensor noise (degrees, m/s), from a seeded
     // generator; 0 = exact.
     double attitude_noise_deg = 0.05;

@@ -1,0 +1,145 @@
+// `ardrone-gs dataset ...`: looking at and converting flight datasets (DATASET.md).
+//   dataset info DATASET                 what is in it (frames, rate, camera, labels, warnings)
+//   dataset export-thesis DATASET OUT    the thesis' layout: one image per frame + imu.txt
+//   dataset import-thesis FOLDER OUT     a thesis-style folder into a dataset directory
+//   dataset frames DATASET OUT [--every N] [--from A --to B]   frames as PNG files
+#include "app/command.hpp"
+#include "app/replay_outputs.hpp"
+#include "drone/dataset/thesis.hpp"
+#include "drone/dataset/video_frames.hpp"
+
+#include <opencv2/imgcodecs.hpp>
+
+#include <cstdio>
+#include <iostream>
+#include <memory>
+
+namespace gs::app {
+namespace {
+namespace fs = std::filesystem;
+
+struct Opts {
+    std::string in, out;
+    double fps = 25;
+    std::int64_t every = 1, from = 0, to = -1;
+};
+
+int info(const Opts& o) {
+    auto d = open_any_dataset(o.in);
+    if (!d) throw fail(d.error());
+    const DatasetInfo& i = d->info();
+    const double dur =
+        d->frames().empty() ? 0.0 : static_cast<double>(d->frames().back().nav.t_ns) * 1e-9;
+    std::cout << o.in << ": " << to_string(i.camera) << " camera, " << i.width << "x" << i.height
+              << ", " << fixed(i.fps, 2) << " fps, " << d->frame_count() << " frames ("
+              << fixed(dur, 2) << " s)\n"
+              << "  pixels: "
+              << (d->video_path()
+                      ? i.video + " (" + std::to_string(d->video_units().size()) + " access units)"
+                      : std::string(i.images + "/ (" + std::to_string(d->image_files().size()) +
+                                    " images)"))
+              << "\n  calibration: "
+              << (d->calibration_is_default() ? "camera default (assets)" : "flight.json") << " fx "
+              << fixed(d->calibration().fx, 2) << " cx " << fixed(d->calibration().cx, 2) << " cy "
+              << fixed(d->calibration().cy, 2) << "\n  navdata.csv: "
+              << (d->has_navdata() ? std::to_string(d->navdata().size()) + " samples" : "absent")
+              << "\n  raw/: " << (d->raw_dir() ? "present" : "absent") << "\n  labels: "
+              << (d->labels() ? to_string(d->labels()->scenario) : std::string("none"));
+    if (d->label_rows()) std::cout << ", " << d->label_rows()->size() << " rows in labels.csv";
+    std::cout << "\n  source: " << (i.source.empty() ? "-" : i.source) << '\n';
+    for (const auto& w : d->warnings()) std::cout << "  warning: " << w << '\n';
+    return 0;
+}
+
+int export_thesis_cmd(const Opts& o) {
+    auto d = open_any_dataset(o.in);
+    if (!d) throw fail(d.error());
+    auto frames = open_frames(*d);
+    if (!frames) throw fail(o.in + ": " + to_string(frames.error()));
+    if (auto e = export_thesis(*d, **frames, o.out)) throw fail(to_string(*e));
+    std::cout << "wrote " << d->frame_count() << " images and imu.txt to " << o.out << '\n';
+    return 0;
+}
+
+int import_thesis_cmd(const Opts& o) {
+    ThesisImportOptions to;
+    to.fps = o.fps;
+    auto d = import_thesis(o.in, o.out, to);
+    if (!d) throw fail(to_string(d.error()));
+    std::cout << "imported " << d->frame_count() << " frames at " << fixed(o.fps, 2) << " fps into "
+              << o.out << '\n';
+    return 0;
+}
+
+int frames_cmd(const Opts& o) {
+    auto d = open_any_dataset(o.in);
+    if (!d) throw fail(d.error());
+    auto frames = open_frames(*d);
+    if (!frames) throw fail(o.in + ": " + to_string(frames.error()));
+    std::error_code ec;
+    fs::create_directories(o.out, ec);
+    if (ec) throw fail("cannot create " + o.out + ": " + ec.message());
+    const std::int64_t last =
+        o.to < 0 ? d->frame_count() - 1 : std::min(o.to, d->frame_count() - 1);
+    cv::Mat img;
+    std::int64_t n = 0;
+    for (std::int64_t i = std::max<std::int64_t>(0, o.from); i <= last;
+         i += std::max<std::int64_t>(1, o.every)) {
+        if (auto e = (*frames)->read(i, img))
+            throw fail("frame " + std::to_string(i) + ": " + to_string(*e));
+        char name[32];
+        std::snprintf(name, sizeof name, "%06lld.png", static_cast<long long>(i));
+        if (!cv::imwrite((fs::path(o.out) / name).string(), img))
+            throw fail("cannot write " + (fs::path(o.out) / name).string());
+        ++n;
+    }
+    std::cout << "wrote " << n << " frames to " << o.out << '\n';
+    return 0;
+}
+
+CommandRegistration reg_info(
+    70, "dataset", "Look at and convert flight datasets (DATASET.md)", [](CLI::App& parent) {
+        auto o = std::make_shared<Opts>();
+        auto* c = parent.add_subcommand("info", "What a dataset holds");
+        c->add_option("DATASET", o->in, "Dataset or thesis-style folder")->required();
+        c->callback([o] { (void)info(*o); });
+    });
+
+CommandRegistration reg_export(
+    71, "dataset", "Look at and convert flight datasets (DATASET.md)", [](CLI::App& parent) {
+        auto o = std::make_shared<Opts>();
+        auto* c = parent.add_subcommand(
+            "export-thesis",
+            "Write the thesis' layout: 000000.png ... + imu.txt (roll pitch yaw vx vy)");
+        c->add_option("DATASET", o->in, "Dataset directory")->required();
+        c->add_option("OUT", o->out, "Folder to create (new or empty)")->required();
+        c->callback([o] { (void)export_thesis_cmd(*o); });
+    });
+
+CommandRegistration reg_import(
+    72, "dataset", "Look at and convert flight datasets (DATASET.md)", [](CLI::App& parent) {
+        auto o = std::make_shared<Opts>();
+        auto* c = parent.add_subcommand(
+            "import-thesis", "Turn a thesis-style image folder into a dataset directory");
+        c->add_option("FOLDER", o->in, "Images + one IMU text line per image")->required();
+        c->add_option("OUT", o->out, "Dataset directory to create (new or empty)")->required();
+        c->add_option("--fps", o->fps, "Frame rate of the folder")
+            ->capture_default_str()
+            ->check(CLI::Range(0.1, 1000.0));
+        c->callback([o] { (void)import_thesis_cmd(*o); });
+    });
+
+CommandRegistration reg_frames(
+    73, "dataset", "Look at and convert flight datasets (DATASET.md)", [](CLI::App& parent) {
+        auto o = std::make_shared<Opts>();
+        auto* c = parent.add_subcommand("frames", "Write frames as PNG files (NNNNNN.png)");
+        c->add_option("DATASET", o->in, "Dataset or thesis-style folder")->required();
+        c->add_option("OUT", o->out, "Folder for the PNGs")->required();
+        c->add_option("--every", o->every, "Every Nth frame")->check(CLI::PositiveNumber);
+        c->add_option("--from", o->from, "First frame")->check(CLI::NonNegativeNumber);
+        c->add_option("--to", o->to, "Last frame (default: the last)");
+        c->callback([o] { (void)frames_cmd(*o); });
+    });
+
+}  // namespace
+}  // namespace gs::app
