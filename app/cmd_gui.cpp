@@ -32,6 +32,9 @@ struct GuiOpts {
     int screenshot_every = 0;
     std::string out;
     int width = 1600, height = 900;
+    bool calibration_window = false;
+    bool auto_capture = false;
+    bool undistort_preview = false;
 };
 
 GuiOpts& opts() {
@@ -60,6 +63,14 @@ CommandRegistration reg(-1000, [](CLI::App& root) {
                     "Offscreen: write a screenshot every K frames (default: only the last)")
         ->check(CLI::PositiveNumber);
     root.add_option("--out", o.out, "Offscreen: directory for the PNG screenshots");
+    root.add_flag("--calibration-window", o.calibration_window,
+                  "Open the Calibration window (camera calibration mode: show a 9x6 chessboard, "
+                  "press K to capture views, then save and apply)");
+    root.add_flag("--auto-capture", o.auto_capture,
+                  "Calibration window: capture every view that adds coverage (implies "
+                  "--calibration-window)");
+    root.add_flag("--undistort-preview", o.undistort_preview,
+                  "Start with the video window showing the undistorted image");
     root.add_option("--width", o.width, "Offscreen window width")
         ->check(CLI::Range(320, 8192))
         ->group("");
@@ -99,6 +110,10 @@ int run_gui() {
     ao.screenshot_every = o.screenshot_every;
     ao.width = o.width;
     ao.height = o.height;
+    const bool calibrating = o.calibration_window || o.auto_capture;
+    ao.open_calibration = calibrating;
+    ao.calibration_auto_capture = o.auto_capture;
+    ao.undistort_preview = o.undistort_preview;
     if (o.offscreen) {
         std::error_code ec;
         std::filesystem::create_directories(o.out, ec);
@@ -114,6 +129,15 @@ int run_gui() {
     // screenshot does not depend on how fast the machine renders.
     const bool lockstep = o.offscreen && !o.replay.empty();
     so.replay_lockstep = lockstep;
+    // The calibration mode saves the drone's calibration in the user's config directory (an
+    // offscreen run keeps it beside its screenshots, never touching the user's).
+    so.calibration_file =
+        (o.offscreen ? std::filesystem::path(o.out) : ui::config_dir()) / "calibration_front.json";
+    if (lockstep) {
+        // ... and, lock-stepped, the calibration mode checks every frame (see provide()).
+        so.calibration_interval_ms = 0;
+        so.calibration_auto_interval_ms = 0;
+    }
     Session session(so);
     GuiAdapter adapter(session);
     adapter.set_sim_autopilot(o.autopilot);
@@ -127,6 +151,18 @@ int run_gui() {
     const bool demo = o.demo;
     const bool offscreen_live = o.offscreen && !demo && o.replay.empty();
     const auto t0 = std::chrono::steady_clock::now();
+    // Lock-stepped calibration mode: wait (bounded) until its worker has checked replay frame
+    // `f` (and auto-captured it), so screenshot k shows frame k's board and views.
+    auto wait_calibration = [&](std::int64_t f) {
+        if (!calibrating || f < 0) return;
+        const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+        const std::uint64_t id = session.source().latest().value_or(SourceInfo{}).id;
+        while (std::chrono::steady_clock::now() < deadline) {
+            const auto m = session.calibration_mode().latest();
+            if (m && m->active && m->frame == f && m->source_id == id) return;
+            std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        }
+    };
     auto provide = [&](ui::GuiSnapshot& s, int frame) {
         if (demo) {
             ui::make_demo_snapshot(s, frame);
@@ -137,11 +173,15 @@ int run_gui() {
             const auto before = session.frames_processed();
             const auto info = session.replay().latest();
             const bool more = !info || !info->open || info->frame + 1 < info->frame_count;
+            // The mode starts after window frame 0: let it check the frame on screen first.
+            if (frame > 0 && info) wait_calibration(info->frame);
             if (more && session.request(ReplayStep{1})) {
                 const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
                 while (session.frames_processed() == before &&
                        std::chrono::steady_clock::now() < deadline)
                     std::this_thread::sleep_for(std::chrono::milliseconds(1));
+                if (frame > 0)
+                    if (const auto now = session.replay().latest()) wait_calibration(now->frame);
             }
         } else if (offscreen_live) {
             // Live sources run in real time: 30 window frames per second, so --frames N covers

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <numbers>
+#include <optional>
 #include <type_traits>
 
 namespace gs::app {
@@ -111,7 +112,34 @@ double last_value(const vision::PlotSeries* ps) {
 constexpr std::array<const char*, 3> kRegionNames = {"left", "center", "right"};
 constexpr std::array<const char*, 3> kSeriesPrefix = {"left", "centre", "right"};
 
-void classifier_output(const PipelineOutput& o, ui::ClassifierOutput& c) {
+// Overlay primitives (raw, distorted pixels) moved onto the undistorted image (same camera
+// matrix, the Undistorter's view); the region bar stays across the image top.
+void undistort_overlay(ui::Overlay& ov, const vision::CameraCalibration& cal) {
+    std::vector<cv::Point2f> pts;
+    for (const auto& p : ov.center_points) pts.emplace_back(p.p.x, p.p.y);
+    for (const auto& t : ov.trajectories)
+        for (const auto& p : t.points) pts.emplace_back(p.x, p.y);
+    for (const auto& l : ov.boundaries) {
+        pts.emplace_back(l.a.x, l.a.y);
+        pts.emplace_back(l.b.x, l.b.y);
+    }
+    if (pts.empty()) return;
+    cal.undistort_points(pts, pts);
+    std::size_t k = 0;
+    auto next = [&] {
+        const cv::Point2f& q = pts[k++];
+        return ui::Point2f{q.x, q.y};
+    };
+    for (auto& p : ov.center_points) p.p = next();
+    for (auto& t : ov.trajectories)
+        for (auto& p : t.points) p = next();
+    for (auto& l : ov.boundaries) {
+        l.a = next();
+        l.b = next();
+    }
+}
+
+void classifier_output(const PipelineOutput& o, ui::ClassifierOutput& c, double fit_window) {
     const vision::FrameResult& r = o.result;
     c.decisions.clear();
     for (std::size_t i = 0; i < 3; ++i) {
@@ -181,6 +209,38 @@ void classifier_output(const PipelineOutput& o, ui::ClassifierOutput& c) {
          {"centre.scale_raw", "centre.scale_filtered", "centre.scale_fitted", "centre.rate_raw"})
         if (const auto* s = take(n))
             scale.series.push_back(series_data(*s, std::string(n).substr(7)));
+    // The centre threshold, where it shares the plot's units. The thesis classifier flags the
+    // centre when the fitted curve's tangent slope exceeds the threshold (per sample): drawn as a
+    // line of that slope ending at the newest fitted point, over the fit window (a fitted curve
+    // climbing more steeply than it is unsafe). The flow classifier compares the expansion rate
+    // (1/s) with it: a horizontal line against rate_raw.
+    const double cthr = last_value(find(r, "centre.threshold"));
+    if (std::isfinite(cthr)) {
+        const auto* fitted = find(r, "centre.scale_fitted");
+        const auto* rate = find(r, "centre.rate_raw");
+        if (rate) scale.thresholds.push_back({"centre threshold [1/s]", cthr, 0});
+        if (fitted) {
+            std::optional<vision::PlotPoint> last;
+            for (std::size_t i = fitted->points.size(); i-- > 0;)
+                if (std::isfinite(fitted->points[i].y)) {
+                    last = fitted->points[i];
+                    break;
+                }
+            if (last) {
+                ui::SeriesData th;
+                th.name = "threshold slope";
+                th.rgba = ui::rgba(235, 65, 55, 230);
+                const double w = std::max(2.0, fit_window);
+                th.x = {last->x - w, last->x};
+                th.y = {last->y - cthr * w, last->y};
+                scale.series.push_back(std::move(th));
+                char t[96];
+                std::snprintf(t, sizeof t, "Centre scale (slope %.4f, thr %.4f)",
+                              r.regions[1].score, cthr);
+                if (std::isfinite(r.regions[1].score)) scale.title = t;
+            }
+        }
+    }
     if (!scale.series.empty()) c.plots.push_back(std::move(scale));
 
     ui::PlotData traj{"trajectories_x", "Trajectory x over frames", "frame", "px", {}, {}};
@@ -231,6 +291,7 @@ void GuiAdapter::on_source_change() {
     nav_valid_ = false;
     replay_nav_valid_ = false;
     out_.reset();
+    shown_out_ = nullptr;
     manual_ = false;
     last_pilot_ = {};
     camera_channel_ = 0;
@@ -346,6 +407,7 @@ void GuiAdapter::fill_output(ui::GuiSnapshot& s) {
 
     ui::VideoFrame& v = s.video;
     if (!out_) {
+        shown_out_ = nullptr;
         v = ui::VideoFrame{};
         c.decisions.clear();
         c.overlay = ui::Overlay{};
@@ -353,15 +415,139 @@ void GuiAdapter::fill_output(ui::GuiSnapshot& s) {
         c.cycle_ms = kUnknown;
         return;
     }
-    if (v.index != out_->frame.index || v.bgr.data != out_->frame.image.data) {
-        v.bgr = out_->frame.image;  // shared, never rewritten by the pipeline
-        v.index = out_->frame.index;
-        v.t_ns = out_->frame.t_ns;
-        v.fps = out_->fps;
-        v.latency_ms = out_->latency_ms;
-        v.camera = camera_channel_ == 1 ? "bottom" : "front";
-        classifier_output(*out_, c);
+    // Redone when a new frame arrives, the preview is switched, or the calibration changes.
+    if (out_.get() == shown_out_ && undistort_ == shown_undistort_ &&
+        calib_gen_ == shown_calib_gen_ && v.index == out_->frame.index)
+        return;
+    shown_out_ = out_.get();
+    shown_undistort_ = undistort_;
+    shown_calib_gen_ = calib_gen_;
+    v.bgr = out_->frame.image;  // shared, never rewritten by the pipeline
+    v.index = out_->frame.index;
+    v.t_ns = out_->frame.t_ns;
+    v.fps = out_->fps;
+    v.latency_ms = out_->latency_ms;
+    v.camera = camera_channel_ == 1 ? "bottom" : "front";
+    v.undistorted = false;
+    v.undistort_note.clear();
+    double fit_window = 30;
+    for (const auto& p : cls_.params)
+        if (p.info.name == "fit_window") fit_window = p.info.value;
+    classifier_output(*out_, c, fit_window);
+    if (!undistort_ || v.bgr.empty()) return;
+    if (!calib_.camera.valid()) {
+        v.undistort_note = "no calibration to undistort with";
+        return;
     }
+    const cv::Mat& u = undistorter_.apply(v.bgr);
+    if (u.empty()) {
+        v.undistort_note = "undistortion failed";
+        return;
+    }
+    cv::Mat& buf = undistorted_[static_cast<std::size_t>(undistorted_next_)];
+    undistorted_next_ = 1 - undistorted_next_;
+    u.copyTo(buf);
+    v.bgr = buf;
+    v.undistorted = true;
+    shown_cal_ = to_vision(calib_.camera);
+    if (shown_cal_.width != buf.cols || shown_cal_.height != buf.rows)
+        shown_cal_ = shown_cal_.scaled_to(buf.cols, buf.rows);
+    undistort_overlay(c.overlay, shown_cal_);
+}
+
+void GuiAdapter::fill_calibration(ui::GuiSnapshot& s) {
+    session_.calibration_mode().read_if_newer(mode_gen_, mode_);
+    const vision::CalibrationModeState& m = mode_;
+    ui::CalibrationView& cv = s.calibration;
+    cv.active = m.active;
+    cv.board_cols = m.board.cols;
+    cv.board_rows = m.board.rows;
+    cv.square_m = m.board.square_m;
+    cv.auto_capture = m.auto_capture;
+    cv.save_path = m.save_path;
+
+    using vision::ViewCheck;
+    const bool current = m.active && m.frame >= 0 && m.source_id == source_.id && out_;
+    cv.frame = current ? m.frame : -1;
+    cv.detections = m.detections;
+    cv.detect_ms = m.detect_ms;
+    cv.board_found =
+        current && (m.check == ViewCheck::AddsCoverage || m.check == ViewCheck::NoNewCoverage);
+    cv.adds_coverage = current && m.check == ViewCheck::AddsCoverage;
+    cv.new_cells = current ? m.new_cells : 0;
+    char buf[192];
+    if (!m.active) {
+        cv.status = m.result_error.empty() ? "calibration mode off" : m.result_error;
+    } else if (!current) {
+        cv.status = "waiting for video";
+    } else {
+        switch (m.check) {
+            case ViewCheck::None:
+                cv.status = "waiting for video";
+                break;
+            case ViewCheck::AddsCoverage:
+                std::snprintf(buf, sizeof buf, "board found: +%d cells, capture it", m.new_cells);
+                cv.status = buf;
+                break;
+            case ViewCheck::NoNewCoverage:
+                cv.status = "board found, adds no coverage: move it to an uncovered area";
+                break;
+            case ViewCheck::NotFound:
+                std::snprintf(buf, sizeof buf,
+                              "no %dx%d board found (inner corners; the whole board in view)",
+                              m.board.cols, m.board.rows);
+                cv.status = buf;
+                break;
+            case ViewCheck::Blurry:
+                cv.status = "board blurry: hold it still";
+                break;
+            case ViewCheck::SizeMismatch:
+                cv.status = "frame size differs from the kept views";
+                break;
+            case ViewCheck::EmptyImage:
+                cv.status = "empty frame";
+                break;
+        }
+    }
+    // Corners in pixels of the frame shown (moved onto the undistorted image under the preview).
+    cv.corners.clear();
+    if (current && (cv.board_found || m.check == ViewCheck::Blurry) &&
+        m.image_size.width == out_->frame.image.cols &&
+        m.image_size.height == out_->frame.image.rows) {
+        std::vector<cv::Point2f> pts = m.corners;
+        if (s.video.undistorted && !pts.empty()) shown_cal_.undistort_points(pts, pts);
+        for (const auto& p : pts) cv.corners.push_back({p.x, p.y});
+    }
+
+    cv.image_w = m.views > 0 ? m.coverage_size.width : m.image_size.width;
+    cv.image_h = m.views > 0 ? m.coverage_size.height : m.image_size.height;
+    cv.grid_cols = m.grid_cols;
+    cv.grid_rows = m.grid_rows;
+    cv.coverage = m.coverage;
+    cv.coverage_fraction = m.coverage_fraction;
+    cv.corner_regions = m.corner_regions;
+
+    cv.views = m.views;
+    cv.min_views = m.min_views;
+    cv.has_result = m.has_result;
+    cv.rms_px = m.has_result ? m.rms_px : kUnknown;
+    cv.fx = m.has_result ? m.camera.fx : kUnknown;
+    cv.fy = m.has_result ? m.camera.fy : kUnknown;
+    cv.cx = m.has_result ? m.camera.cx : kUnknown;
+    cv.cy = m.has_result ? m.camera.cy : kUnknown;
+    cv.dist = m.has_result ? m.camera.dist : std::array<double, 5>{};
+    cv.result_error = m.active ? m.result_error : std::string{};
+    cv.captures = m.captures;
+    cv.last_capture_kept = m.last_capture_kept;
+    cv.last_capture = m.last_capture;
+    cv.saves = m.saves;
+    cv.saved_path = m.saved_path;
+    cv.save_error = m.save_error;
+    cv.applied = !m.saved_path.empty() && calib_.origin == m.saved_path;
+    const CameraCalibration& u = calib_.camera;
+    std::snprintf(buf, sizeof buf, "fx %.1f fy %.1f cx %.1f cy %.1f k1 %.3f, %dx%d", u.fx, u.fy,
+                  u.cx, u.cy, u.dist[0], u.width, u.height);
+    cv.in_use = std::string(buf) + " (" + calib_.origin + ")";
 }
 
 void GuiAdapter::poll_results() {
@@ -417,7 +603,10 @@ void GuiAdapter::fill(ui::GuiSnapshot& s) {
             break;
     }
     fill_telemetry(s);
+    if (session_.calibration().read_if_newer(calib_gen_, calib_))
+        undistorter_.set_calibration(to_vision(calib_.camera));
     fill_output(s);
+    fill_calibration(s);
 
     session_.replay().read_if_newer(replay_gen_, replay_);
     ui::ReplayStatus& r = s.replay;
@@ -505,6 +694,19 @@ void GuiAdapter::consume(const ui::Actions& a) {
     if (a.replay_seek) session_.request(ReplaySeek{*a.replay_seek});
     if (a.replay_speed) session_.request(ReplaySpeed{*a.replay_speed});
     if (a.replay_loop) session_.request(ReplayLoop{*a.replay_loop});
+
+    undistort_ = a.undistort_preview;
+    // Auto capture first: the mode keeps it across a (re)start, so the frame on screen when the
+    // mode starts is already checked with it.
+    if (a.calibration_auto) session_.request(CalibrationAutoCapture{*a.calibration_auto});
+    if (a.calibration_start)
+        session_.request(CalibrationStart{vision::CalibrationBoard{
+            a.calibration_start->cols, a.calibration_start->rows, a.calibration_start->square_m}});
+    if (a.calibration_capture) session_.request(CalibrationCapture{});
+    if (a.calibration_undo) session_.request(CalibrationUndo{});
+    if (a.calibration_reset) session_.request(CalibrationReset{});
+    if (a.calibration_save) session_.request(CalibrationSave{});
+    if (a.calibration_stop) session_.request(CalibrationStop{});
 
     if (a.classifier_select) session_.request(SelectClassifier{*a.classifier_select});
     for (const auto& [name, value] : a.param_changes)

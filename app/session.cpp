@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <ctime>
 
@@ -53,6 +54,20 @@ CameraCalibration front_calibration() {
     return d;
 }
 
+// vision's camera model back as drone/'s calibration record.
+CameraCalibration from_vision(const vision::CameraCalibration& v, std::string source) {
+    CameraCalibration c;
+    c.width = v.width;
+    c.height = v.height;
+    c.fx = v.fx;
+    c.fy = v.fy;
+    c.cx = v.cx;
+    c.cy = v.cy;
+    c.dist = v.dist;
+    c.source = std::move(source);
+    return c;
+}
+
 }  // namespace
 
 std::filesystem::path default_record_root() {
@@ -84,6 +99,7 @@ Session::Session(SessionOptions options, Clock& clock)
       cur_(std::make_unique<Current>()),
       pipeline_(opts_.classifier, front_calibration()) {
     if (!pipeline_.ok()) (void)pipeline_.select(std::string(vision::kDefaultClassifier));
+    use_calibration(front_calibration(), "assets default (front)");
     publish_source();
     publish_replay();
     publish_classifier();
@@ -95,6 +111,7 @@ Session::~Session() {
     requests_.close();
     if (thread_.joinable()) thread_.join();
     close_current();
+    calibrator_.reset();  // joins the worker (its apply() only posts to the closed queue)
 }
 
 bool Session::request(SessionRequest r) {
@@ -144,6 +161,48 @@ void Session::publish_classifier(std::string error) {
     classifier_.publish(std::move(c));
 }
 
+void Session::use_calibration(const CameraCalibration& c, std::string origin) {
+    calib_in_use_ = c;
+    pipeline_.set_calibration(c);
+    CalibrationInUse u;
+    u.camera = c;
+    u.origin = std::move(origin);
+    u.source_id = cur_->id;
+    calibration_.publish(std::move(u));
+}
+
+// A real drone: the calibration the calibration mode saved, when there is one.
+CameraCalibration Session::drone_calibration(std::string& origin) const {
+    std::error_code ec;
+    if (!opts_.calibration_file.empty() && std::filesystem::exists(opts_.calibration_file, ec)) {
+        auto c = load_calibration_file(opts_.calibration_file);
+        if (c && c->valid()) {
+            origin = opts_.calibration_file.string();
+            return *c;
+        }
+    }
+    origin = "assets default (front)";
+    return front_calibration();
+}
+
+vision::CalibrationMode& Session::calibration_worker() {
+    if (!calibrator_) {
+        vision::CalibrationModeOptions mo;
+        mo.save_path = opts_.calibration_file.string();
+        mo.interval_ms = opts_.calibration_interval_ms;
+        mo.auto_interval_ms = opts_.calibration_auto_interval_ms;
+        calibrator_ = std::make_unique<vision::CalibrationMode>(
+            std::move(mo),
+            [this](const vision::CalibrationModeState& st) { calibration_mode_.publish(st); },
+            // Saved on the worker thread: applied by the session thread, in request order.
+            [this](const vision::CameraCalibration& cam, const std::string& source,
+                   const std::string& path) {
+                (void)requests_.push(ApplyCalibration{from_vision(cam, source), path});
+            });
+    }
+    return *calibrator_;
+}
+
 void Session::close_current() {
     record_stop();  // the recorder holds a reference to the link
     Current& c = *cur_;
@@ -184,11 +243,13 @@ void Session::open_drone(const std::string& address) {
     c.address = lc.drone_address;
     c.link = std::move(l);
     c.frames = c.link->subscribe_frames(opts_.frame_queue);
-    pipeline_.set_calibration(front_calibration());
+    std::string origin;
+    const CameraCalibration cal = drone_calibration(origin);
+    use_calibration(cal, origin);
     pipeline_.reset();
     publish_source();
     publish_replay();
-    message("connecting to the drone at " + c.address);
+    message("connecting to the drone at " + c.address + " (calibration: " + origin + ")");
 }
 
 void Session::open_sim(const StartSim& s) {
@@ -236,7 +297,7 @@ void Session::open_sim(const StartSim& s) {
     c.drone = std::move(drone);
     c.link = std::move(l);
     c.frames = c.link->subscribe_frames(opts_.frame_queue);
-    pipeline_.set_calibration(front_calibration());
+    use_calibration(front_calibration(), "virtual drone camera (assets default)");
     pipeline_.reset();
     publish_source();
     publish_replay();
@@ -277,7 +338,7 @@ void Session::open_replay(const std::string& path) {
     c.rinfo.frame_count = n;
     c.rinfo.fps = fps;
     c.rinfo.playing = play;
-    pipeline_.set_calibration(calib);
+    use_calibration(calib, "dataset " + path);
     pipeline_.reset();
     publish_source();
     publish_replay();
@@ -305,6 +366,35 @@ void Session::handle(SessionRequest& r) {
                 record_start(q.dir);
             } else if constexpr (std::is_same_v<T, RecordStop>) {
                 record_stop();
+            } else if constexpr (std::is_same_v<T, ApplyCalibration>) {
+                if (!q.camera.valid()) {
+                    message("calibration from " + q.origin + " is not valid; not applied");
+                    return;
+                }
+                use_calibration(q.camera, q.origin);
+                pipeline_.reset();  // the tracks were undistorted with the old model
+                char b[160];
+                std::snprintf(b, sizeof b, "calibration applied: fx %.1f fy %.1f cx %.1f cy %.1f",
+                              q.camera.fx, q.camera.fy, q.camera.cx, q.camera.cy);
+                message(std::string(b) + " (" + q.origin + ")");
+            } else if constexpr (std::is_same_v<T, CalibrationStart>) {
+                vision::CalibrationMode& w = calibration_worker();
+                w.start(q.board);
+                // A paused replay sends no new frame: give the mode the one on screen.
+                if (auto o = output_.latest(); o && *o && (*o)->source_id == c.id)
+                    w.offer((*o)->frame.image, (*o)->frame.index, c.id, /*even_inactive=*/true);
+            } else if constexpr (std::is_same_v<T, CalibrationStop>) {
+                if (calibrator_) calibrator_->stop();
+            } else if constexpr (std::is_same_v<T, CalibrationCapture>) {
+                calibration_worker().capture();
+            } else if constexpr (std::is_same_v<T, CalibrationUndo>) {
+                calibration_worker().undo();
+            } else if constexpr (std::is_same_v<T, CalibrationReset>) {
+                calibration_worker().reset();
+            } else if constexpr (std::is_same_v<T, CalibrationAutoCapture>) {
+                calibration_worker().set_auto_capture(q.on);
+            } else if constexpr (std::is_same_v<T, CalibrationSave>) {
+                calibration_worker().save();
             } else if constexpr (std::is_same_v<T, SelectClassifier>) {
                 if (pipeline_.select(q.name)) {
                     publish_classifier();
@@ -456,6 +546,9 @@ void Session::process(FrameSample& f, TimeNs recv_ns) {
     out->fps = c.fps;
     out->frames_dropped = c.frames ? c.frames->dropped() : 0;
     out->frame = std::move(f);
+    // The calibration mode gets the frame too (a header; its worker detects on its own thread).
+    if (calibrator_ && calibrator_->active())
+        calibrator_->offer(out->frame.image, out->frame.index, c.id);
     if (c.kind == SessionSource::Replay) {
         c.rinfo.frame = out->frame.index;
         publish_replay();
@@ -487,7 +580,7 @@ void Session::record_start(const std::string& dir) {
     std::filesystem::create_directories(path.parent_path(), ec);
     recorder_ = std::make_unique<record::Recorder>(*c.link, c.drone.get());
     record::RecorderOptions ro;
-    ro.writer.calibration = front_calibration();
+    ro.writer.calibration = calib_in_use_;
     ro.writer.source = c.kind == SessionSource::Sim ? "simulated (virtual drone)" : "recorded";
     if (auto st = recorder_->start(path, ro); !st) {
         message("recording failed: " + st.error());

@@ -18,6 +18,7 @@
 #include "drone/sample.hpp"
 #include "drone/sim/virtual_drone.hpp"
 #include "drone/sync.hpp"
+#include "vision/calibration_mode.hpp"
 #include "vision/classifier.hpp"
 
 #include <atomic>
@@ -74,9 +75,35 @@ struct RecordStart {
     std::string dir;  // empty: a new timestamped folder under SessionOptions::record_root
 };
 struct RecordStop {};
-using SessionRequest = std::variant<ConnectDrone, StartSim, OpenReplay, CloseSource, ReplayPlay,
-                                    ReplayStep, ReplaySeek, ReplaySpeed, ReplayLoop,
-                                    SelectClassifier, SetClassifierParam, RecordStart, RecordStop>;
+// Calibration mode (the window's Calibration window): vision::CalibrationMode's worker thread
+// detects the board in the video and keeps views (vision/calibration_mode.hpp).
+struct CalibrationStart {
+    vision::CalibrationBoard board;  // (re)starts the mode: earlier views are forgotten
+};
+struct CalibrationStop {};
+// Keeps the current frame as a view when the board is found and the view adds coverage.
+struct CalibrationCapture {};
+struct CalibrationUndo {};   // forgets the last kept view
+struct CalibrationReset {};  // forgets every view
+struct CalibrationAutoCapture {
+    // Capture every checked frame that adds coverage (at most one view per
+    // SessionOptions::calibration_auto_interval_ms).
+    bool on = false;
+};
+// Calibrates from the kept views, saves the result as the drone's calibration
+// (SessionOptions::calibration_file) and applies it to the pipeline at once.
+struct CalibrationSave {};
+// Uses this calibration in the pipeline from now on (until the source changes).
+struct ApplyCalibration {
+    CameraCalibration camera;
+    std::string origin;  // file or description, shown in the window
+};
+using SessionRequest =
+    std::variant<ConnectDrone, StartSim, OpenReplay, CloseSource, ReplayPlay, ReplayStep,
+                 ReplaySeek, ReplaySpeed, ReplayLoop, SelectClassifier, SetClassifierParam,
+                 RecordStart, RecordStop, CalibrationStart, CalibrationStop, CalibrationCapture,
+                 CalibrationUndo, CalibrationReset, CalibrationAutoCapture, CalibrationSave,
+                 ApplyCalibration>;
 
 // ---- Published state (session thread -> readers) --------------------------------------------
 
@@ -136,6 +163,13 @@ struct PipelineOutput {
     std::uint64_t frames_dropped = 0;  // frames the pipeline did not keep up with (live)
 };
 
+// The camera model the pipeline uses now (changes with the source and on ApplyCalibration).
+struct CalibrationInUse {
+    CameraCalibration camera;
+    std::string origin;  // "dataset", "assets default", a file path ...
+    std::uint64_t source_id = 0;
+};
+
 struct SessionOptions {
     std::string classifier = std::string(vision::kDefaultClassifier);
     double sim_battery_pct = 100.0;  // the virtual drone's battery at boot
@@ -148,6 +182,14 @@ struct SessionOptions {
     // Where recordings go when RecordStart names no folder: <root>/<YYYY-MM-DD_HHMMSS>.
     // Empty: $HOME/ardrone-gs/flights (./flights without HOME).
     std::filesystem::path record_root;
+    // The drone's own calibration: the calibration mode saves here, and a real drone connected
+    // from the window uses it when the file exists (else assets/' default). Empty: the mode
+    // calibrates and applies but cannot save.
+    std::filesystem::path calibration_file;
+    // The calibration worker checks at most one frame per this many ms (0: every frame it gets),
+    // and auto capture keeps at most one view per calibration_auto_interval_ms.
+    int calibration_interval_ms = 150;
+    int calibration_auto_interval_ms = 1000;
 };
 
 // $HOME/ardrone-gs/flights, or ./flights.
@@ -171,6 +213,11 @@ public:
     // Replay telemetry (the dataset's navdata stream at the replay position).
     const LatestValue<NavState>& replay_nav() const { return replay_nav_; }
     const LatestValue<RecordingInfo>& recording() const { return recording_; }
+    const LatestValue<CalibrationInUse>& calibration() const { return calibration_; }
+    // The calibration mode (inactive until a CalibrationStart).
+    const LatestValue<vision::CalibrationModeState>& calibration_mode() const {
+        return calibration_mode_;
+    }
     // Human-readable events from the session thread ("virtual drone 'warehouse' on 127.0.0.1").
     // Bounded; the oldest is dropped when nobody reads.
     std::optional<std::string> next_message() { return messages_.try_pop(); }
@@ -197,6 +244,9 @@ private:
     void record_start(const std::string& dir);
     void record_stop();
     void publish_recording(TimeNs now);
+    void use_calibration(const CameraCalibration& c, std::string origin);
+    CameraCalibration drone_calibration(std::string& origin) const;
+    vision::CalibrationMode& calibration_worker();
 
     SessionOptions opts_;
     Clock& clock_;
@@ -212,6 +262,11 @@ private:
     LatestValue<std::shared_ptr<const PipelineOutput>> output_;
     LatestValue<NavState> replay_nav_;
     LatestValue<RecordingInfo> recording_;
+    LatestValue<CalibrationInUse> calibration_;
+    LatestValue<vision::CalibrationModeState> calibration_mode_;
+    CameraCalibration calib_in_use_;  // session thread only
+    // Created on the first CalibrationStart; session thread only (its worker publishes above).
+    std::unique_ptr<vision::CalibrationMode> calibrator_;
     std::unique_ptr<record::Recorder> recorder_;  // session thread only; before the link dies
     std::string last_record_path_;
     TimeNs last_record_publish_ = 0, last_space_check_ = 0;

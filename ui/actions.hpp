@@ -48,6 +48,21 @@ struct Actions {
     std::optional<std::string> classifier_select;
     std::vector<std::pair<std::string, double>> param_changes;  // (name, new value)
 
+    // Calibration mode (the Calibration window). Start (with the board) when the window opens or
+    // the board changes, stop when it closes; capture keeps the current frame only if the board is
+    // found and the view adds coverage (the session's calibration worker decides).
+    struct CalibrationBoard {
+        int cols = 9, rows = 6;
+        double square_m = 0.05;
+    };
+    std::optional<CalibrationBoard> calibration_start;
+    bool calibration_stop = false;
+    bool calibration_capture = false, calibration_undo = false, calibration_reset = false;
+    std::optional<bool> calibration_auto;  // auto capture on / off
+    bool calibration_save = false;         // calibrate, save as the drone's calibration, apply
+    // Level, every frame: the video window shows the undistorted image.
+    bool undistort_preview = false;
+
     bool quit = false;  // the window may close now (after the landing confirmation if flying)
 };
 

@@ -132,6 +132,17 @@ bool write_screenshot(const std::filesystem::path& png, int w, int h, const Layo
                     {"text", layout.battery_text},
                     {"warning", layout.battery_warning},
                     {"color_rgba", layout.battery_color}};
+    const LayoutReport::Calibration& c = layout.calibration;
+    j["calibration"] = {{"drawn", c.drawn},
+                        {"corners_drawn", c.corners_drawn},
+                        {"coverage_map", rect_json(c.coverage_map)},
+                        {"views", c.views},
+                        {"rms_px", known(c.rms_px) ? nlohmann::json(c.rms_px) : nlohmann::json()},
+                        {"status", c.status}};
+    j["undistorted"] = layout.undistorted;
+    nlohmann::json buttons = nlohmann::json::object();
+    for (const auto& [name, r] : layout.buttons) buttons[name] = rect_json(r);
+    j["buttons"] = buttons;
     nlohmann::json wins = nlohmann::json::object();
     for (const auto& [name, r] : layout.windows) wins[name] = rect_json(r);
     j["windows"] = wins;
@@ -221,6 +232,11 @@ Expected<RunResult, AppError> run_window(const AppOptions& opt, const SnapshotPr
     bool ok = true;
     {
         Gui gui(settings);
+        if (opt.open_calibration) {
+            gui.view().open.calibration = true;
+            gui.view().calib.auto_capture = opt.calibration_auto_capture;
+        }
+        if (opt.undistort_preview) gui.view().settings.overlay.undistort = true;
         GlVideoTexture video_tex;
         GuiSnapshot snap;
         std::vector<unsigned char> pixels;

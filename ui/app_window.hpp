@@ -27,6 +27,11 @@ struct AppOptions {
     // runs use none, so screenshots never depend on a user's saved layout).
     std::filesystem::path config_dir;
     std::string title = "ardrone-gs";
+    // Start with the Calibration window open (auto capture on or not), with the undistortion
+    // preview on.
+    bool open_calibration = false;
+    bool calibration_auto_capture = false;
+    bool undistort_preview = false;
 };
 
 enum class AppError { NoDisplay, GlfwInit, WindowCreate, OpenGl, Screenshot };

@@ -68,6 +68,9 @@ Rect default_window_rect(const char* w, ImVec2 d) {
     if (n == "Telemetry") return {L + half, mid, W, mid + std::round((H - mid) * 0.55f)};
     if (n == "Link") return {L + half, mid + std::round((H - mid) * 0.55f), W, H};
     if (n == "Keys") return {W * 0.3f, H * 0.2f, W * 0.3f + 420, H * 0.2f + 440};
+    // Over the classifier / telemetry / link column (least needed while calibrating), leaving
+    // the video, the connection and the replay controls in view.
+    if (n == "Calibration") return {L, mid, W, H};
     return {40, 40, 440, 340};
 }
 
@@ -115,6 +118,7 @@ void Gui::draw_menu(const GuiSnapshot& s, Actions& a) {
         ImGui::MenuItem("Classifier", nullptr, &o.classifier);
         ImGui::MenuItem("Telemetry", nullptr, &o.telemetry);
         ImGui::MenuItem("Link", nullptr, &o.link);
+        ImGui::MenuItem("Calibration", nullptr, &o.calibration);
         ImGui::Separator();
         OverlayToggles& t = view_.settings.overlay;
         bool changed = false;
@@ -123,6 +127,7 @@ void Gui::draw_menu(const GuiSnapshot& s, Actions& a) {
         changed |= ImGui::MenuItem("Overlay: centre band points", nullptr, &t.center_points);
         changed |= ImGui::MenuItem("Overlay: region boundaries", nullptr, &t.boundaries);
         changed |= ImGui::MenuItem("HUD", nullptr, &t.hud);
+        changed |= ImGui::MenuItem("Undistorted video", nullptr, &t.undistort);
         if (changed) view_.settings_dirty = true;
         ImGui::EndMenu();
     }
@@ -160,19 +165,48 @@ void Gui::draw_quit_dialog(const GuiSnapshot& s, Actions& a) {
         ImGui::TextUnformatted(
             "Land first? The window closes once the drone reports it has landed.");
         ImGui::Spacing();
-        if (ImGui::Button("Land, then quit", {180, 0})) {
+        const bool land = ImGui::Button("Land, then quit", {180, 0});
+        record_button(view_, "quit.land");
+        if (land) {
             a.land = true;
             view_.quit_after_landing = true;
             ImGui::CloseCurrentPopup();
         }
         ImGui::SameLine();
-        if (ImGui::Button("Cancel", {120, 0})) ImGui::CloseCurrentPopup();
+        const bool cancel = ImGui::Button("Cancel", {120, 0});
+        record_button(view_, "quit.cancel");
+        if (cancel) ImGui::CloseCurrentPopup();
         ImGui::EndPopup();
     }
     if (view_.quit_after_landing) {
         const bool flying = s.telemetry.state && s.telemetry.state->flying &&
                             s.connection.state == LinkState::Connected;
         if (!flying) a.quit = true;
+    }
+}
+
+// The calibration mode runs while its window is open: started (with the board typed in the
+// window) when it opens, stopped when it closes. K captures only while it is open.
+void Gui::calibration_mode(const GuiSnapshot& s, Actions& a) {
+    CalibrationUiState& u = view_.calib;
+    if (view_.open.calibration) {
+        u.stop_sent = false;
+        if (s.calibration.active) {
+            u.start_sent = false;
+        } else if (!u.start_sent) {
+            a.calibration_start = Actions::CalibrationBoard{
+                u.cols, u.rows, static_cast<double>(u.square_mm) / 1000.0};
+            if (u.auto_capture) a.calibration_auto = true;
+            u.start_sent = true;
+        }
+    } else {
+        u.start_sent = false;
+        if (!s.calibration.active) {
+            u.stop_sent = false;
+        } else if (!u.stop_sent) {
+            a.calibration_stop = true;
+            u.stop_sent = true;
+        }
     }
 }
 
@@ -197,6 +231,8 @@ Actions Gui::frame(const GuiSnapshot& s, InputState input, TextureSource* tex) {
     a.flat_trim = pf.flat_trim;
     a.switch_camera = pf.switch_camera;
     if (pf.record_toggle) (s.recording.active ? a.record_stop : a.record_start) = true;
+    if (pf.calibration_capture && view_.open.calibration) a.calibration_capture = true;
+    a.undistort_preview = view_.settings.overlay.undistort;
     if (!io.WantTextInput && ImGui::IsKeyPressed(GLFW_KEY_F1, false))
         view_.open.keys = !view_.open.keys;
     if (io.KeyCtrl && !io.WantTextInput && ImGui::IsKeyPressed(GLFW_KEY_Q, false)) {
@@ -246,6 +282,11 @@ Actions Gui::frame(const GuiSnapshot& s, InputState input, TextureSource* tex) {
         place("Keys");
         keys_.draw(view_);
     }
+    if (view_.open.calibration) {
+        place("Calibration");
+        calibration_.draw(s, view_, a, tex);
+    }
+    calibration_mode(s, a);
     draw_quit_dialog(s, a);
     return a;
 }

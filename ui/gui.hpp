@@ -33,6 +33,7 @@ public:
 private:
     void draw_menu(const GuiSnapshot& s, Actions& a);
     void draw_quit_dialog(const GuiSnapshot& s, Actions& a);
+    void calibration_mode(const GuiSnapshot& s, Actions& a);
 
     ViewState view_;
     VideoWindow video_;
@@ -45,6 +46,7 @@ private:
     ReplayWindow replay_;
     ConnectionWindow connection_;
     KeysWindow keys_;
+    CalibrationWindow calibration_;
 };
 
 }  // namespace gs::ui

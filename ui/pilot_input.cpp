@@ -40,6 +40,8 @@ const char* to_string(PilotKey k) {
             return "switch_camera";
         case PilotKey::Record:
             return "record";
+        case PilotKey::CalibrationCapture:
+            return "calibration_capture";
         case PilotKey::Count:
             break;
     }
@@ -76,6 +78,8 @@ const char* description(PilotKey k) {
             return "Switch camera (front / bottom)";
         case PilotKey::Record:
             return "Start / stop recording";
+        case PilotKey::CalibrationCapture:
+            return "Calibration window: capture the view (board found, adds coverage)";
         case PilotKey::Count:
             break;
     }
@@ -98,6 +102,7 @@ Keymap Keymap::defaults() {
     m.key(PilotKey::FlatTrim) = GLFW_KEY_F;
     m.key(PilotKey::SwitchCamera) = GLFW_KEY_C;
     m.key(PilotKey::Record) = GLFW_KEY_R;
+    m.key(PilotKey::CalibrationCapture) = GLFW_KEY_K;
     return m;
 }
 
@@ -231,6 +236,7 @@ PilotFrame PilotMapper::update(const InputState& in, const Keymap& map) {
         out.flat_trim = pressed(PilotKey::FlatTrim);
         out.switch_camera = pressed(PilotKey::SwitchCamera);
         out.record_toggle = pressed(PilotKey::Record);
+        out.calibration_capture = pressed(PilotKey::CalibrationCapture);
     }
 
     // Gamepad (mode 2: left stick yaw/climb, right stick roll/pitch). Polled state, so it has no

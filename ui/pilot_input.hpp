@@ -34,6 +34,7 @@ enum class PilotKey : int {
     FlatTrim,
     SwitchCamera,
     Record,
+    CalibrationCapture,  // Calibration window: capture the current view
     Count
 };
 inline constexpr std::size_t kPilotKeyCount = static_cast<std::size_t>(PilotKey::Count);
@@ -80,7 +81,7 @@ struct PilotFrame {
     PilotInput pilot;
     bool manual = false;  // a movement key is held or a stick is outside the dead zone
     bool takeoff = false, land = false, emergency = false, flat_trim = false, switch_camera = false,
-         record_toggle = false;
+         record_toggle = false, calibration_capture = false;
 };
 
 // Stateful only for edges and the focus latch; otherwise a pure map from InputState.

@@ -63,7 +63,8 @@ std::string settings_to_json(const Settings& s) {
                     {"trajectories", s.overlay.trajectories},
                     {"center_points", s.overlay.center_points},
                     {"boundaries", s.overlay.boundaries},
-                    {"hud", s.overlay.hud}};
+                    {"hud", s.overlay.hud},
+                    {"undistort", s.overlay.undistort}};
     j["plot_span_s"] = s.plot_span_s;
     j["classifier"] = s.classifier;
     json presets = json::object();
@@ -108,6 +109,7 @@ Expected<Settings, SettingsError> settings_from_json(std::string_view text) {
             s.overlay.center_points = ov->value("center_points", true);
             s.overlay.boundaries = ov->value("boundaries", true);
             s.overlay.hud = ov->value("hud", true);
+            s.overlay.undistort = ov->value("undistort", false);
         }
         s.plot_span_s = j.value("plot_span_s", s.plot_span_s);
         s.classifier = j.value("classifier", s.classifier);

@@ -24,6 +24,7 @@ struct ClassifierPreset {
 
 struct OverlayToggles {
     bool regions = true, trajectories = true, center_points = true, boundaries = true, hud = true;
+    bool undistort = false;  // video window: show the undistorted image (preview)
     friend bool operator==(const OverlayToggles&, const OverlayToggles&) = default;
 };
 

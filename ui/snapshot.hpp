@@ -117,6 +117,11 @@ struct VideoFrame {
     std::string camera = "front";
     double fps = kUnknown;         // frames displayed per second, measured by the pipeline
     double latency_ms = kUnknown;  // capture (or receive) to available for display
+    // Undistortion preview: `bgr` is the undistorted image (same camera matrix) and every overlay
+    // in image pixels (classifier, calibration corners) has been moved onto it. When the preview
+    // was asked for but cannot be shown, `undistort_note` says why and the raw image is shown.
+    bool undistorted = false;
+    std::string undistort_note;
 };
 
 // ---- Classifier -----------------------------------------------------------------------------
@@ -227,6 +232,54 @@ struct ReplayStatus {
     std::string error;
 };
 
+// ---- Camera calibration mode --------------------------------------------------------------
+
+// What the calibration mode (app/session's calibration worker around vision::CalibrationSession)
+// reports: the board seen in the latest checked frame, the views kept so far, their coverage of
+// the image and the running calibration. All in pixels of the video frame shown (corners moved
+// onto the undistorted image when the preview is on).
+struct CalibrationView {
+    bool active = false;  // the mode is running (detecting boards in the video)
+    int board_cols = 9, board_rows = 6;
+    double square_m = 0.05;
+    bool auto_capture = false;
+
+    // Latest checked frame.
+    std::int64_t frame = -1;       // video frame index the detection is of
+    bool board_found = false;      // found and sharp
+    bool adds_coverage = false;    // found and a capture would be kept
+    int new_cells = 0;             // coverage cells a capture would add
+    std::string status;            // "board found: +12 cells", "board not found" ...
+    std::vector<Point2f> corners;  // detected corners, row by row (empty when not found)
+    double detect_ms = kUnknown;   // time the last detection took
+    std::uint64_t detections = 0;
+
+    // Coverage of the kept views: grid_cols * grid_rows counts, row by row.
+    int image_w = 0, image_h = 0;
+    int grid_cols = 0, grid_rows = 0;
+    std::vector<int> coverage;
+    double coverage_fraction = 0;
+    int corner_regions = 0;  // of 4
+
+    int views = 0, min_views = 3;
+    double rms_px = kUnknown;  // running RMS reprojection error, unknown before min_views
+    bool has_result = false;
+    double fx = kUnknown, fy = kUnknown, cx = kUnknown, cy = kUnknown;
+    std::array<double, 5> dist{};
+    std::string result_error;  // why the running calibration failed, if it did
+
+    std::uint64_t captures = 0;  // capture requests handled
+    bool last_capture_kept = false;
+    std::string last_capture;  // "view 4 kept (+9 cells)" / "not kept: adds no coverage"
+
+    std::string save_path;  // where "Save and apply" writes
+    std::uint64_t saves = 0;
+    std::string saved_path;  // last file written, empty before
+    std::string save_error;
+    bool applied = false;  // the saved calibration is the one the pipeline uses now
+    std::string in_use;    // the calibration the pipeline uses: "fx 568.1 ... (origin)"
+};
+
 // ---- The snapshot ---------------------------------------------------------------------------
 
 struct GuiSnapshot {
@@ -238,6 +291,7 @@ struct GuiSnapshot {
     ClassifierOutput classifier;
     RecordingStatus recording;
     ReplayStatus replay;
+    CalibrationView calibration;
     std::vector<std::string> messages;  // recent log lines (newest last), shown in the link window
 };
 

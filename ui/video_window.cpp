@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <string>
 
 namespace gs::ui {
 
@@ -37,18 +38,29 @@ void VideoWindow::draw(const GuiSnapshot& s, ViewState& v, Actions& a, TextureSo
     changed |= ImGui::Checkbox("Boundaries", &t.boundaries);
     ImGui::SameLine();
     changed |= ImGui::Checkbox("HUD", &t.hud);
+    ImGui::SameLine();
+    // Undistortion preview: the adapter remaps the frame with the calibration in use and moves
+    // the overlay onto it, so straight lines come out straight.
+    changed |= ImGui::Checkbox("Undistort", &t.undistort);
     if (changed) v.settings_dirty = true;
+    v.layout.undistorted = s.video.undistorted;
     {
-        char info[128];
+        char info[192];
+        const char* und = s.video.undistorted ? " | undistorted" : "";
         if (s.video.bgr.empty())
             std::snprintf(info, sizeof info, "%s camera | no frame", s.video.camera.c_str());
+        else if (t.undistort && !s.video.undistorted && !s.video.undistort_note.empty())
+            std::snprintf(info, sizeof info, "%s camera | frame %lld | raw: %s",
+                          s.video.camera.c_str(), static_cast<long long>(s.video.index),
+                          s.video.undistort_note.c_str());
         else
-            std::snprintf(info, sizeof info, "%s camera | %dx%d | frame %lld",
+            std::snprintf(info, sizeof info, "%s camera | %dx%d | frame %lld%s",
                           s.video.camera.c_str(), s.video.bgr.cols, s.video.bgr.rows,
-                          static_cast<long long>(s.video.index));
+                          static_cast<long long>(s.video.index), und);
         const float w = ImGui::CalcTextSize(info).x;
         ImGui::SameLine(std::max(ImGui::GetCursorPosX(), ImGui::GetWindowContentRegionMax().x - w));
-        ImGui::TextColored(colors::v4(colors::kDim), "%s", info);
+        ImGui::TextColored(colors::v4(s.video.undistorted ? colors::kInfo : colors::kDim), "%s",
+                           info);
     }
 
     // Aspect-correct image area, centred.
@@ -119,6 +131,26 @@ void VideoWindow::draw(const GuiSnapshot& s, ViewState& v, Actions& a, TextureSo
                             IM_COL32(255, 255, 255, 255), lbl);
             v.layout.region_bars.push_back({r.name, {b0.x, b0.y, b1.x, b1.y}, r.flagged});
         }
+    }
+    // Calibration mode: the detected board over the video, and what a capture would do.
+    const CalibrationView& cal = s.calibration;
+    if (cal.active) {
+        v.layout.calibration.corners_drawn = draw_board_corners(dl, p0, scale, cal);
+        const std::string key = key_name(v.settings.keymap.key(PilotKey::CalibrationCapture));
+        char msg[224];
+        std::snprintf(msg, sizeof msg, "CALIBRATION  %s  |  %d views%s%s", cal.status.c_str(),
+                      cal.views, cal.adds_coverage ? "  |  press " : "",
+                      cal.adds_coverage ? key.c_str() : "");
+        const ImVec2 ts = ImGui::CalcTextSize(msg);
+        // Above the HUD's bottom strip (fs * 1.9 high, ui/hud.cpp) when the HUD is on.
+        const float above = t.hud ? ImGui::GetFontSize() * 1.9f : 0.0f;
+        const ImVec2 b0{p0.x + 8, p1.y - above - ts.y - 14};
+        dl->AddRectFilled(b0, {b0.x + ts.x + 12, b0.y + ts.y + 6}, IM_COL32(0, 0, 0, 170), 3.0f);
+        dl->AddText({b0.x + 6, b0.y + 3},
+                    cal.adds_coverage ? colors::kGood
+                    : cal.board_found ? colors::kWarn
+                                      : colors::kText,
+                    msg);
     }
     dl->PopClipRect();
 

@@ -11,13 +11,15 @@
 
 #include <array>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace gs::ui {
 
 struct OpenWindows {
     bool video = true, plots = true, telemetry = true, link = true, why_not_flying = true,
-         classifier = true, recording = true, replay = true, connection = true, keys = false;
+         classifier = true, recording = true, replay = true, connection = true, keys = false,
+         calibration = false;
 };
 
 struct Rect {
@@ -41,6 +43,33 @@ struct LayoutReport {
     std::string battery_text;
     bool battery_warning = false;
     std::vector<std::pair<std::string, Rect>> windows;  // name -> rect
+    // Buttons a test may click: "quit.land", "calibration.capture", "calibration.save" ...
+    std::vector<std::pair<std::string, Rect>> buttons;
+    // The calibration mode as drawn.
+    struct Calibration {
+        bool drawn = false;     // the Calibration window was drawn this frame
+        int corners_drawn = 0;  // board corners drawn over the video
+        Rect coverage_map;      // the coverage map image in the Calibration window
+        int views = 0;
+        double rms_px = kUnknown;
+        std::string status;
+    } calibration;
+    bool undistorted = false;  // the video window showed the undistorted image
+
+    const Rect* button(std::string_view name) const {
+        for (const auto& [n, r] : buttons)
+            if (n == name) return &r;
+        return nullptr;
+    }
+};
+
+// The calibration window's own fields (board being typed, what was asked of the session).
+struct CalibrationUiState {
+    int cols = 9, rows = 6;
+    float square_mm = 50.0f;
+    bool auto_capture = false;
+    bool start_sent = false;  // a start is on its way (do not repeat it every frame)
+    bool stop_sent = false;
 };
 
 struct ViewState {
@@ -56,6 +85,8 @@ struct ViewState {
     std::array<char, 64> preset_name{};
     int scenario_index = 0;
     int plot_tab = 0;
+
+    CalibrationUiState calib;
 
     bool confirm_quit = false;        // the "drone is flying" dialog is up
     bool quit_after_landing = false;  // user chose "land, then quit"

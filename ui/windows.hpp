@@ -94,6 +94,23 @@ struct ConnectionWindow {
     void draw(const GuiSnapshot& s, ViewState& v, Actions& a);
 };
 
+// Camera calibration mode on the live or replayed video: board settings, the detection status,
+// capture (button or K), a coverage map, the running error and "Save and apply". Drawing only:
+// the session's calibration worker detects, decides what is kept, calibrates and saves.
+struct CalibrationWindow {
+    void draw(const GuiSnapshot& s, ViewState& v, Actions& a, TextureSource* tex);
+};
+
+// Draws the calibration board corners (rows joined, first corner marked) over the image at
+// [p0, p0 + size*scale]; returns how many corners were drawn.
+int draw_board_corners(ImDrawList* dl, ImVec2 p0, float scale, const CalibrationView& c);
+
+// Remembers the rectangle of the last ImGui item (a button) under `name` for tests.
+inline void record_button(ViewState& v, const char* name) {
+    const ImVec2 a = ImGui::GetItemRectMin(), b = ImGui::GetItemRectMax();
+    v.layout.buttons.push_back({name, {a.x, a.y, b.x, b.y}});
+}
+
 // Key help.
 struct KeysWindow {
     void draw(ViewState& v);

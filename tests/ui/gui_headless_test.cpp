@@ -9,7 +9,25 @@
 namespace gs::ui::test {
 namespace {
 
-using GuiHeadless = ImGuiFixture;
+class GuiHeadless : public ImGuiFixture {
+protected:
+    // A left click at the centre of a button the window reported in its layout: hover, press,
+    // release (ImGui buttons fire on release). Returns the actions of the release frame.
+    Actions click(Gui& gui, const GuiSnapshot& s, const char* button) {
+        const Rect* r = gui.view().layout.button(button);
+        EXPECT_NE(r, nullptr) << button;
+        if (!r) return {};
+        ImGuiIO& io = ImGui::GetIO();
+        io.MousePos = {0.5f * (r->x0 + r->x1), 0.5f * (r->y0 + r->y1)};
+        frame(gui, s);
+        io.MouseDown[0] = true;
+        frame(gui, s);
+        io.MouseDown[0] = false;
+        const Actions a = frame(gui, s);
+        io.MousePos = {-FLT_MAX, -FLT_MAX};
+        return a;
+    }
+};
 
 TEST_F(GuiHeadless, DrawsDemoNoLinkAndNoVideoSnapshots) {
     Gui gui;
@@ -146,6 +164,109 @@ TEST_F(GuiHeadless, ClosingWhileFlyingAsksFirst) {
     EXPECT_FALSE(a.quit);
     EXPECT_TRUE(gui.view().quit_dialog_open);
     EXPECT_TRUE(gui.request_close(demo_no_link()));
+}
+
+TEST_F(GuiHeadless, LandThenQuitSendsLandAndQuitsOnlyOnceLanded) {
+    Gui gui;
+    GuiSnapshot flying;
+    make_demo_snapshot(flying, 1);
+    ASSERT_TRUE(flying.telemetry.state->flying);
+    ASSERT_EQ(flying.connection.state, LinkState::Connected);
+    EXPECT_FALSE(gui.request_close(flying));
+    for (int i = 0; i < 3; ++i) EXPECT_FALSE(frame(gui, flying).quit);  // the dialog settles
+    ASSERT_TRUE(gui.view().quit_dialog_open);
+    const Actions a = click(gui, flying, "quit.land");
+    EXPECT_TRUE(a.land);
+    EXPECT_FALSE(a.quit);
+    EXPECT_TRUE(gui.view().quit_after_landing);
+    // Still flying: the window stays, the dialog is gone, no second land.
+    for (int i = 0; i < 5; ++i) {
+        const Actions b = frame(gui, flying);
+        EXPECT_FALSE(b.quit);
+        EXPECT_FALSE(b.land);
+        EXPECT_FALSE(gui.view().quit_dialog_open);
+    }
+    // Navdata says landed: now it closes.
+    GuiSnapshot landed = flying;
+    landed.telemetry.state->flying = false;
+    EXPECT_TRUE(frame(gui, landed).quit);
+}
+
+TEST_F(GuiHeadless, CancelInTheQuitDialogKeepsFlyingAndTheWindowOpen) {
+    Gui gui;
+    GuiSnapshot flying;
+    make_demo_snapshot(flying, 1);
+    EXPECT_FALSE(gui.request_close(flying));
+    for (int i = 0; i < 3; ++i) frame(gui, flying);
+    const Actions a = click(gui, flying, "quit.cancel");
+    EXPECT_FALSE(a.land);
+    EXPECT_FALSE(a.quit);
+    EXPECT_FALSE(gui.view().quit_after_landing);
+    EXPECT_FALSE(frame(gui, flying).quit);
+    EXPECT_FALSE(gui.view().quit_dialog_open);
+    GuiSnapshot landed = flying;
+    landed.telemetry.state->flying = false;
+    EXPECT_FALSE(frame(gui, landed).quit) << "cancelled: landing later does not close";
+}
+
+TEST_F(GuiHeadless, CalibrationWindowStartsTheModeCapturesOnKAndStopsWhenClosed) {
+    Gui gui;
+    GuiSnapshot s;
+    make_demo_snapshot(s, 2);
+    ImGui::GetIO().KeysDown[GLFW_KEY_K] = true;
+    EXPECT_FALSE(frame(gui, s).calibration_capture) << "K does nothing while the window is closed";
+    ImGui::GetIO().KeysDown[GLFW_KEY_K] = false;
+    gui.view().open.calibration = true;
+    Actions a = frame(gui, s);
+    ASSERT_TRUE(a.calibration_start);
+    EXPECT_EQ(a.calibration_start->cols, 9);
+    EXPECT_EQ(a.calibration_start->rows, 6);
+    EXPECT_DOUBLE_EQ(a.calibration_start->square_m, 0.05);
+    EXPECT_FALSE(frame(gui, s).calibration_start) << "asked once, not every frame";
+    // The mode runs: the board over the video, the status, the coverage map.
+    s.calibration.active = true;
+    s.calibration.frame = s.video.index;
+    s.calibration.board_found = s.calibration.adds_coverage = true;
+    s.calibration.status = "board found: +12 cells, capture it";
+    for (int r = 0; r < 6; ++r)
+        for (int c = 0; c < 9; ++c)
+            s.calibration.corners.push_back(
+                {200.0f + 25.0f * static_cast<float>(c), 100.0f + 25.0f * static_cast<float>(r)});
+    s.calibration.grid_cols = 16;
+    s.calibration.grid_rows = 9;
+    s.calibration.coverage.assign(16 * 9, 0);
+    s.calibration.coverage[20] = 2;
+    s.calibration.image_w = 640;
+    s.calibration.image_h = 360;
+    s.calibration.views = 4;
+    s.calibration.rms_px = 0.21;
+    a = frame(gui, s);
+    EXPECT_FALSE(a.calibration_start);
+    const LayoutReport& l = gui.view().layout;
+    EXPECT_TRUE(l.calibration.drawn);
+    EXPECT_EQ(l.calibration.corners_drawn, 54);
+    EXPECT_GT(l.calibration.coverage_map.w(), 100.0f);
+    EXPECT_NEAR(l.calibration.coverage_map.w() / l.calibration.coverage_map.h(), 640.0 / 360.0,
+                0.02);
+    EXPECT_EQ(l.calibration.views, 4);
+    ASSERT_NE(l.button("calibration.capture"), nullptr);
+    ASSERT_NE(l.button("calibration.save"), nullptr);
+    // K captures (one edge per press).
+    ImGui::GetIO().KeysDown[GLFW_KEY_K] = true;
+    EXPECT_TRUE(frame(gui, s).calibration_capture);
+    EXPECT_FALSE(frame(gui, s).calibration_capture);
+    ImGui::GetIO().KeysDown[GLFW_KEY_K] = false;
+    frame(gui, s);
+    // The capture and save buttons.
+    EXPECT_TRUE(click(gui, s, "calibration.capture").calibration_capture);
+    EXPECT_TRUE(click(gui, s, "calibration.save").calibration_save);
+    // Closing the window stops the mode (once).
+    gui.view().open.calibration = false;
+    EXPECT_TRUE(frame(gui, s).calibration_stop);
+    EXPECT_FALSE(frame(gui, s).calibration_stop);
+    // The undistortion toggle is a level the adapter reads every frame.
+    gui.view().settings.overlay.undistort = true;
+    EXPECT_TRUE(frame(gui, s).undistort_preview);
 }
 
 TEST_F(GuiHeadless, RecordKeyTogglesAgainstTheRecordingState) {
