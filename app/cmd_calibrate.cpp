@@ -195,7 +195,7 @@ void run(const Opts& o) {
             rows.push_back(row);
             continue;
         }
-        const FrameResult f = session.add_frame(img, /*require_new_coverage=*/false);
+        const ViewResult f = session.add_frame(img, /*require_new_coverage=*/false);
         row.status = f.status;
         if (f.status == FrameStatus::SizeMismatch) {
             std::printf("%dx%d\n", img.cols, img.rows);

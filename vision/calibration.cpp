@@ -439,8 +439,8 @@ const char* to_string(FrameStatus s) {
 CalibrationSession::CalibrationSession(BoardSpec board, SessionOptions opts)
     : board_(board), opts_(opts) {}
 
-FrameResult CalibrationSession::check(const cv::Mat& image) const {
-    FrameResult fr;
+ViewResult CalibrationSession::check(const cv::Mat& image) const {
+    ViewResult fr;
     if (image_size_ && !image.empty() && image.size() != *image_size_) {
         fr.status = FrameStatus::SizeMismatch;
         fr.detection.image_size = image.size();
@@ -468,15 +468,15 @@ FrameResult CalibrationSession::check(const cv::Mat& image) const {
     return fr;
 }
 
-FrameResult CalibrationSession::add_frame(const cv::Mat& image, bool require_new_coverage) {
-    FrameResult fr = check(image);
+ViewResult CalibrationSession::add_frame(const cv::Mat& image, bool require_new_coverage) {
+    ViewResult fr = check(image);
     if (fr.status != FrameStatus::Accepted) return fr;
     return add_detection(fr.detection, require_new_coverage);
 }
 
-FrameResult CalibrationSession::add_detection(const BoardDetection& detection,
+ViewResult CalibrationSession::add_detection(const BoardDetection& detection,
                                               bool require_new_coverage) {
-    FrameResult fr;
+    ViewResult fr;
     fr.detection = detection;
     switch (detection.status) {
         case DetectStatus::EmptyImage:

@@ -153,7 +153,7 @@ struct CalibrationResult {
 enum class FrameStatus { Accepted, NotFound, Blurry, EmptyImage, SizeMismatch, NoNewCoverage };
 [[nodiscard]] const char* to_string(FrameStatus s);
 
-struct FrameResult {
+struct ViewResult {
     FrameStatus status = FrameStatus::NotFound;
     BoardDetection detection;
     int new_cells = 0;  // coverage cells this view adds
@@ -177,12 +177,12 @@ public:
     explicit CalibrationSession(BoardSpec board, SessionOptions opts = {});
 
     // Detection and coverage gain for a frame, keeping nothing (the live preview).
-    [[nodiscard]] FrameResult check(const cv::Mat& image) const;
+    [[nodiscard]] ViewResult check(const cv::Mat& image) const;
     // Detects and keeps the view when the board is found and sharp, the image size matches the
     // earlier views, and (if require_new_coverage) it covers a cell no kept view covers.
-    FrameResult add_frame(const cv::Mat& image, bool require_new_coverage = true);
+    ViewResult add_frame(const cv::Mat& image, bool require_new_coverage = true);
     // The same with a detection already made (from check()), without detecting again.
-    FrameResult add_detection(const BoardDetection& detection, bool require_new_coverage = true);
+    ViewResult add_detection(const BoardDetection& detection, bool require_new_coverage = true);
 
     // Calibrates from the kept views now; the result is also kept (result(), rms_px()).
     CalibrationExpected<CalibrationResult> calibrate();

@@ -239,7 +239,7 @@ void CalibrationMode::Impl::detect(const Frame& f, bool allow_auto) {
     if (!cal) return;
     const auto t0 = Clock::now();
     last_detect = t0;
-    const FrameResult fr = cal->check(f.image);
+    const ViewResult fr = cal->check(f.image);
     state.detect_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
     checked = f;
     checked.image = cv::Mat();  // the detection is all that is kept of it
@@ -300,7 +300,7 @@ void CalibrationMode::Impl::capture(bool automatic) {
         state.last_capture = "not kept: no video frame yet";
         return;
     }
-    FrameResult fr;
+    ViewResult fr;
     if (status == FrameStatus::SizeMismatch) {
         fr.status = FrameStatus::SizeMismatch;
     } else {

@@ -13,8 +13,7 @@
 // are queued and handled in order on the worker. State goes out through the `publish` callback,
 // called on the worker thread after every detection and command.
 //
-// This header does not include vision/calibration.hpp: its FrameResult clashes with
-// vision/classifier.hpp's, and the session that owns this mode includes the classifier.
+// This header keeps vision/calibration.hpp (OpenCV calib3d) out of the session's includes.
 
 #include "vision/camera_model.hpp"
 

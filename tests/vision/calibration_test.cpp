@@ -314,11 +314,11 @@ TEST(Coverage, RealFramesReport) {
 TEST(CalibrationSession, AddsFramesKeepsCoverageAndRecalibrates) {
     CalibrationSession s(kBoard);
     EXPECT_TRUE(std::isnan(s.rms_px()));
-    const FrameResult first = s.add_frame(load_frame(0));
+    const ViewResult first = s.add_frame(load_frame(0));
     EXPECT_TRUE(first.accepted());
     EXPECT_GT(first.new_cells, 0);
     for (int i = 1; i < 3; ++i) {
-        const FrameResult f = s.add_frame(load_frame(i), /*require_new_coverage=*/false);
+        const ViewResult f = s.add_frame(load_frame(i), /*require_new_coverage=*/false);
         EXPECT_EQ(f.status, FrameStatus::Accepted) << i << ": " << to_string(f.status);
         EXPECT_EQ(f.detection.corners.size(), 54U);
     }
@@ -326,12 +326,12 @@ TEST(CalibrationSession, AddsFramesKeepsCoverageAndRecalibrates) {
     EXPECT_LT(s.rms_px(), 0.5);
     EXPECT_GT(s.coverage().fraction(), 0.0);
     // The same frame again covers nothing new.
-    const FrameResult again = s.add_frame(load_frame(0));
+    const ViewResult again = s.add_frame(load_frame(0));
     EXPECT_EQ(again.status, FrameStatus::NoNewCoverage);
     EXPECT_EQ(again.new_cells, 0);
     EXPECT_EQ(s.view_count(), 3U);
     // check() keeps nothing.
-    const FrameResult peek = s.check(load_frame(5));
+    const ViewResult peek = s.check(load_frame(5));
     EXPECT_TRUE(peek.accepted());
     EXPECT_EQ(s.view_count(), 3U);
     // ... and its detection can be added without detecting again.
@@ -350,7 +350,7 @@ TEST(CalibrationSession, RefusesAFrameOfAnotherSize) {
     ASSERT_TRUE(s.add_frame(load_frame(0)).accepted());
     cv::Mat small;
     cv::resize(load_frame(1), small, {320, 180});
-    const FrameResult f = s.add_frame(small);
+    const ViewResult f = s.add_frame(small);
     EXPECT_EQ(f.status, FrameStatus::SizeMismatch);
     EXPECT_EQ(s.view_count(), 1U);
 }
