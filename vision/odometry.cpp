@@ -271,7 +271,8 @@ public:
             estimate(e, distance_m, roll_deg, pitch_deg);
             e.homography_ms = ms_since(t0);
         } else {
-            e.status = CameraStatus::First;
+            // A previous frame without corners (textureless, dark) is no estimate, not a start.
+            e.status = have_prev_ ? CameraStatus::TooFewPoints : CameraStatus::First;
         }
 
         // The thesis extracts corners in every frame and tracks them into the next.
