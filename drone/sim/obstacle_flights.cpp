@@ -32,6 +32,8 @@ nlohmann::json ObstacleFlightInfo::extra_labels() const {
     j["yaw_drift_deg_s"] = params.flight.yaw_drift_deg_s;
     j["yaw_wobble_deg"] = params.yaw_wobble_deg;
     j["yaw_wobble_hz"] = params.yaw_wobble_hz;
+    if (!std::isnan(params.end_lateral_m)) j["end_lateral_m"] = params.end_lateral_m;
+    if (!std::isnan(params.clear_path_m)) j["clear_path_m"] = params.clear_path_m;
     j["seed"] = params.seed;
     return j;
 }
@@ -59,41 +61,31 @@ std::optional<std::string> write_text(const fs::path& p, const std::string& text
 
 }  // namespace
 
-Expected<ObstacleFlightSummary, std::string> write_obstacle_flight(const fs::path& dir,
-                                                                   const ObstacleFlightInfo& fl) {
+namespace {
+
+// One recorded frame of a flight: the drone's state and pose, and where the target is.
+struct FlightFrame {
+    std::int64_t index;
+    TimeNs t_ns;  // from the start of the recording
+    const FlightState& state;
+    Pose pose;
+    double distance_m, lateral_m;  // target (NaN without one)
+};
+
+struct FlightEnd {
+    std::int64_t frames = 0;
+    double duration_s = 0;
+    double lateral_m = kUnknown;  // target's lateral offset at the last frame
+};
+
+// Flies the protocol with the virtual drone's brain and flight model: take off (to ~1 m), climb
+// or sink to the flight height, hover facing the obstacle, then fly forward until the scenario's
+// end; calls on_frame for every recorded frame (frames at p.fps). Deterministic.
+template <class OnFrame>
+Expected<FlightEnd, std::string> fly_protocol(const ObstacleFlightInfo& fl, const Scene& scene,
+                                              std::optional<std::size_t> target,
+                                              OnFrame&& on_frame) {
     const ObstacleFlightParams& p = fl.params;
-    if (!(p.fps > 0 && p.fps <= 120)) return Unexpected(std::string("fps out of range"));
-    if (!(p.speed_mps > 0 && p.speed_mps <= 5))
-        return Unexpected(std::string("speed out of range"));
-    std::error_code ec;
-    if (fs::exists(dir, ec) && !fs::is_empty(dir, ec))
-        return Unexpected(dir.string() + " exists and is not empty");
-    fs::create_directories(dir, ec);
-    if (ec) return Unexpected("cannot create " + dir.string() + ": " + ec.message());
-
-    const Scene& scene = fl.scene;
-    std::optional<std::size_t> target;
-    if (fl.scenario != "none") {
-        target = find_obstacle(scene, scene.target_id);
-        if (!target)
-            return Unexpected("scene " + scene.name + " has no target obstacle '" +
-                              scene.target_id + "'");
-    }
-
-    const CameraCalibration calib = builtin_calibration(CameraId::Front);
-    auto renderer = Renderer::create(scene, calib, CameraKind::Front);
-    if (!renderer) return Unexpected("renderer: " + to_string(renderer.error()));
-    H264EncoderConfig ec_cfg;
-    ec_cfg.width = calib.width;
-    ec_cfg.height = calib.height;
-    ec_cfg.fps = static_cast<int>(std::lround(p.fps));
-    ec_cfg.gop = 15;
-    ec_cfg.bitrate_bps = p.bitrate_bps;
-    auto encoder = H264Encoder::create(ec_cfg);
-    if (!encoder) return Unexpected("H.264 encoder: " + to_string(encoder.error()));
-
-    // The virtual drone's brain flies the protocol: take off (to ~1 m), climb or sink to the
-    // flight height, hover facing the obstacle, then fly forward.
     DroneCoreOptions co;
     co.flight = p.flight;
     co.start = scene.start;
@@ -119,23 +111,12 @@ Expected<ObstacleFlightSummary, std::string> write_obstacle_flight(const fs::pat
     co.autopilot_enabled = true;
     DroneCore core(co);
 
-    std::ofstream video(dir / "video.h264", std::ios::binary);
-    if (!video) return Unexpected("cannot create " + (dir / "video.h264").string());
-    std::string frames_csv = frames_csv_header();
-    std::string labels_csv = "frame,distance_m,lateral_m\n";
-
-    Rng noise(mix_seed(p.seed, 0x0b5));
     std::vector<OutDatagram> sink;
-    std::vector<std::uint8_t> au;
-    cv::Mat image;
-    ObstacleFlightSummary sum;
-    sum.start_distance_m = kUnknown;
-    sum.end_distance_m = kUnknown;
     const TimeNs frame_ns = static_cast<TimeNs>(std::llround(1e9 / p.fps));
     const TimeNs limit_ns = static_cast<TimeNs>((p.max_record_s + 60 + climb_s + p.settle_s) * 1e9);
     std::optional<TimeNs> airborne_ns, record_ns;
-    double start_x = 0, start_y = 0, travelled = 0;
-    std::int64_t index = 0;
+    double start_x = 0, start_y = 0;
+    FlightEnd end;
     for (TimeNs t = 0; t < limit_ns; t += frame_ns) {
         sink.clear();
         core.advance(t, sink);
@@ -150,7 +131,7 @@ Expected<ObstacleFlightSummary, std::string> write_obstacle_flight(const fs::pat
             start_y = s.y_m;
         }
         const Pose pose = core.pose();
-        travelled = std::hypot(s.x_m - start_x, s.y_m - start_y);
+        const double travelled = std::hypot(s.x_m - start_x, s.y_m - start_y);
         double distance = kUnknown, lateral = kUnknown;
         if (target) {
             const ObstacleHit h =
@@ -159,53 +140,149 @@ Expected<ObstacleFlightSummary, std::string> write_obstacle_flight(const fs::pat
             lateral = h.lateral_m;
         }
         const double rec_s = static_cast<double>(t - *record_ns) * 1e-9;
-        bool end = rec_s > p.max_record_s;
+        bool stop = rec_s > p.max_record_s;
         if (fl.scenario == "center")
-            end = end || distance <= p.stop_before_m;
+            stop = stop || distance <= p.stop_before_m;
         else if (fl.scenario == "left" || fl.scenario == "right")
-            end = end || distance < -p.pass_by_m;
+            stop = stop || distance < -p.pass_by_m;
         else
-            end = end || travelled >= p.open_path_m;
-        if (end) break;
-
-        auto t0 = std::chrono::steady_clock::now();
-        renderer->render(pose, image);
-        sum.render_ms += since_ms(t0);
-        t0 = std::chrono::steady_clock::now();
-        bool idr = false;
-        auto n = (*encoder)->encode(image, au, idr);
-        if (!n) return Unexpected("H.264 encoder: " + to_string(n.error()));
-        sum.encode_ms += since_ms(t0);
-        t0 = std::chrono::steady_clock::now();
-        video.write(reinterpret_cast<const char*>(au.data()),
-                    static_cast<std::streamsize>(au.size()));
-        sum.video_bytes += au.size();
-
-        FrameRow row;
-        row.frame = index;
-        row.nav.t_ns = t - *record_ns;
-        row.nav.roll_deg = s.roll_deg + gauss(noise, p.attitude_noise_deg);
-        row.nav.pitch_deg = s.pitch_deg + gauss(noise, p.attitude_noise_deg);
-        row.nav.yaw_deg = s.yaw_deg + gauss(noise, p.attitude_noise_deg);
-        row.nav.vx_mps = s.vx_body_mps() + gauss(noise, p.velocity_noise_mps);
-        row.nav.vy_mps = s.vy_body_mps() + gauss(noise, p.velocity_noise_mps);
-        row.nav.vz_mps = s.vz_mps + gauss(noise, p.velocity_noise_mps);
-        row.nav.altitude_m = s.z_m;
-        row.nav.battery_pct = std::floor(s.battery_pct);
-        row.gt = GroundTruthPose{pose.x_m, pose.y_m, pose.z_m, pose.yaw_deg};
-        frames_csv += frames_csv_row(row);
-        labels_csv += std::to_string(index) + ',' + csv::format_number(distance) + ',' +
-                      csv::format_number(lateral) + '\n';
-        if (index == 0) sum.start_distance_m = distance;
-        sum.end_distance_m = distance;
-        sum.write_ms += since_ms(t0);
-        sum.duration_s = rec_s;
-        ++index;
+            stop = stop || travelled >= p.open_path_m;
+        if (stop) break;
+        if (auto e = on_frame(FlightFrame{end.frames, t - *record_ns, s, pose, distance, lateral}))
+            return Unexpected(*e);
+        end.duration_s = rec_s;
+        end.lateral_m = lateral;
+        ++end.frames;
     }
+    if (end.frames == 0)
+        return Unexpected(std::string("the flight never reached its recording phase"));
+    return end;
+}
+
+}  // namespace
+
+Expected<ObstacleFlightSummary, std::string> write_obstacle_flight(const fs::path& dir,
+                                                                   const ObstacleFlightInfo& fl) {
+    const ObstacleFlightParams& p = fl.params;
+    if (!(p.fps > 0 && p.fps <= 120)) return Unexpected(std::string("fps out of range"));
+    if (!(p.speed_mps > 0 && p.speed_mps <= 5))
+        return Unexpected(std::string("speed out of range"));
+    std::error_code ec;
+    if (fs::exists(dir, ec) && !fs::is_empty(dir, ec))
+        return Unexpected(dir.string() + " exists and is not empty");
+
+    Scene scene = fl.scene;
+    std::optional<std::size_t> target;
+    if (fl.scenario != "none") {
+        target = find_obstacle(scene, scene.target_id);
+        if (!target)
+            return Unexpected("scene " + scene.name + " has no target obstacle '" +
+                              scene.target_id + "'");
+    }
+    const bool correct_drift = target && !std::isnan(p.end_lateral_m);
+    if (correct_drift || p.clear_path_m > 0) {
+        // A dry run (no pixels) of the same flight: the flight model does not depend on where it
+        // starts, so what it gives holds, shifted, for the real one.
+        std::vector<cv::Point2d> path;
+        auto dry = fly_protocol(fl, scene, target, [&](const FlightFrame& f) {
+            path.emplace_back(f.pose.x_m, f.pose.y_m);
+            return std::optional<std::string>();
+        });
+        if (!dry) return Unexpected(dry.error());
+        if (correct_drift) {
+            // Drift (wind) carries the drone sideways during the approach: move the start across
+            // the heading so that the target ends at end_lateral_m.
+            const double shift = dry->lateral_m - p.end_lateral_m;  // start moves right by this
+            const double yaw = scene.start.yaw_deg * std::numbers::pi / 180;
+            const cv::Point2d d(-shift * std::sin(yaw), shift * std::cos(yaw));
+            scene.start.x_m += d.x;
+            scene.start.y_m += d.y;
+            for (cv::Point2d& q : path) q += d;
+            const Room& r = scene.room;
+            if (!(scene.start.x_m > r.x_min_m + 0.3 && scene.start.x_m < r.x_max_m - 0.3 &&
+                  scene.start.y_m > r.y_min_m + 0.3 && scene.start.y_m < r.y_max_m - 0.3))
+                return Unexpected("the drift correction moves the start of " + fl.name +
+                                  " out of the room");
+        }
+        if (p.clear_path_m > 0) {
+            const std::string target_id = target ? scene.obstacles[*target].id : std::string();
+            std::erase_if(scene.obstacles, [&](const Obstacle& o) {
+                if (!o.clutter || (!target_id.empty() && o.id == target_id)) return false;
+                for (const cv::Point2d& q : path)
+                    if (footprint_distance(o, q.x, q.y) < p.clear_path_m) return true;
+                return false;
+            });
+            if (target) target = find_obstacle(scene, scene.target_id);
+        }
+    }
+    fs::create_directories(dir, ec);
+    if (ec) return Unexpected("cannot create " + dir.string() + ": " + ec.message());
+
+    const CameraCalibration calib = builtin_calibration(CameraId::Front);
+    auto renderer = Renderer::create(scene, calib, CameraKind::Front);
+    if (!renderer) return Unexpected("renderer: " + to_string(renderer.error()));
+    H264EncoderConfig ec_cfg;
+    ec_cfg.width = calib.width;
+    ec_cfg.height = calib.height;
+    ec_cfg.fps = static_cast<int>(std::lround(p.fps));
+    ec_cfg.gop = 15;
+    ec_cfg.bitrate_bps = p.bitrate_bps;
+    auto encoder = H264Encoder::create(ec_cfg);
+    if (!encoder) return Unexpected("H.264 encoder: " + to_string(encoder.error()));
+
+    std::ofstream video(dir / "video.h264", std::ios::binary);
+    if (!video) return Unexpected("cannot create " + (dir / "video.h264").string());
+    std::string frames_csv = frames_csv_header();
+    std::string labels_csv = "frame,distance_m,lateral_m\n";
+
+    Rng noise(mix_seed(p.seed, 0x0b5));
+    std::vector<std::uint8_t> au;
+    cv::Mat image;
+    ObstacleFlightSummary sum;
+    sum.start_distance_m = kUnknown;
+    sum.end_distance_m = kUnknown;
+    auto flown =
+        fly_protocol(fl, scene, target, [&](const FlightFrame& f) -> std::optional<std::string> {
+            const FlightState& s = f.state;
+            auto t0 = std::chrono::steady_clock::now();
+            renderer->render(f.pose, image);
+            sum.render_ms += since_ms(t0);
+            t0 = std::chrono::steady_clock::now();
+            bool idr = false;
+            auto n = (*encoder)->encode(image, au, idr);
+            if (!n) return "H.264 encoder: " + to_string(n.error());
+            sum.encode_ms += since_ms(t0);
+            t0 = std::chrono::steady_clock::now();
+            video.write(reinterpret_cast<const char*>(au.data()),
+                        static_cast<std::streamsize>(au.size()));
+            sum.video_bytes += au.size();
+
+            FrameRow row;
+            row.frame = f.index;
+            row.nav.t_ns = f.t_ns;
+            row.nav.roll_deg = s.roll_deg + gauss(noise, p.attitude_noise_deg);
+            row.nav.pitch_deg = s.pitch_deg + gauss(noise, p.attitude_noise_deg);
+            row.nav.yaw_deg = s.yaw_deg + gauss(noise, p.attitude_noise_deg);
+            row.nav.vx_mps = s.vx_body_mps() + gauss(noise, p.velocity_noise_mps);
+            row.nav.vy_mps = s.vy_body_mps() + gauss(noise, p.velocity_noise_mps);
+            row.nav.vz_mps = s.vz_mps + gauss(noise, p.velocity_noise_mps);
+            row.nav.altitude_m = s.z_m;
+            row.nav.battery_pct = std::floor(s.battery_pct);
+            row.gt = GroundTruthPose{f.pose.x_m, f.pose.y_m, f.pose.z_m, f.pose.yaw_deg};
+            frames_csv += frames_csv_row(row);
+            labels_csv += std::to_string(f.index) + ',' + csv::format_number(f.distance_m) + ',' +
+                          csv::format_number(f.lateral_m) + '\n';
+            if (f.index == 0) sum.start_distance_m = f.distance_m;
+            sum.end_distance_m = f.distance_m;
+            sum.write_ms += since_ms(t0);
+            return std::nullopt;
+        });
+    if (!flown) return Unexpected(flown.error());
     video.close();
     if (!video) return Unexpected("cannot write " + (dir / "video.h264").string());
-    if (index == 0) return Unexpected(std::string("the flight never reached its recording phase"));
-    sum.frames = static_cast<int>(index);
+    sum.frames = static_cast<int>(flown->frames);
+    sum.duration_s = flown->duration_s;
+    const std::int64_t index = flown->frames;
 
     DatasetInfo info;
     info.camera = CameraId::Front;
@@ -307,6 +384,21 @@ ObstacleFlightInfo flight(std::string name, std::string group, std::string scena
     return f;
 }
 
+// Scenery keeps this far from the path flown (edge to the drone's centre line: 0.74 m of air
+// beside its hull): only the target is in the way.
+constexpr double kClearPathM = 1.0;
+
+// The target's centre across the path where the flight ends. Side flights pass it (thesis §5.2:
+// about 0.5 m to the side) with 0.3-0.5 m between its near face and the flight line: outside the
+// drone's 0.26 m half-width, so they stay passes however the drone drifted on the way. Centre
+// flights end head-on, within 0.1 m.
+double pass_lateral(Rng& rng, const std::string& scenario, const Obstacle& t) {
+    const double clearance = rng.uniform(0.3, 0.5);
+    if (scenario == "left") return -(half_width_y(t) + clearance);
+    if (scenario == "right") return half_width_y(t) + clearance;
+    return rng.uniform(-0.1, 0.1);
+}
+
 char tag(const std::string& scenario) {
     return scenario == "left" ? 'L' : scenario == "right" ? 'R' : scenario == "center" ? 'C' : 'N';
 }
@@ -338,14 +430,13 @@ std::vector<ObstacleFlightInfo> thesis_suite(std::uint64_t seed) {
                 const Variation v = vary(rng);
                 Scene s = base;
                 const Obstacle& tt = s.obstacles[*find_obstacle(s, s.target_id)];
-                const double clearance = rng.uniform(0.15, 0.35);
-                const double lat = scenario == "left"    ? -(half_width_y(tt) + clearance)
-                                   : scenario == "right" ? half_width_y(tt) + clearance
-                                                         : rng.uniform(-0.08, 0.08);
+                const double lat = pass_lateral(rng, scenario, tt);
                 place_start(s, tt, lat, v.start_distance_m, v.height_m);
                 std::snprintf(name, sizeof name, "uncluttered_%c%02d", tag(scenario), i + 1);
                 out.push_back(flight(name, "uncluttered", scenario, std::move(s), v,
                                      mix_seed(seed, out.size() + 1), i));
+                out.back().params.end_lateral_m = lat;
+                out.back().params.clear_path_m = kClearPathM;
             }
         }
     }
@@ -368,15 +459,14 @@ std::vector<ObstacleFlightInfo> thesis_suite(std::uint64_t seed) {
                 const Variation v = vary(rng);
                 Scene s = base;
                 const Obstacle& tt = s.obstacles[*find_obstacle(s, s.target_id)];
-                const double clearance = rng.uniform(0.15, 0.35);
-                const double lat = scenario == "left"    ? -(half_width_y(tt) + clearance)
-                                   : scenario == "right" ? half_width_y(tt) + clearance
-                                                         : rng.uniform(-0.08, 0.08);
+                const double lat = pass_lateral(rng, scenario, tt);
                 place_start(s, tt, lat, v.start_distance_m, v.height_m);
                 std::snprintf(name, sizeof name, "cluttered_p%d_%c%02d", pillar + 1, tag(scenario),
                               i + 1);
                 out.push_back(flight(name, "cluttered", scenario, std::move(s), v,
                                      mix_seed(seed, out.size() + 1), pillar * 4 + i));
+                out.back().params.end_lateral_m = lat;
+                out.back().params.clear_path_m = kClearPathM;
             }
         }
     }
@@ -400,6 +490,7 @@ std::vector<ObstacleFlightInfo> thesis_suite(std::uint64_t seed) {
             ObstacleFlightInfo f = flight(name, "open", "none", std::move(s), v,
                                           mix_seed(seed, out.size() + 1), path * 10 + i);
             f.params.open_path_m = 8.0;
+            f.params.clear_path_m = kClearPathM;
             out.push_back(std::move(f));
         }
     }

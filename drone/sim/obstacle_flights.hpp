@@ -23,6 +23,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -47,6 +48,15 @@ struct ObstacleFlightParams {
     // generator; 0 = exact.
     double attitude_noise_deg = 0.05;
     double velocity_noise_mps = 0.03;
+    // Where the target's centre should be, across the flight direction (right positive), when
+    // the recording ends (passed, or stopped before it): the start is moved across the heading to
+    // cancel the drift the flight accumulates, so a side flight stays a pass and a centre flight
+    // stays head-on. NaN: start where the scene says.
+    double end_lateral_m = std::numeric_limits<double>::quiet_NaN();
+    // Clutter (scenery) whose footprint comes closer than this to the path flown is removed, so
+    // the target is the only obstacle near the flight and a flag elsewhere is a false alarm.
+    // NaN: the scene as it is.
+    double clear_path_m = std::numeric_limits<double>::quiet_NaN();
     int bitrate_bps = 1'500'000;  // the drone's default video bitrate
     std::uint64_t seed = 1;       // noise
 };

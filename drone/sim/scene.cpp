@@ -269,6 +269,17 @@ Expected<Scene, AssetError> load_scene(const std::string& path) {
     return s;
 }
 
+double footprint_distance(const Obstacle& o, double x_m, double y_m) {
+    const double dx = x_m - o.x_m, dy = y_m - o.y_m;
+    if (o.shape == ObstacleShape::Cylinder) return std::max(0.0, std::hypot(dx, dy) - o.radius_m);
+    // Into the box's own axes (box_corners turns local (lx, ly) by +yaw).
+    const double c = std::cos(o.yaw_deg * kDeg), s = std::sin(o.yaw_deg * kDeg);
+    const double lx = c * dx + s * dy, ly = -s * dx + c * dy;
+    const double ex = std::max(0.0, std::abs(lx) - o.size_x_m / 2);
+    const double ey = std::max(0.0, std::abs(ly) - o.size_y_m / 2);
+    return std::hypot(ex, ey);
+}
+
 std::optional<std::size_t> find_obstacle(const Scene& s, const std::string& id) {
     for (std::size_t i = 0; i < s.obstacles.size(); ++i)
         if (!id.empty() && s.obstacles[i].id == id) return i;

@@ -107,6 +107,9 @@ std::optional<ObstacleHit> obstacle_ahead(const Scene& s, double x_m, double y_m
                                           double heading_deg, double half_width_m,
                                           double max_range_m = 1e9);
 
+// Horizontal distance from (x, y) to the obstacle's footprint (0 inside it).
+double footprint_distance(const Obstacle& o, double x_m, double y_m);
+
 // Index of the obstacle with id, if any.
 std::optional<std::size_t> find_obstacle(const Scene& s, const std::string& id);
 
