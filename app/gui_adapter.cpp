@@ -205,20 +205,26 @@ void classifier_output(const PipelineOutput& o, ui::ClassifierOutput& c, double 
     if (!scores.series.empty()) c.plots.push_back(std::move(scores));
 
     ui::PlotData scale{"center_scale", "Centre scale", "frame", "ratio", {}, {}};
-    for (const char* n :
-         {"centre.scale_raw", "centre.scale_filtered", "centre.scale_fitted", "centre.rate_raw"})
+    // flow: the corridor points' expansion rate, and the homography's when that channel is on.
+    const bool rates = find(r, "centre.points_rate") != nullptr;
+    if (rates) {
+        scale.title = "Centre expansion rate";
+        scale.y_label = "1/s";
+    }
+    for (const char* n : {"centre.scale_raw", "centre.scale_filtered", "centre.scale_fitted",
+                          "centre.points_rate", "centre.homography_rate", "centre.rate_raw"})
         if (const auto* s = take(n))
             scale.series.push_back(series_data(*s, std::string(n).substr(7)));
     // The centre threshold, where it shares the plot's units. The thesis classifier flags the
     // centre when the fitted curve's tangent slope exceeds the threshold (per sample): drawn as a
     // line of that slope ending at the newest fitted point, over the fit window (a fitted curve
     // climbing more steeply than it is unsafe). The flow classifier compares the expansion rate
-    // (1/s) with it: a horizontal line against rate_raw.
+    // (1/s) with it: a horizontal line against its rates.
     const double cthr = last_value(find(r, "centre.threshold"));
     if (std::isfinite(cthr)) {
         const auto* fitted = find(r, "centre.scale_fitted");
-        const auto* rate = find(r, "centre.rate_raw");
-        if (rate) scale.thresholds.push_back({"centre threshold [1/s]", cthr, 0});
+        if (rates || find(r, "centre.rate_raw"))
+            scale.thresholds.push_back({"centre threshold [1/s]", cthr, 0});
         if (fitted) {
             std::optional<vision::PlotPoint> last;
             for (std::size_t i = fitted->points.size(); i-- > 0;)

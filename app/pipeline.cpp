@@ -24,6 +24,7 @@ vision::FrameInput to_frame_input(const FrameSample& s) {
     in.vx_mps = s.nav.vx_mps;
     in.vy_mps = s.nav.vy_mps;
     in.vz_mps = s.nav.vz_mps;
+    in.altitude_m = s.nav.altitude_m;
     return in;
 }
 

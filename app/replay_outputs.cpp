@@ -187,16 +187,18 @@ std::optional<std::string> ReplayOutputs::write_plots(const fs::path& dir) const
     vision::PlotSpec c;
     c.title = "center region: homography scale";
     c.x_label = "frame";
-    for (const auto& [name, l] : series_)
-        if (name.rfind("centre.", 0) == 0 && name != "centre.score" && name != "centre.threshold" &&
-            name.find("rate") == std::string::npos)
-            c.lines.push_back(l);
+    for (const char* name : {"centre.scale_raw", "centre.scale_filtered", "centre.scale_fitted"})
+        if (const auto* l = find(name)) c.lines.push_back(*l);
     if (auto e = save("center_scale.png", c)) return e;
-    if (const auto* rate = find("centre.rate_raw")) {
-        vision::PlotSpec rs;
-        rs.title = "center region: expansion rate (1/s)";
-        rs.x_label = "frame";
-        rs.lines.push_back(*rate);
+    // The expansion rates (flow: the corridor points' and the homography's) against the
+    // threshold.
+    vision::PlotSpec rs;
+    rs.title = "center region: expansion rate (1/s)";
+    rs.x_label = "frame";
+    for (const char* name : {"centre.points_rate", "centre.homography_rate", "centre.rate_raw"})
+        if (const auto* l = find(name)) rs.lines.push_back(*l);
+    if (!rs.lines.empty()) {
+        if (const auto* thr = find("centre.threshold")) rs.lines.push_back(*thr);
         if (auto e = save("center_rate.png", rs)) return e;
     }
     // Trajectories' x over frames (thesis fig. 3.25), coloured by their last score.

@@ -53,6 +53,13 @@ void TrackingClassifier::reconfigure() {
     reset();
 }
 
+void TrackingClassifier::apply_params(bool resets) {
+    if (resets)
+        reconfigure();
+    else
+        tracker_.set_params(tracker_params());
+}
+
 void TrackingClassifier::reset() {
     tracker_.reset();
     have_prev_ = false;
@@ -103,7 +110,8 @@ const FrameResult& TrackingClassifier::process(const FrameInput& in) {
     const cv::Matx33d derot = wants_derotation() && have_prev_
                                   ? rotation_homography(calib_, prev_attitude_, in.attitude)
                                   : cv::Matx33d::eye();
-    tracker_.update(in.image, in.t_ns, in.attitude.roll_deg, derot);
+    const cv::Point2f* foe = prepare(in);
+    tracker_.update(in.image, in.t_ns, in.attitude.roll_deg, derot, foe);
     result_.frame_index = tracker_.frame_index() - 1;
     result_.t_ns = in.t_ns;
     result_.tracks = static_cast<int>(tracker_.tracks().size());

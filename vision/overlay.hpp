@@ -17,6 +17,7 @@ inline constexpr Rgb kGreen{0, 200, 0};
 inline constexpr Rgb kRed{230, 0, 0};
 inline constexpr Rgb kYellow{240, 220, 0};
 inline constexpr Rgb kWhite{255, 255, 255};
+inline constexpr Rgb kGrey{150, 150, 150};
 
 // Blue at t <= 0 through red at t >= 1 (thesis fig. 3.27).
 Rgb blue_to_red(double t);

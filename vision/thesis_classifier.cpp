@@ -65,14 +65,14 @@ ThesisClassifier::ThesisClassifier(const CameraCalibration& calib, const ThesisP
 ParamStatus ThesisClassifier::set_param(std::string_view name, double value) {
     bool resets = false;
     const ParamStatus s = ThesisParams::table().set(p_, name, value, &resets);
-    if (s == ParamStatus::Ok && resets) reconfigure();
+    if (s == ParamStatus::Ok) apply_params(resets);
     return s;
 }
 
 ParamMapErrors ThesisClassifier::params_from_map(const ParamMap& m) {
     bool resets = false;
     ParamMapErrors e = ThesisParams::table().from_map(p_, m, &resets);
-    if (resets) reconfigure();
+    apply_params(resets);
     return e;
 }
 

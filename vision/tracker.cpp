@@ -3,6 +3,7 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
 
+#include <algorithm>
 #include <chrono>
 
 namespace gs::vision {
@@ -58,7 +59,7 @@ cv::Point2f TrajectoryTracker::to_track(cv::Point2f p) const {
 }
 
 void TrajectoryTracker::update(const cv::Mat& image, std::int64_t t_ns, double roll_deg,
-                               const cv::Matx33d& derot_h) {
+                               const cv::Matx33d& derot_h, const cv::Point2f* foe) {
     timings_ = {};
     ended_ = added_ = 0;
     const double roll = std::isnan(roll_deg) ? 0.0 : roll_deg;
@@ -92,11 +93,21 @@ void TrajectoryTracker::update(const cv::Mat& image, std::int64_t t_ns, double r
     std::size_t n = 0;
     if (have_prev_ && !tracks_.empty()) {
         t0 = Clock::now();
+        // Start each search where the attitude change alone moves the point: a fast pitch or yaw
+        // (tens of pixels a frame) is then no harder to track than hover.
+        int flags = 0;
+        if (derot_h != cv::Matx33d::eye()) {
+            cur_pts_.resize(tracks_.size());
+            for (std::size_t i = 0; i < tracks_.size(); ++i)
+                cur_pts_[i] =
+                    to_track(calib_.distort_point(apply_homography(derot_h, tracks_[i].undist)));
+            flags = cv::OPTFLOW_USE_INITIAL_FLOW;
+        }
         cv::calcOpticalFlowPyrLK(pyr_prev_, pyr_cur_, prev_pts_, cur_pts_, status_, err_, win,
                                  p_.lk_levels,
                                  cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS,
                                                   p_.lk_iterations, p_.lk_epsilon),
-                                 0, p_.lk_min_eig);
+                                 flags, p_.lk_min_eig);
         timings_.lk_ms = ms_since(t0);
 
         t0 = Clock::now();
@@ -112,6 +123,20 @@ void TrajectoryTracker::update(const cv::Mat& image, std::int64_t t_ns, double r
         raw_.resize(n);
         und_.resize(n);
         calib_.undistort_points(raw_, und_);
+        // Where the attitude change alone would have moved each point.
+        pred_.resize(n);
+        for (std::size_t i = 0; i < n; ++i) pred_[i] = apply_homography(derot_h, tracks_[i].undist);
+        residual_deg_ = {0, 0, 0};
+        if (foe && p_.refine_rotation) {
+            cv::Vec3d omega;
+            if (estimate_residual_rotation(calib_, pred_, und_, *foe, 30.0, p_.refine_huber_px,
+                                           p_.refine_min_points, rot_scratch_, omega) &&
+                cv::norm(omega) * 180.0 / CV_PI <= p_.refine_max_deg) {
+                const cv::Matx33d hr = small_rotation_homography(calib_, omega);
+                for (cv::Point2f& q : pred_) q = apply_homography(hr, q);
+                residual_deg_ = omega * (180.0 / CV_PI);
+            }
+        }
         std::size_t m = 0;
         for (std::size_t i = 0; i < n; ++i) {
             const cv::Point2f s = stab_.apply(und_[i]);
@@ -119,8 +144,7 @@ void TrajectoryTracker::update(const cv::Mat& image, std::int64_t t_ns, double r
             if (!inside(s, w, h, 0)) continue;
             Trajectory& tr = tracks_[m];
             if (m != i) tr = tracks_[i];
-            const cv::Point2f predicted = apply_homography(derot_h, tr.undist);
-            const cv::Point2f derot = tr.at_back(0).derot + (und_[i] - predicted);
+            const cv::Point2f derot = tr.at_back(0).derot + (und_[i] - pred_[i]);
             tr.raw = raw_[i];
             tr.undist_prev = tr.undist;
             tr.undist = und_[i];
@@ -135,10 +159,10 @@ void TrajectoryTracker::update(const cv::Mat& image, std::int64_t t_ns, double r
         tracks_.clear();
     }
 
-    if (frame_ % std::max(1, p_.detect_interval) == 0 &&
-        static_cast<int>(tracks_.size()) < p_.max_tracks) {
+    if (frame_ % std::max(1, p_.detect_interval) == 0) {
         t0 = Clock::now();
-        detect(roll);
+        if (grid_on()) balance_grid();
+        if (static_cast<int>(tracks_.size()) < p_.max_tracks) detect(roll);
         timings_.detect_ms = ms_since(t0);
     }
 
@@ -149,12 +173,76 @@ void TrajectoryTracker::update(const cv::Mat& image, std::int64_t t_ns, double r
     ++frame_;
 }
 
+int TrajectoryTracker::cell_of(cv::Point2f raw) const {
+    const int cx =
+        std::clamp(static_cast<int>(static_cast<double>(raw.x) * p_.grid_cols / calib_.width), 0,
+                   p_.grid_cols - 1);
+    const int cy =
+        std::clamp(static_cast<int>(static_cast<double>(raw.y) * p_.grid_rows / calib_.height), 0,
+                   p_.grid_rows - 1);
+    return cy * p_.grid_cols + cx;
+}
+
+int TrajectoryTracker::cell_quota() const {
+    const int cells = p_.grid_cols * p_.grid_rows;
+    return std::max(1, (p_.max_tracks + cells - 1) / cells);
+}
+
+void TrajectoryTracker::balance_grid() {
+    const auto cells = static_cast<std::size_t>(p_.grid_cols * p_.grid_rows);
+    const int quota = cell_quota();
+    cell_count_.assign(cells, 0);
+    for (const Trajectory& t : tracks_) ++cell_count_[static_cast<std::size_t>(cell_of(t.raw))];
+    bool crowded = false;
+    for (int n : cell_count_) crowded = crowded || n > quota;
+    if (!crowded) return;
+    // In each crowded cell the longest trajectories keep their place (ties: older id first).
+    order_.resize(tracks_.size());
+    for (std::size_t i = 0; i < tracks_.size(); ++i) order_[i] = i;
+    std::sort(order_.begin(), order_.end(), [&](std::size_t a, std::size_t b) {
+        if (tracks_[a].length != tracks_[b].length) return tracks_[a].length > tracks_[b].length;
+        return tracks_[a].id < tracks_[b].id;
+    });
+    drop_.assign(tracks_.size(), 0);
+    cell_count_.assign(cells, 0);
+    for (std::size_t i : order_) {
+        int& n = cell_count_[static_cast<std::size_t>(cell_of(tracks_[i].raw))];
+        if (n >= quota)
+            drop_[i] = 1;
+        else
+            ++n;
+    }
+    std::size_t m = 0;
+    for (std::size_t i = 0; i < tracks_.size(); ++i) {
+        if (drop_[i]) continue;
+        if (m != i) tracks_[m] = tracks_[i];
+        ++m;
+    }
+    ended_ += static_cast<int>(tracks_.size() - m);
+    tracks_.resize(m);
+}
+
 void TrajectoryTracker::detect(double roll) {
     if (std::isnan(mask_roll_deg_) || std::abs(roll - mask_roll_deg_) >= p_.mask_roll_step_deg) {
         detection_mask(calib_, stab_, p_.border_margin_px, p_.track_scale, mask_base_);
         mask_roll_deg_ = roll;
     }
     mask_base_.copyTo(mask_);
+    if (grid_on()) {
+        // Full cells take no new corners (counts as balance_grid() left them).
+        const int quota = cell_quota();
+        const double cw = calib_.width * p_.track_scale / p_.grid_cols;
+        const double ch = calib_.height * p_.track_scale / p_.grid_rows;
+        for (int c = 0; c < p_.grid_cols * p_.grid_rows; ++c) {
+            if (cell_count_[static_cast<std::size_t>(c)] < quota) continue;
+            const int cx = c % p_.grid_cols, cy = c / p_.grid_cols;
+            const cv::Point a(static_cast<int>(std::floor(cx * cw)),
+                              static_cast<int>(std::floor(cy * ch)));
+            const cv::Point b(static_cast<int>(std::ceil((cx + 1) * cw)),
+                              static_cast<int>(std::ceil((cy + 1) * ch)));
+            cv::rectangle(mask_, a, b, cv::Scalar(0), cv::FILLED);
+        }
+    }
     const int r = static_cast<int>(std::lround(p_.new_point_min_distance_px * p_.track_scale));
     if (r > 0)
         for (const Trajectory& t : tracks_) {

@@ -17,6 +17,14 @@
 namespace gs::vision {
 
 struct TrackerParams {
+    // Refinement of the navdata derotation from the tracked points (only with a focus of
+    // expansion, i.e. for classifiers that derotate): what the attitude samples got wrong (noise,
+    // latency against the video) shows as flow across the rays from the FOE, which a static scene
+    // seen under pure translation never has.
+    bool refine_rotation = true;
+    double refine_huber_px = 1.0;  // robust weight: residuals above this count less
+    double refine_max_deg = 3.0;   // a larger correction is not believed (left at 0)
+    int refine_min_points = 12;
     int max_tracks = 150;               // speed: ~1 ms per frame with the settings below (bench)
     double quality_level = 0.01;        // goodFeaturesToTrack qualityLevel
     double min_corner_distance_px = 8;  // goodFeaturesToTrack minDistance (full-size px)
@@ -26,9 +34,14 @@ struct TrackerParams {
     int lk_levels = 2;                      // LK pyramid levels above the base
     int lk_iterations = 10;
     double lk_epsilon = 0.03;
-    double lk_min_eig = 1e-4;         // LK drops points whose gradient matrix is weaker
-    double track_scale = 0.5;         // track on an image resized by this (measured: see bench)
-    int detect_interval = 2;          // look for new corners every n-th frame (thesis: every frame)
+    double lk_min_eig = 1e-4;  // LK drops points whose gradient matrix is weaker
+    double track_scale = 0.5;  // track on an image resized by this (measured: see bench)
+    int detect_interval = 2;   // look for new corners every n-th frame (thesis: every frame)
+    // Spread the trajectories over a grid of cols x rows cells (0 = off, the thesis): no cell
+    // holds more than its share of max_tracks, the newest trajectories of a crowded cell give
+    // way, and new corners go to cells below their share. Without it the strongest corners of a
+    // far, slow background take every slot and keep them, and an obstacle gets none.
+    int grid_cols = 0, grid_rows = 0;
     double border_margin_px = 4;      // keep corners this far inside the stabilised image
     double mask_roll_step_deg = 0.5;  // recompute the detection mask when roll moves this much
     bool rotate_about_principal_point = false;  // thesis: rotates about the image centre
@@ -41,7 +54,15 @@ struct TrackerParams {
 // TrackerParams.
 template <class P>
 void describe_tracker_params(ParamTable<P>& t) {
-    t.add("track.max_tracks", &P::max_tracks, 10, 2000, "most trajectories alive at once", true)
+    t.add("track.refine_rotation", &P::refine_rotation, 0, 1,
+          "refine the navdata derotation from the tracked points (derotating classifiers)")
+        .add("track.refine_huber_px", &P::refine_huber_px, 0.05, 20,
+             "rotation refinement: robust weight threshold")
+        .add("track.refine_max_deg", &P::refine_max_deg, 0, 30,
+             "rotation refinement: largest correction believed per frame")
+        .add("track.refine_min_points", &P::refine_min_points, 3, 1000,
+             "rotation refinement: fewest points")
+        .add("track.max_tracks", &P::max_tracks, 10, 2000, "most trajectories alive at once", true)
         .add("track.quality_level", &P::quality_level, 1e-4, 0.5,
              "Shi-Tomasi: corner strength relative to the strongest corner")
         .add("track.min_corner_distance_px", &P::min_corner_distance_px, 1, 100,
@@ -59,6 +80,9 @@ void describe_tracker_params(ParamTable<P>& t) {
              true)
         .add("track.detect_interval", &P::detect_interval, 1, 30,
              "look for new corners every n-th frame")
+        .add("track.grid_cols", &P::grid_cols, 0, 32,
+             "spread trajectories over this many columns of cells (0 = off)")
+        .add("track.grid_rows", &P::grid_rows, 0, 32, "... and this many rows (0 = off)")
         .add("track.border_margin_px", &P::border_margin_px, 0, 50,
              "keep corners this far inside the stabilised image", true)
         .add("track.mask_roll_step_deg", &P::mask_roll_step_deg, 0.05, 10,
@@ -109,12 +133,20 @@ class TrajectoryTracker {
 public:
     TrajectoryTracker() = default;
     void configure(const CameraCalibration& calib, const TrackerParams& p);
+    // New values for parameters that do not change sizes (TrackerParams marked without
+    // resets_state): takes effect on the next update, keeps the trajectories.
+    void set_params(const TrackerParams& p) { p_ = p; }
     void reset();
 
     // image: grey or BGR at the calibration's size. derot_h maps the previous frame's undistorted
-    // pixels to this frame's for the attitude change alone (identity if unknown).
+    // pixels to this frame's for the attitude change alone (identity if unknown). With `foe` (the
+    // focus of expansion, undistorted pixels) the attitude change is refined from the images:
+    // see estimate_residual_rotation().
     void update(const cv::Mat& image, std::int64_t t_ns, double roll_deg,
-                const cv::Matx33d& derot_h);
+                const cv::Matx33d& derot_h, const cv::Point2f* foe = nullptr);
+    // The rotation the last update() added to derot_h (camera axes, degrees; 0 without refinement
+    // or when too few points constrained it).
+    const cv::Vec3d& residual_rotation_deg() const { return residual_deg_; }
 
     const std::vector<Trajectory>& tracks() const { return tracks_; }
     const CameraCalibration& calibration() const { return calib_; }
@@ -129,6 +161,10 @@ private:
     cv::Point2f to_full(cv::Point2f p) const;
     cv::Point2f to_track(cv::Point2f p) const;
     void detect(double roll_deg);
+    bool grid_on() const { return p_.grid_cols > 0 && p_.grid_rows > 0; }
+    int cell_of(cv::Point2f raw) const;
+    int cell_quota() const;
+    void balance_grid();
 
     CameraCalibration calib_;
     TrackerParams p_;
@@ -147,7 +183,13 @@ private:
     std::vector<std::uint8_t> status_;
     std::vector<float> err_;
     std::vector<cv::Point2f> corners_;
+    std::vector<cv::Point2f> pred_;
+    std::vector<int> cell_count_;
+    std::vector<std::size_t> order_;
+    std::vector<std::uint8_t> drop_;
+    RotationFitScratch rot_scratch_;
     cv::Mat mask_base_, mask_;
+    cv::Vec3d residual_deg_{0, 0, 0};
     double mask_roll_deg_ = std::numeric_limits<double>::quiet_NaN();
     TrackerTimings timings_;
 };

@@ -29,9 +29,10 @@ constexpr std::int64_t kFrames = 153;
 
 class ReplayControls : public ImGuiFixture {
 protected:
-    void start(bool autoplay) {
+    void start(bool autoplay, const char* classifier = nullptr) {
         app::SessionOptions so;
         so.replay_autoplay = autoplay;
+        if (classifier) so.classifier = classifier;
         session = std::make_unique<app::Session>(so);
         adapter = std::make_unique<app::GuiAdapter>(*session);
         Actions open;
@@ -139,14 +140,25 @@ TEST_F(ReplayControls, PlayPauseStepSeekSpeedAndLoopOnTheShippedFlight) {
                 static_cast<long long>(fast));
     EXPECT_GE(fast, 3 * std::max<std::int64_t>(slow, 1));
 
-    // Without loop the replay stops at its last frame; Play then starts over.
+    // Without loop the replay stops at its last frame; Play then starts over. (The second of 8x
+    // above may have reached the end already: pause, seek, play from there, wait for the end.)
+    step([](Actions& a) { a.replay_pause = true; });
+    ASSERT_TRUE(run_until([&] { return !snap.replay.playing; }, 5s));
     step([](Actions& a) { a.replay_seek = kFrames - 20; });
+    ASSERT_TRUE(run_until([&] { return showing(kFrames - 20); }, 5s)) << snap.replay.frame;
+    step([](Actions& a) { a.replay_play = true; });
+    ASSERT_TRUE(run_until([&] { return snap.replay.playing; }, 5s));
     ASSERT_TRUE(run_until([&] { return !snap.replay.playing; }, 15s)) << snap.replay.frame;
     EXPECT_EQ(snap.replay.frame, kFrames - 1);
     bool said_end = false;
     for (const auto& m : snap.messages) said_end = said_end || m == "replay: end of the flight";
     EXPECT_TRUE(said_end);
-    step([](Actions& a) { a.replay_play = true; });
+    // At 1x, so the start-over is seen before the replay reaches the end again (at 8x the
+    // whole flight takes 0.6 s).
+    step([](Actions& a) {
+        a.replay_speed = 1.0;
+        a.replay_play = true;
+    });
     ASSERT_TRUE(
         run_until([&] { return snap.replay.playing && snap.replay.frame < kFrames - 20; }, 10s))
         << snap.replay.frame;
@@ -193,9 +205,9 @@ TEST_F(ReplayControls, TheReplayWindowDrawsTheStateAndItsSliderSpeedsArePowersOf
 // Issue 6: the centre-scale plot carries the centre threshold where it means something: for the
 // thesis classifier (tangent slope of the fitted scale vs the threshold) as a line of the
 // threshold's slope ending at the newest fitted point; for the flow classifier (expansion rate
-// in 1/s vs the threshold) as a horizontal line beside rate_raw.
+// in 1/s vs the threshold) as a horizontal line beside the corridor points' rate.
 TEST_F(ReplayControls, CentreScalePlotShowsTheCentreThresholdForBothClassifiers) {
-    start(/*autoplay=*/true);
+    start(/*autoplay=*/true, "thesis");
     auto plot = [&](std::string_view name) {
         std::optional<PlotData> out;
         for (const auto& p : snap.classifier.plots)
@@ -244,7 +256,7 @@ TEST_F(ReplayControls, CentreScalePlotShowsTheCentreThresholdForBothClassifiers)
         [&] {
             const auto p = plot("center_scale");
             return snap.classifier.active == "flow" && p && !p->thresholds.empty() &&
-                   series(p, "rate_raw").has_value();
+                   series(p, "points_rate").has_value();
         },
         20s));
     const auto p = plot("center_scale");

@@ -22,9 +22,25 @@ Flight make_flight(Motion m) {
             // Wall on the right, 0.6 m from the flight line, from 4 m to 16 m ahead.
             f.planes.push_back(make_plane({0.6, 0, 10}, {0, 0, 1}, {0, 1, 0}, 12, 3, 0.02, 12));
             break;
+        case Motion::NearPass:
+            f.frames = 75;
+            f.planes.push_back(make_plane({0, 0, 30}, {1, 0, 0}, {0, 1, 0}, 44, 26, 0.08, 11));
+            f.planes.push_back(make_plane({0.45, 0, 10}, {0, 0, 1}, {0, 1, 0}, 12, 3, 0.02, 12));
+            break;
         case Motion::Approach:
             f.frames = 110;  // 5 m -> 0.64 m
             f.planes.push_back(make_plane({0, 0, 5}, {1, 0, 0}, {0, 1, 0}, 6.4, 3.8, 0.01, 21));
+            break;
+        case Motion::WidePass:
+            f.frames = 75;
+            f.planes.push_back(make_plane({0, 0, 30}, {1, 0, 0}, {0, 1, 0}, 44, 26, 0.08, 11));
+            f.planes.push_back(make_plane({1.5, 0, 10}, {0, 0, 1}, {0, 1, 0}, 12, 3, 0.02, 13));
+            break;
+        case Motion::Floor:
+            f.frames = 75;
+            f.planes.push_back(make_plane({0, 0, 30}, {1, 0, 0}, {0, 1, 0}, 44, 26, 0.08, 11));
+            // 0.6 m below, from 2 m ahead (the bottom of the view is 1.85 m ahead) to 29 m.
+            f.planes.push_back(make_plane({0, 0.6, 15.5}, {1, 0, 0}, {0, 0, 1}, 8, 27, 0.06, 14));
             break;
         case Motion::Roll:
         case Motion::Yaw:
@@ -43,7 +59,10 @@ CameraPose Flight::pose_at(int i) const {
     p.yaw_deg = 0;
     switch (motion) {
         case Motion::SidePass:
+        case Motion::NearPass:
         case Motion::Approach:
+        case Motion::WidePass:
+        case Motion::Floor:
             p.position = {0, 0, kSpeed * t};
             break;
         case Motion::Roll:
@@ -59,7 +78,7 @@ CameraPose Flight::pose_at(int i) const {
 double Flight::distance_at(int i) const {
     const double z = kSpeed * i / fps;
     if (motion == Motion::Approach) return 5 - z;
-    if (motion == Motion::SidePass) return 4 - z;  // to the near end of the wall
+    if (motion == Motion::SidePass || motion == Motion::NearPass) return 4 - z;  // wall's near end
     return 8;
 }
 
@@ -73,7 +92,14 @@ std::vector<FrameRecord> fly(const Flight& f, ObstacleClassifier& c) {
         FrameInput in;
         in.image = img;
         in.t_ns = static_cast<std::int64_t>(std::llround(i * 1e9 / f.fps));
-        in.attitude = {pose.roll_deg, pose.pitch_deg, pose.yaw_deg};
+        in.attitude = {pose.roll_deg, pose.pitch_deg, pose.yaw_deg * f.navdata_yaw_scale};
+        if (f.navdata_altitude && f.motion == Motion::Floor) in.altitude_m = 0.6;
+        if (f.navdata_velocity) {
+            const bool moving = f.motion != Motion::Roll && f.motion != Motion::Yaw;
+            in.vx_mps = moving ? kSpeed : 0.0;
+            in.vy_mps = 0;
+            in.vz_mps = 0;
+        }
         const FrameResult& r = c.process(in);
         FrameRecord rec;
         for (std::size_t k = 0; k < 3; ++k) {

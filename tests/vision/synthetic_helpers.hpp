@@ -12,9 +12,12 @@ namespace gs::vision::test {
 
 enum class Motion {
     SidePass,  // forward at 1 m/s past a wall 0.6 m to the right, far background
+    NearPass,  // the same, the wall 0.45 m to the right (inside flow's 0.6 m corridor)
     Approach,  // forward at 1 m/s toward a fronto-parallel wall filling the view
     Roll,      // hovering, rolling +-10 degrees, far wall
     Yaw,       // hovering, yawing at 15 degrees/s, far wall
+    WidePass,  // forward at 1 m/s past a wall 1.5 m to the right: beside the corridor
+    Floor,     // forward at 1 m/s, 0.6 m above a textured floor, far wall
 };
 
 struct FrameRecord {
@@ -30,6 +33,9 @@ struct Flight {
     Motion motion;
     int frames;
     double fps = 25;
+    bool navdata_velocity = true;  // give the classifier the velocity (the corridor needs it)
+    bool navdata_altitude = true;  // ... and the height above the floor (Floor only)
+    double navdata_yaw_scale = 1;  // navdata reports this share of the true yaw
     std::vector<TexturedPlane> planes;
     CameraPose pose_at(int i) const;
     double distance_at(int i) const;
