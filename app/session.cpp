@@ -30,6 +30,7 @@ namespace {
 
 constexpr TimeNs kIdleWaitNs = ms_to_ns(20);
 constexpr std::size_t kImagePool = 6;
+constexpr std::size_t kOutputPool = 3;  // the slot's, the window's copy, one being filled
 
 // A frame buffer the pipeline owns: a replayed image is copied into a buffer nobody else holds,
 // because the dataset reader reuses its own buffer for the next frame while the window may still
@@ -530,12 +531,27 @@ void Session::process(FrameSample& f, TimeNs recv_ns) {
         f.image.copyTo(buf);
         f.image = buf;
     }
-    auto out = std::make_shared<PipelineOutput>();
+    // Outputs are recycled once nobody holds them any more (the slot keeps the latest, the window
+    // a copy of it while drawing): assigning into one reuses its vectors, so a frame allocates
+    // nothing here once the pool is warm.
+    std::shared_ptr<PipelineOutput> out;
+    for (const auto& o : out_pool_)
+        if (o.use_count() == 1) {
+            out = o;
+            break;
+        }
+    if (!out) {
+        out = std::make_shared<PipelineOutput>();
+        if (out_pool_.size() < kOutputPool) out_pool_.push_back(out);
+    }
     out->source_id = c.id;
     out->classifier = pipeline_.classifier_name();
-    if (pipeline_.ok() && !f.image.empty()) out->result = pipeline_.process(f);
+    if (pipeline_.ok() && !f.image.empty())
+        out->result = pipeline_.process(f);
+    else
+        out->result = {};
     const TimeNs now = clock_.now_ns();
-    if (recv_ns > 0) out->latency_ms = ns_to_ms(now - recv_ns);
+    out->latency_ms = recv_ns > 0 ? ns_to_ms(now - recv_ns) : kUnknown;
     if (c.rate_n == 0) c.rate_t0 = now;
     ++c.rate_n;
     if (now - c.rate_t0 >= ms_to_ns(1000)) {

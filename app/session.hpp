@@ -250,8 +250,9 @@ private:
 
     SessionOptions opts_;
     Clock& clock_;
-    std::unique_ptr<Current> cur_;  // session thread only
-    ObstaclePipeline pipeline_;     // session thread only
+    std::unique_ptr<Current> cur_;                           // session thread only
+    std::vector<std::shared_ptr<PipelineOutput>> out_pool_;  // session thread only
+    ObstaclePipeline pipeline_;                              // session thread only
     std::uint64_t next_id_ = 1;
 
     BoundedQueue<SessionRequest> requests_{256};

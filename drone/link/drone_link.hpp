@@ -16,6 +16,7 @@
 #include "drone/sample.hpp"
 #include "drone/sync.hpp"
 
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cstdint>
@@ -120,6 +121,16 @@ struct AtStats {
     std::uint64_t send_errors = 0;
     double period_ms_last = 0;
     double period_ms_max = 0;  // worst gap between two cycles since start
+    // Every gap between two cycles since start: bin i counts gaps in [i, i + 1) ms, the last bin
+    // everything longer. The AR.Drone wants a command at least every 30 ms or so; a pilot's
+    // input waits for the next beat.
+    static constexpr std::size_t kPeriodBins = 100;
+    std::array<std::uint32_t, kPeriodBins> period_hist{};
+    std::uint64_t periods = 0;
+    std::uint64_t periods_off_by_3ms = 0;  // gaps outside the period +- 3 ms
+    bool realtime = false;                 // the sender thread got a real-time priority
+    // The gap (ms, bin resolution) below which a share q of the gaps fell; NaN before any.
+    double period_ms_quantile(double q) const;
 };
 
 struct LinkStatus {

@@ -4,9 +4,6 @@
 // coverage, "Calibrate, save and apply" writes the drone's calibration and the pipeline uses it
 // at once; the undistortion preview then shows the board's lines straight. Real threads (session,
 // calibration worker): waits are bounded polls, never sleeps standing in for logic.
-#ifndef GS_HAVE_GUI
-#define GS_HAVE_GUI 1
-#endif
 #include "app/gui_adapter.hpp"
 #include "app/session.hpp"
 #include "calibration_dataset.hpp"

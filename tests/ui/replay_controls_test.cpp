@@ -3,9 +3,6 @@
 // flight tests/data/flights/ci_pillar_left (153 frames of H.264 at 30 fps): play / pause, step
 // forward and back, seek, speed 0.25x-8x (clamped), loop at the end, and play again after the
 // end. Waits are bounded polls on the snapshot.
-#ifndef GS_HAVE_GUI
-#define GS_HAVE_GUI 1
-#endif
 #include "app/gui_adapter.hpp"
 #include "app/session.hpp"
 #include "imgui_fixture.hpp"

@@ -3,9 +3,6 @@
 // obstacle pipeline finds the frames where it flags only the left region; the real program then
 // replays the flight offscreen under Xvfb (lock-stepped: window frame k shows dataset frame k)
 // and the screenshot's region bars must be red on the left and green elsewhere, as decided.
-#ifndef GS_HAVE_GUI
-#define GS_HAVE_GUI 1
-#endif
 #include "app/pipeline.hpp"
 #include "drone/calibration.hpp"
 #include "drone/dataset/dataset.hpp"

@@ -2,9 +2,6 @@
 // DroneLink -> loopback -> the virtual drone, and what the virtual drone did (its flight state,
 // its drone_state bits, the AT datagrams on the wire) is checked. Real sockets and threads, so
 // waits are bounded polls on the drone's own state, never fixed sleeps standing in for logic.
-#ifndef GS_HAVE_GUI
-#define GS_HAVE_GUI 1
-#endif
 #include "app/gui_adapter.hpp"
 #include "app/session.hpp"
 #include "drone/at_parser.hpp"

@@ -3,9 +3,6 @@
 // grouped by option and the link-health counters of the three streams are filled and drawn; and
 // closing the window while flying asks first, "Land, then quit" lands the drone and the window
 // closes only once the drone reports it has landed. Waits are bounded polls.
-#ifndef GS_HAVE_GUI
-#define GS_HAVE_GUI 1
-#endif
 #include "app/gui_adapter.hpp"
 #include "app/session.hpp"
 #include "imgui_fixture.hpp"
