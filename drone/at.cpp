@@ -101,12 +101,6 @@ bool clean_raw(std::string_view s) {
     return clean_string(s) && s.find(',') == s.npos;
 }
 
-bool valid_name(std::string_view s) {
-    return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) {
-        return (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_';
-    });
-}
-
 bool valid_config_id(std::string_view s) {
     return s.size() == 8 && std::all_of(s.begin(), s.end(), [](char c) {
                return (c >= '0' && c <= '9') || (c >= 'a' && c <= 'f') || (c >= 'A' && c <= 'F');
@@ -208,7 +202,7 @@ std::string flight_anim_value(std::int32_t anim_id, std::int32_t duration_ms) {
 }
 
 Expected<std::string, AtError> command(Seq seq, std::string_view name, std::span<const Arg> args) {
-    if (!valid_name(name)) return Unexpected{AtError::BadName};
+    if (!valid_command_name(name)) return Unexpected{AtError::BadName};
     Builder b(name, seq);
     for (const Arg& a : args) {
         if (const auto* v = std::get_if<std::int32_t>(&a)) {
@@ -256,6 +250,12 @@ Expected<std::vector<std::string>, AtError> pack(std::span<const std::string> co
     if (!n) return Unexpected{n.error()};
     out.resize(*n);
     return out;
+}
+
+bool valid_command_name(std::string_view s) {
+    return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) {
+        return (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_';
+    });
 }
 
 }  // namespace gs::at

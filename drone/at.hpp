@@ -124,6 +124,9 @@ private:
 [[nodiscard]] std::string flight_anim_value(std::int32_t anim_id,
                                             std::int32_t duration_ms);  // "control:flight_anim"
 
+// A command name as the drone knows them: upper-case letters, digits and '_', not empty.
+[[nodiscard]] bool valid_command_name(std::string_view name);
+
 // Any other command (AT*PMODE, AT*MISC, AT*AFLIGHT ...). Raw arguments are printed as they are
 // (no ',', '"' or control characters); quoted ones inside double quotes.
 struct RawArg {

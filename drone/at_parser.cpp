@@ -216,14 +216,6 @@ bool parse_body(std::string_view name, ArgReader& a, CommandBody& body, SkipReas
     return ok;
 }
 
-bool valid_name(std::string_view s) {
-    if (s.empty()) return false;
-    for (char c : s) {
-        if (!((c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_')) return false;
-    }
-    return true;
-}
-
 // One command line without its terminator.
 void parse_line(std::string_view line, std::size_t offset, ParsedDatagram& out) {
     auto skip = [&](SkipReason r) { out.skipped.push_back({r, offset}); };
@@ -232,7 +224,7 @@ void parse_line(std::string_view line, std::size_t offset, ParsedDatagram& out) 
     const auto eq = line.find('=');
     if (eq == line.npos) return skip(SkipReason::NotAtCommand);
     const std::string_view name = line.substr(kPrefix.size(), eq - kPrefix.size());
-    if (!valid_name(name)) return skip(SkipReason::NotAtCommand);
+    if (!valid_command_name(name)) return skip(SkipReason::NotAtCommand);
 
     Fields fields;
     SkipReason why = SkipReason::NotAtCommand;

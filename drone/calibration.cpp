@@ -49,21 +49,6 @@ Expected<int, CalibrationIssue> size_value(const json& obj, const char* key) {
     return static_cast<int>(v);
 }
 
-std::pair<int, int> locate_key(const std::string& text, const std::string& key) {
-    const std::size_t p = key.empty() ? std::string::npos : text.find('"' + key + '"');
-    if (p == std::string::npos) return {0, 0};
-    int line = 1, col = 1;
-    for (std::size_t i = 0; i < p; ++i) {
-        if (text[i] == '\n') {
-            ++line;
-            col = 1;
-        } else {
-            ++col;
-        }
-    }
-    return {line, col};
-}
-
 }  // namespace
 
 Expected<CameraCalibration, CalibrationIssue> calibration_from_json(const json& obj) {
@@ -137,7 +122,7 @@ Expected<CameraCalibration, DatasetError> load_calibration_file(const fs::path& 
         if (i.code == DatasetErrorCode::Missing)
             return Unexpected(
                 DatasetError{i.code, name, 0, 0, "missing required key '" + i.key + "'"});
-        auto [line, col] = locate_key(*text, i.key);
+        auto [line, col] = locate_json_key(*text, i.key);
         return Unexpected(DatasetError{
             i.code, name, line, col, i.key.empty() ? i.message : "'" + i.key + "': " + i.message});
     }

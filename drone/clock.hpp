@@ -35,7 +35,12 @@ private:
     std::atomic<TimeNs> now_;
 };
 
-constexpr TimeNs ms_to_ns(double ms) { return static_cast<TimeNs>(ms * 1e6); }
-constexpr double ns_to_ms(TimeNs ns) { return static_cast<double>(ns) * 1e-6; }
+inline constexpr TimeNs kNsPerMs = 1'000'000;
+constexpr TimeNs ms_to_ns(double ms) {
+    return static_cast<TimeNs>(ms * 1e6);
+}
+constexpr double ns_to_ms(TimeNs ns) {
+    return static_cast<double>(ns) * 1e-6;
+}
 
 }  // namespace gs

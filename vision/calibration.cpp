@@ -15,10 +15,6 @@ namespace {
 
 constexpr int kMaxBoardSide = 100;
 
-CalibrationError err(CalibrationErrorKind k, std::string detail) {
-    return {k, std::move(detail)};
-}
-
 cv::Mat to_grey(const cv::Mat& image) {
     cv::Mat grey;
     if (image.channels() == 3) {
@@ -264,23 +260,26 @@ CalibrationExpected<CalibrationResult> calibrate_views(
     std::span<const std::vector<cv::Point2f>> views, const BoardSpec& board, cv::Size image_size,
     const CalibrationOptions& opts) {
     if (!board.valid()) {
-        return err(CalibrationErrorKind::BadBoardSpec,
-                   "the board needs at least 3×3 inner corners and a positive square size");
+        return calibration_error(
+            CalibrationErrorKind::BadBoardSpec,
+            "the board needs at least 3×3 inner corners and a positive square size");
     }
     if (image_size.width <= 0 || image_size.height <= 0) {
-        return err(CalibrationErrorKind::NoImages, "no image size");
+        return calibration_error(CalibrationErrorKind::NoImages, "no image size");
     }
     const int min_views = std::max(opts.min_views, 1);
     if (static_cast<int>(views.size()) < min_views) {
-        return err(CalibrationErrorKind::TooFewViews, std::to_string(views.size()) +
-                                                          " view(s) with the board, at least " +
-                                                          std::to_string(min_views) + " needed");
+        return calibration_error(CalibrationErrorKind::TooFewViews,
+                                 std::to_string(views.size()) +
+                                     " view(s) with the board, at least " +
+                                     std::to_string(min_views) + " needed");
     }
     for (std::size_t i = 0; i < views.size(); ++i) {
         if (static_cast<int>(views[i].size()) != board.corner_count()) {
-            return err(CalibrationErrorKind::BadBoardSpec,
-                       "view " + std::to_string(i) + " has " + std::to_string(views[i].size()) +
-                           " corners, the board " + std::to_string(board.corner_count()));
+            return calibration_error(CalibrationErrorKind::BadBoardSpec,
+                                     "view " + std::to_string(i) + " has " +
+                                         std::to_string(views[i].size()) + " corners, the board " +
+                                         std::to_string(board.corner_count()));
         }
     }
 
@@ -305,12 +304,13 @@ CalibrationExpected<CalibrationResult> calibrate_views(
                 cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 100,
                                  DBL_EPSILON));
         } catch (const cv::Exception& e) {
-            return err(CalibrationErrorKind::CalibrationFailed, e.what());
+            return calibration_error(CalibrationErrorKind::CalibrationFailed, e.what());
         }
         if (!std::isfinite(res.rms_px) || !cv::checkRange(k) || !cv::checkRange(d) ||
             k.at<double>(0, 0) <= 0 || k.at<double>(1, 1) <= 0) {
-            return err(CalibrationErrorKind::CalibrationFailed,
-                       "the optimiser did not converge (views too similar or corners wrong?)");
+            return calibration_error(
+                CalibrationErrorKind::CalibrationFailed,
+                "the optimiser did not converge (views too similar or corners wrong?)");
         }
         if (active.size() <= static_cast<std::size_t>(min_views) ||
             res.rejected.size() >= max_rejected) {
@@ -475,7 +475,7 @@ ViewResult CalibrationSession::add_frame(const cv::Mat& image, bool require_new_
 }
 
 ViewResult CalibrationSession::add_detection(const BoardDetection& detection,
-                                              bool require_new_coverage) {
+                                             bool require_new_coverage) {
     ViewResult fr;
     fr.detection = detection;
     switch (detection.status) {

@@ -33,6 +33,10 @@ struct CalibrationError {
     [[nodiscard]] std::string message() const;
 };
 
+inline CalibrationError calibration_error(CalibrationErrorKind k, std::string detail) {
+    return {k, std::move(detail)};
+}
+
 template <class T>
 class [[nodiscard]] CalibrationExpected {
 public:

@@ -49,10 +49,6 @@ using nlohmann::json;
 constexpr int kMaxImageSide = 16384;
 constexpr std::size_t kMaxFileBytes = 1 << 20;  // a calibration or flight.json is a few KiB
 
-CalibrationError err(CalibrationErrorKind k, std::string detail) {
-    return {k, std::move(detail)};
-}
-
 // NaN and infinities are not JSON: unknown numbers are left out.
 template <class J>
 void put_if_finite(J& j, const char* key, double v) {
@@ -113,15 +109,18 @@ std::string calibration_to_json(const CameraCalibration& cam, const CalibrationI
 CalibrationExpected<CalibrationDocument> parse_calibration_json(std::string_view text,
                                                                 const std::string& origin) {
     const json root = json::parse(text, nullptr, /*allow_exceptions=*/false);
-    if (root.is_discarded()) return err(CalibrationErrorKind::BadJson, origin + ": not valid JSON");
+    if (root.is_discarded())
+        return calibration_error(CalibrationErrorKind::BadJson, origin + ": not valid JSON");
     if (!root.is_object()) {
-        return err(CalibrationErrorKind::BadJson, origin + ": expected a JSON object");
+        return calibration_error(CalibrationErrorKind::BadJson,
+                                 origin + ": expected a JSON object");
     }
     // A flight.json: the calibration object sits under "calibration", the size at the top.
     const bool nested = root.contains("calibration");
     const json& c = nested ? root["calibration"] : root;
     if (!c.is_object()) {
-        return err(CalibrationErrorKind::BadJson, origin + ": \"calibration\" is not an object");
+        return calibration_error(CalibrationErrorKind::BadJson,
+                                 origin + ": \"calibration\" is not an object");
     }
 
     CalibrationDocument doc;
@@ -129,25 +128,29 @@ CalibrationExpected<CalibrationDocument> parse_calibration_json(std::string_view
     for (auto [key, dst] : {std::pair{"fx", &cam.fx}, std::pair{"fy", &cam.fy},
                             std::pair{"cx", &cam.cx}, std::pair{"cy", &cam.cy}}) {
         if (!read_number(c, key, *dst)) {
-            return err(CalibrationErrorKind::BadJson,
-                       origin + ": missing or non-numeric \"" + key + "\"");
+            return calibration_error(CalibrationErrorKind::BadJson,
+                                     origin + ": missing or non-numeric \"" + key + "\"");
         }
     }
     if (!read_int(c, "width", cam.width) && !(nested && read_int(root, "width", cam.width))) {
-        return err(CalibrationErrorKind::BadJson, origin + ": missing or invalid \"width\"");
+        return calibration_error(CalibrationErrorKind::BadJson,
+                                 origin + ": missing or invalid \"width\"");
     }
     if (!read_int(c, "height", cam.height) && !(nested && read_int(root, "height", cam.height))) {
-        return err(CalibrationErrorKind::BadJson, origin + ": missing or invalid \"height\"");
+        return calibration_error(CalibrationErrorKind::BadJson,
+                                 origin + ": missing or invalid \"height\"");
     }
     const auto d = c.find("dist");
     if (d == c.end() || !d->is_array() || d->size() < 4 || d->size() > 5) {
-        return err(CalibrationErrorKind::BadJson,
-                   origin + ": \"dist\" must be an array of 4 or 5 numbers (k1 k2 p1 p2 [k3])");
+        return calibration_error(
+            CalibrationErrorKind::BadJson,
+            origin + ": \"dist\" must be an array of 4 or 5 numbers (k1 k2 p1 p2 [k3])");
     }
     cam.dist = {};
     for (std::size_t i = 0; i < d->size(); ++i) {
         if (!(*d)[i].is_number()) {
-            return err(CalibrationErrorKind::BadJson, origin + ": \"dist\" holds a non-number");
+            return calibration_error(CalibrationErrorKind::BadJson,
+                                     origin + ": \"dist\" holds a non-number");
         }
         cam.dist[i] = (*d)[i].get<double>();
     }
@@ -156,8 +159,9 @@ CalibrationExpected<CalibrationDocument> parse_calibration_json(std::string_view
                   std::isfinite(cam.cy);
     for (double v : cam.dist) finite = finite && std::isfinite(v);
     if (!finite || !cam.valid()) {
-        return err(CalibrationErrorKind::BadValue,
-                   origin + ": width, height, fx and fy must be positive and all values finite");
+        return calibration_error(
+            CalibrationErrorKind::BadValue,
+            origin + ": width, height, fx and fy must be positive and all values finite");
     }
 
     CalibrationInfo& info = doc.info;
@@ -191,13 +195,14 @@ CalibrationExpected<CalibrationDocument> parse_calibration_json(std::string_view
 
 CalibrationExpected<CalibrationDocument> load_calibration_file(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
-    if (!in) return err(CalibrationErrorKind::FileRead, path);
+    if (!in) return calibration_error(CalibrationErrorKind::FileRead, path);
     std::string text;
     text.resize(kMaxFileBytes + 1);
     in.read(text.data(), static_cast<std::streamsize>(text.size()));
     const auto n = static_cast<std::size_t>(in.gcount());
     if (n > kMaxFileBytes) {
-        return err(CalibrationErrorKind::BadJson, path + ": larger than 1 MiB, not a calibration");
+        return calibration_error(CalibrationErrorKind::BadJson,
+                                 path + ": larger than 1 MiB, not a calibration");
     }
     text.resize(n);
     return parse_calibration_json(text, path);
@@ -207,21 +212,22 @@ CalibrationExpected<Done> save_calibration_file(const std::string& path,
                                                 const CameraCalibration& cam,
                                                 const CalibrationInfo& info) {
     if (!cam.valid())
-        return err(CalibrationErrorKind::BadValue, "refusing to save an invalid calibration");
+        return calibration_error(CalibrationErrorKind::BadValue,
+                                 "refusing to save an invalid calibration");
     const std::string tmp = path + ".tmp";
     {
         std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-        if (!out) return err(CalibrationErrorKind::FileWrite, tmp);
+        if (!out) return calibration_error(CalibrationErrorKind::FileWrite, tmp);
         out << calibration_to_json(cam, info);
         out.flush();
         if (!out) {
             std::remove(tmp.c_str());
-            return err(CalibrationErrorKind::FileWrite, tmp);
+            return calibration_error(CalibrationErrorKind::FileWrite, tmp);
         }
     }
     if (std::rename(tmp.c_str(), path.c_str()) != 0) {
         std::remove(tmp.c_str());
-        return err(CalibrationErrorKind::FileWrite, path);
+        return calibration_error(CalibrationErrorKind::FileWrite, path);
     }
     return Done{};
 }

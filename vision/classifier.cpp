@@ -1,4 +1,5 @@
 #include "vision/classifier.hpp"
+#include "vision/common.hpp"
 
 #include "vision/flow_classifier.hpp"
 #include "vision/thesis_classifier.hpp"
@@ -7,13 +8,6 @@
 #include <chrono>
 
 namespace gs::vision {
-
-namespace {
-using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t0) {
-    return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
-}  // namespace
 
 const char* to_string(Region r) {
     switch (r) {
@@ -100,7 +94,7 @@ cv::Point2f TrackingClassifier::stab_to_raw(cv::Point2f stab) const {
 }
 
 const FrameResult& TrackingClassifier::process(const FrameInput& in) {
-    const auto t_total = Clock::now();
+    const auto t_total = StageClock::now();
     if (in.image.empty()) return result_;
     if (calib_.width != in.image.cols || calib_.height != in.image.rows) {
         calib_ = base_calib_.scaled_to(in.image.cols, in.image.rows);
@@ -118,12 +112,12 @@ const FrameResult& TrackingClassifier::process(const FrameInput& in) {
     result_.tracks_added = tracker_.added_last_frame();
     result_.tracks_ended = tracker_.ended_last_frame();
 
-    auto t0 = Clock::now();
+    auto t0 = StageClock::now();
     track_score_.assign(tracker_.tracks().size(), kNaN);
     classify(in);
     result_.timings.classify_ms = ms_since(t0);
 
-    t0 = Clock::now();
+    t0 = StageClock::now();
     fill_traces();
     build_overlay();
     result_.timings.overlay_ms = ms_since(t0);

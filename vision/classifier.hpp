@@ -5,6 +5,7 @@
 // "flow" (attitude-derotated expansion rates with robust statistics).
 
 #include "vision/camera_model.hpp"
+#include "vision/common.hpp"
 #include "vision/geometry.hpp"
 #include "vision/overlay.hpp"
 #include "vision/params.hpp"
@@ -22,8 +23,6 @@
 #include <vector>
 
 namespace gs::vision {
-
-inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 struct FrameInput {
     cv::Mat image;          // grey or BGR8; a header, never deep-copied

@@ -1,14 +1,12 @@
 #include "vision/fit.hpp"
 
+#include "vision/common.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
 namespace gs::vision {
-
-namespace {
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-}
 
 LineFit fit_line(std::span<const double> x, std::span<const double> y) {
     LineFit f;

@@ -1,4 +1,5 @@
 #include "vision/geometry.hpp"
+#include "vision/common.hpp"
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
@@ -9,7 +10,6 @@
 namespace gs::vision {
 
 namespace {
-constexpr double kDeg = CV_PI / 180.0;
 // camera <- body: x_c = y_b, y_c = z_b, z_c = x_b.
 const cv::Matx33d kCamFromBody(0, 1, 0, 0, 0, 1, 1, 0, 0);
 }  // namespace
@@ -19,9 +19,9 @@ const cv::Matx33d& camera_from_body() {
 }
 
 cv::Matx33d body_rotation(double roll_deg, double pitch_deg, double yaw_deg) {
-    const double cr = std::cos(roll_deg * kDeg), sr = std::sin(roll_deg * kDeg);
-    const double cp = std::cos(pitch_deg * kDeg), sp = std::sin(pitch_deg * kDeg);
-    const double cy = std::cos(yaw_deg * kDeg), sy = std::sin(yaw_deg * kDeg);
+    const double cr = std::cos(roll_deg * kRadPerDeg), sr = std::sin(roll_deg * kRadPerDeg);
+    const double cp = std::cos(pitch_deg * kRadPerDeg), sp = std::sin(pitch_deg * kRadPerDeg);
+    const double cy = std::cos(yaw_deg * kRadPerDeg), sy = std::sin(yaw_deg * kRadPerDeg);
     const cv::Matx33d rz(cy, -sy, 0, sy, cy, 0, 0, 0, 1);
     const cv::Matx33d ry(cp, 0, sp, 0, 1, 0, -sp, 0, cp);
     const cv::Matx33d rx(1, 0, 0, 0, cr, -sr, 0, sr, cr);

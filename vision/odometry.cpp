@@ -1,4 +1,5 @@
 #include "vision/odometry.hpp"
+#include "vision/common.hpp"
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
@@ -12,15 +13,10 @@
 namespace gs::vision {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
 constexpr double kNaNd = std::numeric_limits<double>::quiet_NaN();
 
 bool finite(double v) {
     return std::isfinite(v);
-}
-
-double ms_since(std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
 cv::Matx22d mount_axes(CameraMount m) {
@@ -30,8 +26,8 @@ cv::Matx22d mount_axes(CameraMount m) {
 
 // Level-frame rotation for roll and pitch (FRD, as the renderer and navdata define them).
 cv::Matx33d tilt_rotation(double roll_deg, double pitch_deg) {
-    const double cr = std::cos(roll_deg * kDeg), sr = std::sin(roll_deg * kDeg);
-    const double cp = std::cos(pitch_deg * kDeg), sp = std::sin(pitch_deg * kDeg);
+    const double cr = std::cos(roll_deg * kRadPerDeg), sr = std::sin(roll_deg * kRadPerDeg);
+    const double cp = std::cos(pitch_deg * kRadPerDeg), sp = std::sin(pitch_deg * kRadPerDeg);
     const cv::Matx33d ry{cp, 0, sp, 0, 1, 0, -sp, 0, cp};
     const cv::Matx33d rx{1, 0, 0, 0, cr, -sr, 0, sr, cr};
     return ry * rx;
@@ -96,7 +92,7 @@ BodyMotion body_motion_from_homography(const cv::Matx33d& h_px, double fx_px, do
     // Floor points move by the inverse of the camera's motion: x_i = R x_{i-1} - R_i^T dC.
     m.forward_m = -t_body[0];
     m.right_m = -t_body[1];
-    m.yaw_deg = -std::atan2(m.r_body(1, 0), m.r_body(0, 0)) / kDeg;
+    m.yaw_deg = -std::atan2(m.r_body(1, 0), m.r_body(0, 0)) / kRadPerDeg;
     return m;
 }
 
@@ -105,7 +101,7 @@ BodyMotion combine_motions(const BodyMotion& a, const BodyMotion& b) {
     m.forward_m = (a.forward_m + b.forward_m) / 2;
     m.right_m = (a.right_m + b.right_m) / 2;
     m.r_body = (a.r_body + b.r_body) * 0.5;
-    m.yaw_deg = -std::atan2(m.r_body(1, 0), m.r_body(0, 0)) / kDeg;
+    m.yaw_deg = -std::atan2(m.r_body(1, 0), m.r_body(0, 0)) / kRadPerDeg;
     return m;
 }
 
@@ -140,7 +136,7 @@ FilteredMotion OdometryFilter::apply(double forward_m, double right_m, double ya
 
 const PlanarPose& TrajectoryIntegrator::add(double forward_m, double right_m, double yaw_deg) {
     pose_.yaw_deg += yaw_deg;
-    const double c = std::cos(pose_.yaw_deg * kDeg), s = std::sin(pose_.yaw_deg * kDeg);
+    const double c = std::cos(pose_.yaw_deg * kRadPerDeg), s = std::sin(pose_.yaw_deg * kRadPerDeg);
     pose_.x_m += c * forward_m - s * right_m;
     pose_.y_m += s * forward_m + c * right_m;
     return pose_;
@@ -444,7 +440,7 @@ const OdometrySample& VisualOdometry::update(const OdometryInput& in) {
         const double vx = finite(m.prev_vx) ? (m.prev_vx + in.vx_mps) / 2 : in.vx_mps;
         const double vy = finite(m.prev_vy) ? (m.prev_vy + in.vy_mps) / 2 : in.vy_mps;
         const double head = m.start.yaw_deg + wrap_deg(in.yaw_deg - m.nav_yaw0);
-        const double c = std::cos(head * kDeg), sn = std::sin(head * kDeg);
+        const double c = std::cos(head * kRadPerDeg), sn = std::sin(head * kRadPerDeg);
         m.nav_pose.x_m += (c * vx - sn * vy) * dt;
         m.nav_pose.y_m += (sn * vx + c * vy) * dt;
         m.nav_pose.yaw_deg = head;
@@ -499,7 +495,8 @@ std::vector<SampleTruth> truth_from_poses(std::span<const PlanarPose> poses) {
     std::vector<SampleTruth> out(poses.size());
     for (std::size_t i = 1; i < poses.size(); ++i) {
         const double dx = poses[i].x_m - poses[i - 1].x_m, dy = poses[i].y_m - poses[i - 1].y_m;
-        const double c = std::cos(poses[i].yaw_deg * kDeg), s = std::sin(poses[i].yaw_deg * kDeg);
+        const double c = std::cos(poses[i].yaw_deg * kRadPerDeg),
+                     s = std::sin(poses[i].yaw_deg * kRadPerDeg);
         out[i] = {c * dx + s * dy, -s * dx + c * dy,
                   wrap_deg(poses[i].yaw_deg - poses[i - 1].yaw_deg)};
     }

@@ -15,12 +15,6 @@ Rgb blue_to_red(double t) {
     return {r, 0, b};
 }
 
-namespace {
-cv::Scalar bgr(Rgb c) {
-    return {double(c.b), double(c.g), double(c.r)};
-}
-}  // namespace
-
 void draw_overlay(cv::Mat& image, const Overlay& o) {
     constexpr int kShift = 4;  // sub-pixel drawing
     constexpr float kOne = 1 << kShift;
@@ -30,15 +24,15 @@ void draw_overlay(cv::Mat& image, const Overlay& o) {
     };
     for (const OverlayBar& b : o.bars) {
         const cv::Point2f br(b.rect.x + b.rect.width, b.rect.y + b.rect.height);
-        cv::rectangle(image, fix(b.rect.tl()), fix(br), bgr(b.colour), b.filled ? cv::FILLED : 1,
+        cv::rectangle(image, fix(b.rect.tl()), fix(br), to_bgr(b.colour), b.filled ? cv::FILLED : 1,
                       cv::LINE_8, kShift);
     }
     for (const OverlayLine& l : o.lines)
-        cv::line(image, fix(l.a), fix(l.b), bgr(l.colour),
+        cv::line(image, fix(l.a), fix(l.b), to_bgr(l.colour),
                  std::max(1, static_cast<int>(std::lround(l.thickness_px))), cv::LINE_AA, kShift);
     for (const OverlayPoint& p : o.points)
         cv::circle(image, fix(p.p), static_cast<int>(std::lround(p.radius_px * kOne)),
-                   bgr(p.colour), p.filled ? cv::FILLED : 1, cv::LINE_AA, kShift);
+                   to_bgr(p.colour), p.filled ? cv::FILLED : 1, cv::LINE_AA, kShift);
 }
 
 }  // namespace gs::vision

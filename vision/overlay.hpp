@@ -19,6 +19,11 @@ inline constexpr Rgb kYellow{240, 220, 0};
 inline constexpr Rgb kWhite{255, 255, 255};
 inline constexpr Rgb kGrey{150, 150, 150};
 
+// OpenCV's channel order.
+inline cv::Scalar to_bgr(Rgb c) {
+    return {static_cast<double>(c.b), static_cast<double>(c.g), static_cast<double>(c.r)};
+}
+
 // Blue at t <= 0 through red at t >= 1 (thesis fig. 3.27).
 Rgb blue_to_red(double t);
 

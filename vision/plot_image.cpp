@@ -27,10 +27,6 @@ std::vector<double> nice_ticks(double lo, double hi, int target) {
 
 namespace {
 
-cv::Scalar bgr(Rgb c) {
-    return cv::Scalar(c.b, c.g, c.r);
-}
-
 std::string tick_label(double v, double step) {
     char b[32];
     const int decimals =
@@ -112,7 +108,7 @@ cv::Mat render_plot(const PlotSpec& spec) {
 
     cv::Mat plot = img(area);
     for (const PlotLine& l : spec.lines) {
-        const cv::Scalar c = bgr(l.colour);
+        const cv::Scalar c = to_bgr(l.colour);
         bool have = false;
         cv::Point prev;
         int seg = 0;
@@ -147,7 +143,7 @@ cv::Mat render_plot(const PlotSpec& spec) {
             if (shown++ >= spec.max_legend_entries) break;
             cv::rectangle(img, {lx - 4, y - 11}, {area.x + area.width - 4, y + 4},
                           cv::Scalar(255, 255, 255), cv::FILLED);
-            cv::line(img, {lx, y - 4}, {lx + 20, y - 4}, bgr(l.colour), 2, cv::LINE_AA);
+            cv::line(img, {lx, y - 4}, {lx + 20, y - 4}, to_bgr(l.colour), 2, cv::LINE_AA);
             cv::putText(img, l.label, {lx + 26, y}, font, fs, ink, 1, cv::LINE_AA);
             y += 16;
         }

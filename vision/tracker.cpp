@@ -1,4 +1,5 @@
 #include "vision/tracker.hpp"
+#include "vision/common.hpp"
 
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
@@ -9,10 +10,6 @@
 namespace gs::vision {
 
 namespace {
-using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t0) {
-    return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
 bool inside(cv::Point2f p, float w, float h, float m) {
     return p.x >= m && p.y >= m && p.x <= w - 1 - m && p.y <= h - 1 - m;
 }
@@ -69,7 +66,7 @@ void TrajectoryTracker::update(const cv::Mat& image, std::int64_t t_ns, double r
     const auto w = static_cast<float>(calib_.width);
     const auto h = static_cast<float>(calib_.height);
 
-    auto t0 = Clock::now();
+    auto t0 = StageClock::now();
     const cv::Mat* grey = &image;
     if (image.channels() != 1) {
         cv::cvtColor(image, grey_full_, cv::COLOR_BGR2GRAY);
@@ -84,7 +81,7 @@ void TrajectoryTracker::update(const cv::Mat& image, std::int64_t t_ns, double r
     }
     timings_.grey_ms = ms_since(t0);
 
-    t0 = Clock::now();
+    t0 = StageClock::now();
     const cv::Size win(p_.lk_window_px, p_.lk_window_px);
     cv::buildOpticalFlowPyramid(grey_track_, pyr_cur_, win, p_.lk_levels, false);
     timings_.pyramid_ms = ms_since(t0);
@@ -92,7 +89,7 @@ void TrajectoryTracker::update(const cv::Mat& image, std::int64_t t_ns, double r
     // Track: survivors are compacted in place, in the order of tracks_.
     std::size_t n = 0;
     if (have_prev_ && !tracks_.empty()) {
-        t0 = Clock::now();
+        t0 = StageClock::now();
         // Start each search where the attitude change alone moves the point: a fast pitch or yaw
         // (tens of pixels a frame) is then no harder to track than hover.
         int flags = 0;
@@ -110,7 +107,7 @@ void TrajectoryTracker::update(const cv::Mat& image, std::int64_t t_ns, double r
                                  flags, p_.lk_min_eig);
         timings_.lk_ms = ms_since(t0);
 
-        t0 = Clock::now();
+        t0 = StageClock::now();
         raw_.resize(tracks_.size());
         for (std::size_t i = 0; i < tracks_.size(); ++i) {
             if (!status_[i]) continue;
@@ -160,7 +157,7 @@ void TrajectoryTracker::update(const cv::Mat& image, std::int64_t t_ns, double r
     }
 
     if (frame_ % std::max(1, p_.detect_interval) == 0) {
-        t0 = Clock::now();
+        t0 = StageClock::now();
         if (grid_on()) balance_grid();
         if (static_cast<int>(tracks_.size()) < p_.max_tracks) detect(roll);
         timings_.detect_ms = ms_since(t0);

@@ -37,33 +37,11 @@ DatasetError err(DatasetErrorCode code, std::string file, std::string msg, int l
     return DatasetError{code, std::move(file), line, col, std::move(msg)};
 }
 
-// 1-based line and column of byte offset `pos` in `text`.
-std::pair<int, int> line_col(const std::string& text, std::size_t pos) {
-    pos = std::min(pos, text.size());
-    int line = 1, col = 1;
-    for (std::size_t i = 0; i < pos; ++i) {
-        if (text[i] == '\n') {
-            ++line;
-            col = 1;
-        } else {
-            ++col;
-        }
-    }
-    return {line, col};
-}
-
-// Where a key is written in a JSON text (first occurrence of "key"), for error positions.
-std::pair<int, int> locate_key(const std::string& text, const std::string& key) {
-    const std::size_t p = text.find('"' + key + '"');
-    if (p == std::string::npos) return {0, 0};
-    return line_col(text, p);
-}
-
 Expected<json, DatasetError> parse_json(const std::string& text, const std::string& file) {
     try {
         return json::parse(text);
     } catch (const json::parse_error& e) {
-        auto [l, c] = line_col(text, e.byte > 0 ? e.byte - 1 : 0);
+        auto [l, c] = text_line_col(text, e.byte > 0 ? e.byte - 1 : 0);
         std::string what = e.what();
         // nlohmann's message repeats the position; keep the part after "syntax error ".
         const auto k = what.find("syntax error");
@@ -79,7 +57,7 @@ public:
 
     DatasetError error(DatasetErrorCode code, const std::string& key,
                        const std::string& msg) const {
-        auto [l, c] = locate_key(text_, key);
+        auto [l, c] = locate_json_key(text_, key);
         return err(code, file_, "'" + prefix_ + key + "': " + msg, l, c);
     }
     DatasetError missing(const std::string& key) const {
@@ -554,7 +532,7 @@ Expected<Dataset, DatasetError> Dataset::open(const fs::path& dir, const Dataset
             err(DatasetErrorCode::OutOfRange, "frames.csv",
                 std::to_string(rows) + " rows (limit " + std::to_string(lim.max_frames) + ")"));
     if (d.info_.frames && *d.info_.frames != rows) {
-        auto [l, c] = locate_key(*flight_text, "frames");
+        auto [l, c] = locate_json_key(*flight_text, "frames");
         return Unexpected(err(DatasetErrorCode::Inconsistent, "flight.json",
                               "'frames' is " + std::to_string(*d.info_.frames) +
                                   " but frames.csv has " + std::to_string(rows) + " rows",

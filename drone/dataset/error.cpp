@@ -1,5 +1,7 @@
 #include "drone/dataset/error.hpp"
 
+#include <algorithm>
+
 namespace gs {
 
 std::string to_string(DatasetErrorCode c) {
@@ -31,6 +33,26 @@ std::string to_string(const DatasetError& e) {
     s += ": ";
     s += e.message;
     return s;
+}
+
+std::pair<int, int> text_line_col(const std::string& text, std::size_t pos) {
+    pos = std::min(pos, text.size());
+    int line = 1, col = 1;
+    for (std::size_t i = 0; i < pos; ++i) {
+        if (text[i] == '\n') {
+            ++line;
+            col = 1;
+        } else {
+            ++col;
+        }
+    }
+    return {line, col};
+}
+
+std::pair<int, int> locate_json_key(const std::string& text, const std::string& key) {
+    const std::size_t p = key.empty() ? std::string::npos : text.find('"' + key + '"');
+    if (p == std::string::npos) return {0, 0};
+    return text_line_col(text, p);
 }
 
 }  // namespace gs

@@ -3,6 +3,7 @@
 // which line and column (1-based; 0 = not applicable), printed as "frames.csv:12:3: message".
 
 #include <string>
+#include <utility>
 
 namespace gs {
 
@@ -28,5 +29,10 @@ struct DatasetError {
 
 // "file:line:column: message" (line/column left out when 0).
 std::string to_string(const DatasetError& e);
+
+// 1-based line and column of byte offset `pos` in `text` (clamped to its end).
+std::pair<int, int> text_line_col(const std::string& text, std::size_t pos);
+// Where a key is first written in a JSON text ("key"), for error positions; {0, 0} if nowhere.
+std::pair<int, int> locate_json_key(const std::string& text, const std::string& key);
 
 }  // namespace gs

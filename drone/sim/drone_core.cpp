@@ -1,4 +1,5 @@
 #include "drone/sim/drone_core.hpp"
+#include "drone/sim/units.hpp"
 
 #include "drone/navdata_writer.hpp"
 
@@ -10,7 +11,6 @@ namespace gs::sim {
 namespace {
 constexpr TimeNs kStepNs = ms_to_ns(5);
 constexpr double kStepS = 0.005;
-constexpr double kDeg = 180.0 / std::numbers::pi;
 
 enum Bit : std::uint32_t {
     kFly = 1u << 0,
@@ -313,9 +313,9 @@ FlightInput DroneCore::autopilot_input() {
     // Velocity tracking as the drone's own optical-flow velocity loop would: feed-forward tilt
     // for the drag at the target speed plus a proportional term.
     const FlightLimits& l = model_.limits();
-    const double max_tilt_deg = l.euler_angle_max_rad * kDeg;
+    const double max_tilt_deg = l.euler_angle_max_rad * kDegPerRad;
     const double drag = options_.flight.drag_per_s;
-    auto ff = [&](double v) { return std::atan(drag * v / 9.81) * kDeg; };
+    auto ff = [&](double v) { return std::atan(drag * v / 9.81) * kDegPerRad; };
     const double k = 8.0;  // deg per m/s of error
     const double pitch_deg = -(ff(st.vx_mps) + k * (st.vx_mps - s.vx_body_mps()));
     const double roll_deg = ff(st.vy_mps) + k * (st.vy_mps - s.vy_body_mps());
@@ -323,7 +323,7 @@ FlightInput DroneCore::autopilot_input() {
     in.pitch = std::clamp(pitch_deg / max_tilt_deg, -1.0, 1.0);
     in.roll = std::clamp(roll_deg / max_tilt_deg, -1.0, 1.0);
     in.gaz = std::clamp(st.vz_mps / (l.control_vz_max_mm_s / 1000.0), -1.0, 1.0);
-    in.yaw = std::clamp(st.yaw_rate_dps / (l.control_yaw_rad_s * kDeg), -1.0, 1.0);
+    in.yaw = std::clamp(st.yaw_rate_dps / (l.control_yaw_rad_s * kDegPerRad), -1.0, 1.0);
     return in;
 }
 

@@ -1,4 +1,5 @@
 #include "drone/sim/flight_model.hpp"
+#include "drone/sim/units.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +8,6 @@
 namespace gs::sim {
 namespace {
 constexpr double kG = 9.81;
-constexpr double kDeg = 180.0 / std::numbers::pi;
 constexpr double kRad = std::numbers::pi / 180.0;
 
 // First-order lag of `v` toward `target` with time constant tau over dt (exact discretisation).
@@ -136,14 +136,14 @@ void FlightModel::step(const FlightInput& raw, double dt) {
     update_mode(in, dt);
     s_.t_s += dt;
 
-    const double max_tilt_deg = limits_.euler_angle_max_rad * kDeg;
+    const double max_tilt_deg = limits_.euler_angle_max_rad * kDegPerRad;
     double roll_cmd = 0, pitch_cmd = 0, vz_cmd = 0, yaw_rate_cmd = 0;
     const bool airborne = s_.motors_on && s_.z_m > 0.0;
     switch (s_.major) {
         case CtrlMajor::Flying:
             roll_cmd = in.roll * max_tilt_deg;
             pitch_cmd = in.pitch * max_tilt_deg;
-            yaw_rate_cmd = in.yaw * limits_.control_yaw_rad_s * kDeg;
+            yaw_rate_cmd = in.yaw * limits_.control_yaw_rad_s * kDegPerRad;
             if (in.gaz != 0) {
                 vz_cmd = in.gaz * limits_.control_vz_max_mm_s / 1000.0;
                 hold_z_m_ = s_.z_m;

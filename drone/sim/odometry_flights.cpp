@@ -1,4 +1,5 @@
 #include "drone/sim/odometry_flights.hpp"
+#include "drone/sim/units.hpp"
 
 #include "drone/dataset/writer.hpp"
 #include "drone/sim/renderer.hpp"
@@ -21,7 +22,6 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-constexpr double kDeg = kPi / 180.0;
 constexpr double kTopAboveBottom_m = 0.05;  // the cameras sit back to back on the plate
 
 // Smooth random motion: three sines per channel, RMS = amplitude, zero at t = 0.
@@ -156,7 +156,6 @@ std::string fixed3(double v) {
     return buf;
 }
 
-
 }  // namespace
 
 std::string to_string(OdometryTest t) {
@@ -204,7 +203,7 @@ std::vector<OdometryFlightSample> odometry_flight_samples(const OdometryFlightPa
         const Pose q = pose_at(tk);
         const double cam_z = q.z_m + (sensor == 1 ? kTopAboveBottom_m : 0.0);
         // Along the sensor axis (tilted with the plate) to the horizontal plane.
-        const double tilt = std::cos(q.roll_deg * kDeg) * std::cos(q.pitch_deg * kDeg);
+        const double tilt = std::cos(q.roll_deg * kRadPerDeg) * std::cos(q.pitch_deg * kRadPerDeg);
         const double d = (sensor == 1 ? p.ceiling_m - cam_z : cam_z) / std::max(tilt, 0.5);
         Rng r(mix_seed(seed, sensor * 1'000'003ULL + k));
         return quantise(d + p.distance_noise_m * gaussian(r), p.distance_resolution_m);
@@ -227,7 +226,8 @@ std::vector<OdometryFlightSample> odometry_flight_samples(const OdometryFlightPa
         const double h = 1e-3;
         const Pose a = pose_at(s.t_s - h), b = pose_at(s.t_s + h);
         const double vxw = (b.x_m - a.x_m) / (2 * h), vyw = (b.y_m - a.y_m) / (2 * h);
-        const double c = std::cos(s.bottom.yaw_deg * kDeg), sn = std::sin(s.bottom.yaw_deg * kDeg);
+        const double c = std::cos(s.bottom.yaw_deg * kRadPerDeg),
+                     sn = std::sin(s.bottom.yaw_deg * kRadPerDeg);
         NavState& nav = s.nav;
         nav.t_ns = static_cast<TimeNs>(std::llround(s.t_s * 1e9));
         nav.roll_deg = s.bottom.roll_deg + p.nav_attitude_noise_deg * gaussian(nav_rng);

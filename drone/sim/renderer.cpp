@@ -1,4 +1,5 @@
 #include "drone/sim/renderer.hpp"
+#include "drone/sim/units.hpp"
 
 #include <algorithm>
 #include <array>
@@ -12,7 +13,6 @@
 namespace gs::sim {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
 constexpr int kBlock = 8;
 constexpr double kNear = 0.01;
 constexpr std::uint16_t kNoPrim = 0xffff;
@@ -69,8 +69,8 @@ struct CameraFrame {
 };
 
 CameraFrame camera_frame(const Pose& p, CameraKind k) {
-    const cv::Matx33d r_wb =
-        rot_z(p.yaw_deg * kDeg) * rot_y(p.pitch_deg * kDeg) * rot_x(p.roll_deg * kDeg);
+    const cv::Matx33d r_wb = rot_z(p.yaw_deg * kRadPerDeg) * rot_y(p.pitch_deg * kRadPerDeg) *
+                             rot_x(p.roll_deg * kRadPerDeg);
     const cv::Matx33d r_wc = r_wb * body_from_camera(k);
     return {r_wc.t(), frd(p.x_m, p.y_m, p.z_m)};
 }
@@ -201,7 +201,8 @@ struct Renderer::Impl {
         for (const Obstacle& o : s.obstacles) {
             const double top = o.z_m + o.height_m, bot = o.z_m;
             if (o.shape == ObstacleShape::Box) {
-                const double c = std::cos(o.yaw_deg * kDeg), sn = std::sin(o.yaw_deg * kDeg);
+                const double c = std::cos(o.yaw_deg * kRadPerDeg),
+                             sn = std::sin(o.yaw_deg * kRadPerDeg);
                 const cv::Vec3d ax(c, sn, 0), ay(-sn, c, 0);
                 const cv::Vec3d ctr = frd(o.x_m, o.y_m, 0);
                 const double hx = o.size_x_m / 2, hy = o.size_y_m / 2;

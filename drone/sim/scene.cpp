@@ -1,4 +1,5 @@
 #include "drone/sim/scene.hpp"
+#include "drone/sim/units.hpp"
 
 #include "drone/sim/json_util.hpp"
 #include "drone/sim/rng.hpp"
@@ -11,8 +12,6 @@
 
 namespace gs::sim {
 namespace {
-
-constexpr double kDeg = std::numbers::pi / 180.0;
 
 TextureSpec read_texture(JsonReader& r, const nlohmann::json& j, const std::string& where,
                          const TextureSpec& def) {
@@ -83,7 +82,7 @@ bool valid_scenario(const std::string& s) {
 
 // Footprint of a box as 4 (x, y) corners in the world frame.
 std::array<cv::Point2d, 4> box_corners(const Obstacle& o) {
-    const double c = std::cos(o.yaw_deg * kDeg), s = std::sin(o.yaw_deg * kDeg);
+    const double c = std::cos(o.yaw_deg * kRadPerDeg), s = std::sin(o.yaw_deg * kRadPerDeg);
     const double hx = o.size_x_m / 2, hy = o.size_y_m / 2;
     std::array<cv::Point2d, 4> out;
     const double sx[4] = {-1, 1, 1, -1}, sy[4] = {-1, -1, 1, 1};
@@ -96,7 +95,7 @@ std::array<cv::Point2d, 4> box_corners(const Obstacle& o) {
 
 // (along, lateral) of a world point relative to a line from (x, y) heading h.
 cv::Point2d to_flight(double px, double py, double x, double y, double h_deg) {
-    const double c = std::cos(h_deg * kDeg), s = std::sin(h_deg * kDeg);
+    const double c = std::cos(h_deg * kRadPerDeg), s = std::sin(h_deg * kRadPerDeg);
     const double dx = px - x, dy = py - y;
     return {dx * c + dy * s, -dx * s + dy * c};
 }
@@ -273,7 +272,7 @@ double footprint_distance(const Obstacle& o, double x_m, double y_m) {
     const double dx = x_m - o.x_m, dy = y_m - o.y_m;
     if (o.shape == ObstacleShape::Cylinder) return std::max(0.0, std::hypot(dx, dy) - o.radius_m);
     // Into the box's own axes (box_corners turns local (lx, ly) by +yaw).
-    const double c = std::cos(o.yaw_deg * kDeg), s = std::sin(o.yaw_deg * kDeg);
+    const double c = std::cos(o.yaw_deg * kRadPerDeg), s = std::sin(o.yaw_deg * kRadPerDeg);
     const double lx = c * dx + s * dy, ly = -s * dx + c * dy;
     const double ex = std::max(0.0, std::abs(lx) - o.size_x_m / 2);
     const double ey = std::max(0.0, std::abs(ly) - o.size_y_m / 2);
@@ -368,7 +367,7 @@ std::optional<double> ray_distance(const Scene& s, double ox, double oy, double 
     exit_t(oz, dz, 0.0, r.height_m);
     for (const Obstacle& o : s.obstacles) {
         // Into the obstacle's local frame (yaw about z), then slab / circle tests.
-        const double c = std::cos(o.yaw_deg * kDeg), sn = std::sin(o.yaw_deg * kDeg);
+        const double c = std::cos(o.yaw_deg * kRadPerDeg), sn = std::sin(o.yaw_deg * kRadPerDeg);
         const double px = ox - o.x_m, py = oy - o.y_m;
         double lx = c * px + sn * py, ly = -sn * px + c * py, lz = oz - o.z_m;
         double ux = c * dx + sn * dy, uy = -sn * dx + c * dy, uz = dz;

@@ -1,6 +1,8 @@
 // `ardrone-gs calibrate` run as a process (GS_BINARY) on the real rjw57 chessboard frames and on
 // bad input built in /tmp: success writes flight.json's calibration shape; failures exit non-zero
 // with a reason and write no file.
+#include "cli_test_util.hpp"
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -19,23 +21,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct CmdResult {
-    int exit_code = -1;
-    std::string out;  // stdout and stderr
-};
-
-CmdResult run(const std::string& args) {
-    CmdResult r;
-    const std::string cmd = std::string(GS_BINARY) + " " + args + " 2>&1";
-    FILE* p = popen(cmd.c_str(), "r");
-    if (p == nullptr) return r;
-    std::array<char, 4096> buf{};
-    std::size_t n = 0;
-    while ((n = std::fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), n);
-    const int status = pclose(p);
-    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return r;
-}
+using gs::test::CmdResult;
 
 const std::string kFrames =
     std::string(GS_FIXTURES_DIR) + "/real/calibration/rjw57_ardrone2_front_chessboard";
@@ -57,8 +43,8 @@ fs::path scratch(const std::string& name) {
 TEST(CalibrateCli, RealFramesWriteACalibration) {
     const fs::path dir = scratch("ok");
     const fs::path out = dir / "front.json";
-    const CmdResult r = run("calibrate " + kFrames +
-                            " --board 9x6 --square 0.05 --camera front --out " + out.string());
+    const CmdResult r = gs::test::run_cli(
+        "calibrate " + kFrames + " --board 9x6 --square 0.05 --camera front --out " + out.string());
     ASSERT_EQ(r.exit_code, 0) << r.out;
     // Progress per image, the report and the file.
     EXPECT_NE(r.out.find("[11/11] frame0010.jpg"), std::string::npos) << r.out;
@@ -94,8 +80,8 @@ TEST(CalibrateCli, DatasetFramesWithStep) {
     std::ofstream(ds / "flight.json") << R"({"format":"ardrone-dataset","version":1,
         "camera":"front","width":640,"height":360,"fps":30,"images":"frames"})";
     const fs::path out = ds / "cal.json";
-    const CmdResult r = run("calibrate " + ds.string() +
-                            " --step 2 --board 9x6 --square 0.05 --out " + out.string());
+    const CmdResult r = gs::test::run_cli(
+        "calibrate " + ds.string() + " --step 2 --board 9x6 --square 0.05 --out " + out.string());
     ASSERT_EQ(r.exit_code, 0) << r.out;
     EXPECT_NE(r.out.find("from 6 image(s)"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("frames/000010.jpg"), std::string::npos) << r.out;
@@ -111,8 +97,8 @@ TEST(CalibrateCli, VideoOnlyDatasetIsNotSupportedYet) {
         "camera":"front","width":640,"height":360,"fps":30})";
     std::ofstream(ds / "video.h264") << "x";
     const fs::path out = ds / "cal.json";
-    const CmdResult r =
-        run("calibrate " + ds.string() + " --board 9x6 --square 0.05 --out " + out.string());
+    const CmdResult r = gs::test::run_cli("calibrate " + ds.string() +
+                                          " --board 9x6 --square 0.05 --out " + out.string());
     EXPECT_NE(r.exit_code, 0);
     EXPECT_NE(r.out.find("not supported yet"), std::string::npos) << r.out;
     EXPECT_FALSE(fs::exists(out));
@@ -130,8 +116,8 @@ TEST(CalibrateCli, NoBoardAnywhereFailsWithoutAFile) {
     cv::rectangle(painted, cv::Rect(100, 30, 440, 300), cv::Scalar(90, 90, 90), cv::FILLED);
     cv::imwrite((dir / "c.png").string(), painted);
     const fs::path out = dir / "cal.json";
-    const CmdResult r =
-        run("calibrate " + dir.string() + " --board 9x6 --square 0.05 --out " + out.string());
+    const CmdResult r = gs::test::run_cli("calibrate " + dir.string() +
+                                          " --board 9x6 --square 0.05 --out " + out.string());
     EXPECT_NE(r.exit_code, 0);
     EXPECT_NE(r.out.find("found in none of the 3 image(s)"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("No calibration written"), std::string::npos);
@@ -140,15 +126,15 @@ TEST(CalibrateCli, NoBoardAnywhereFailsWithoutAFile) {
 
 TEST(CalibrateCli, WrongBoardSizeFailsWithoutAFile) {
     const fs::path out = scratch("wrong_board") / "cal.json";
-    const CmdResult r =
-        run("calibrate " + kFrames + " --board 7x7 --square 0.05 --out " + out.string());
+    const CmdResult r = gs::test::run_cli("calibrate " + kFrames +
+                                          " --board 7x7 --square 0.05 --out " + out.string());
     EXPECT_NE(r.exit_code, 0);
     EXPECT_NE(r.out.find("7x7 board was found in none of the 11"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("inner corners"), std::string::npos);
     EXPECT_FALSE(fs::exists(out));
     // 8x6 fits inside a 9x6 board in one frame only: too few views, still no file.
-    const CmdResult r8 =
-        run("calibrate " + kFrames + " --board 8x6 --square 0.05 --out " + out.string());
+    const CmdResult r8 = gs::test::run_cli("calibrate " + kFrames +
+                                           " --board 8x6 --square 0.05 --out " + out.string());
     EXPECT_NE(r8.exit_code, 0);
     EXPECT_NE(r8.out.find("at least 3"), std::string::npos) << r8.out;
     EXPECT_FALSE(fs::exists(out));
@@ -162,8 +148,8 @@ TEST(CalibrateCli, MixedImageSizesFail) {
     cv::resize(cv::imread(frame(2)), small, {320, 180});
     cv::imwrite((dir / "c.jpg").string(), small);
     const fs::path out = dir / "cal.json";
-    const CmdResult r =
-        run("calibrate " + dir.string() + " --board 9x6 --square 0.05 --out " + out.string());
+    const CmdResult r = gs::test::run_cli("calibrate " + dir.string() +
+                                          " --board 9x6 --square 0.05 --out " + out.string());
     EXPECT_NE(r.exit_code, 0);
     EXPECT_NE(r.out.find("c.jpg is 320x180 but the earlier images are 640x360"), std::string::npos)
         << r.out;
@@ -178,12 +164,13 @@ TEST(CalibrateCli, BadOptionsAreRefused) {
           kFrames + " --board 9x6 --square 0", kFrames + " --board 9x6 --square -1",
           kFrames + " --board 9x6 --square 50", kFrames + " --board 9x6 --square 0.05 --step 0",
           std::string("/nonexistent/dir --board 9x6 --square 0.05"), kFrames + " --square 0.05"}) {
-        const CmdResult r = run("calibrate " + args + tail);
+        const CmdResult r = gs::test::run_cli("calibrate " + args + tail);
         EXPECT_NE(r.exit_code, 0) << args;
         EXPECT_FALSE(r.out.empty()) << args;
         EXPECT_FALSE(fs::exists(out)) << args;
     }
-    const CmdResult mm = run("calibrate " + kFrames + " --board 9x6 --square 50" + tail);
+    const CmdResult mm =
+        gs::test::run_cli("calibrate " + kFrames + " --board 9x6 --square 50" + tail);
     EXPECT_NE(mm.out.find("give metres"), std::string::npos) << mm.out;
 }
 

@@ -10,9 +10,9 @@
 
 namespace gs::test {
 
-CmdResult run_cli(const std::string& args) {
+namespace {
+CmdResult run_shell(const std::string& cmd) {
     CmdResult r;
-    const std::string cmd = std::string(GS_BINARY) + " " + args + " 2>&1";
     FILE* p = popen(cmd.c_str(), "r");
     if (p == nullptr) return r;
     std::array<char, 4096> buf{};
@@ -21,6 +21,15 @@ CmdResult run_cli(const std::string& args) {
     const int status = pclose(p);
     r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
     return r;
+}
+}  // namespace
+
+CmdResult run_cli(const std::string& args) {
+    return run_shell(std::string(GS_BINARY) + " " + args + " 2>&1");
+}
+
+CmdResult run_cli_stdout(const std::string& args) {
+    return run_shell(std::string(GS_BINARY) + " " + args);
 }
 
 std::filesystem::path scratch_dir(const std::string& suite, const std::string& name) {

@@ -13,6 +13,8 @@ struct CmdResult {
 
 // Runs `ardrone-gs ARGS` through the shell, stderr merged into stdout.
 CmdResult run_cli(const std::string& args);
+// The same, stdout only (stderr goes to the test's own): for output parsed as JSON.
+CmdResult run_cli_stdout(const std::string& args);
 // A fresh, empty directory /tmp/gs_<suite>_<pid>/<name>.
 std::filesystem::path scratch_dir(const std::string& suite, const std::string& name);
 std::string read_text(const std::filesystem::path& p);

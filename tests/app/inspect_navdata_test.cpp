@@ -1,4 +1,6 @@
 // `ardrone-gs inspect navdata` run as a process (GS_BINARY) on the real captures.
+#include "cli_test_util.hpp"
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -11,30 +13,15 @@
 
 namespace {
 
-struct CmdResult {
-    int exit_code = -1;
-    std::string out;  // stdout (stderr too when merged)
-};
-
-CmdResult run(const std::string& args) {
-    CmdResult r;
-    const std::string cmd = std::string(GS_BINARY) + " " + args;
-    FILE* p = popen(cmd.c_str(), "r");
-    if (p == nullptr) return r;
-    std::array<char, 4096> buf{};
-    std::size_t n = 0;
-    while ((n = std::fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), n);
-    const int status = pclose(p);
-    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return r;
-}
+using gs::test::CmdResult;
 
 std::string fixture(const char* name) {
     return std::string(GS_FIXTURES_DIR) + "/ardrone/" + name;
 }
 
 TEST(InspectNavdata, JsonOfFullCaptureHasTheValues) {
-    const CmdResult r = run("inspect navdata " + fixture("node-ar-drone_navdata.bin") + " --json");
+    const CmdResult r = gs::test::run_cli_stdout("inspect navdata " +
+                                                 fixture("node-ar-drone_navdata.bin") + " --json");
     ASSERT_EQ(r.exit_code, 0) << r.out;
     const auto j = nlohmann::json::parse(r.out);
     EXPECT_EQ(j["header"], 0x55667788U);
@@ -83,8 +70,8 @@ TEST(InspectNavdata, JsonOfFullCaptureHasTheValues) {
 }
 
 TEST(InspectNavdata, JsonReportsOpaqueTag27) {
-    const CmdResult r =
-        run("inspect navdata " + fixture("node-ar-drone_navdata_2013.bin") + " --json");
+    const CmdResult r = gs::test::run_cli_stdout(
+        "inspect navdata " + fixture("node-ar-drone_navdata_2013.bin") + " --json");
     ASSERT_EQ(r.exit_code, 0) << r.out;
     const auto j = nlohmann::json::parse(r.out);
     EXPECT_EQ(j["checksum"], 57639);
@@ -95,7 +82,8 @@ TEST(InspectNavdata, JsonReportsOpaqueTag27) {
 }
 
 TEST(InspectNavdata, HumanOutputShowsFieldsUnitsAndBitNames) {
-    const CmdResult r = run("inspect navdata " + fixture("uav-pilot_navdata_demo_inflight.bin"));
+    const CmdResult r = gs::test::run_cli_stdout("inspect navdata " +
+                                                 fixture("uav-pilot_navdata_demo_inflight.bin"));
     ASSERT_EQ(r.exit_code, 0) << r.out;
     EXPECT_NE(r.out.find("0x0F8004F5"), std::string::npos);
     EXPECT_NE(
@@ -112,7 +100,7 @@ TEST(InspectNavdata, HumanOutputShowsFieldsUnitsAndBitNames) {
 }
 
 TEST(InspectNavdata, MissingFileFailsWithMessage) {
-    const CmdResult r = run("inspect navdata /nonexistent/navdata.bin 2>&1");
+    const CmdResult r = gs::test::run_cli_stdout("inspect navdata /nonexistent/navdata.bin 2>&1");
     EXPECT_NE(r.exit_code, 0);
     EXPECT_NE(r.out.find("ardrone-gs: cannot open /nonexistent/navdata.bin"), std::string::npos)
         << r.out;
@@ -127,7 +115,7 @@ TEST(InspectNavdata, BadPacketFailsWithTheReason) {
         bytes[20] = static_cast<char>(bytes[20] + 1);
         std::ofstream(path, std::ios::binary) << bytes;
     }
-    const CmdResult r = run("inspect navdata " + path + " 2>&1");
+    const CmdResult r = gs::test::run_cli_stdout("inspect navdata " + path + " 2>&1");
     EXPECT_NE(r.exit_code, 0);
     EXPECT_NE(r.out.find("bad checksum, expected: 36359, got: 36358"), std::string::npos) << r.out;
     std::remove(path.c_str());

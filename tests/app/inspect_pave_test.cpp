@@ -1,4 +1,6 @@
 // `ardrone-gs inspect pave` run as a process on the real captures.
+#include "cli_test_util.hpp"
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -12,30 +14,15 @@
 
 namespace {
 
-struct RunResult {
-    int exit_code = -1;
-    std::string out;
-};
-
-RunResult run(const std::string& args) {
-    RunResult r;
-    const std::string cmd = std::string(GS_BINARY) + " " + args;
-    FILE* p = popen(cmd.c_str(), "r");
-    if (p == nullptr) return r;
-    char buf[4096];
-    std::size_t n = 0;
-    while ((n = std::fread(buf, 1, sizeof buf, p)) > 0) r.out.append(buf, n);
-    const int status = pclose(p);
-    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return r;
-}
+using RunResult = gs::test::CmdResult;
 
 std::string capture(const std::string& name) {
     return std::string(GS_FIXTURES_DIR) + "/ardrone/" + name;
 }
 
 TEST(InspectPave, JsonListsTheTwentyFramesWithTheirNumbers) {
-    const RunResult r = run("inspect pave " + capture("node-ar-drone_pave.bin") + " --json");
+    const RunResult r =
+        gs::test::run_cli_stdout("inspect pave " + capture("node-ar-drone_pave.bin") + " --json");
     ASSERT_EQ(r.exit_code, 0) << r.out;
     const auto j = nlohmann::json::parse(r.out);
     EXPECT_EQ(j["file_size"], 102747);
@@ -63,7 +50,7 @@ TEST(InspectPave, JsonListsTheTwentyFramesWithTheirNumbers) {
 }
 
 TEST(InspectPave, JsonReportsTheResyncAndTheTrailingPartialFrame) {
-    const RunResult r = run(
+    const RunResult r = gs::test::run_cli_stdout(
         "inspect pave " + capture("uav-pilot_ardrone_video_stream_dump_bad_pave.bin") + " --json");
     ASSERT_EQ(r.exit_code, 0) << r.out;
     const auto j = nlohmann::json::parse(r.out);
@@ -82,7 +69,8 @@ TEST(InspectPave, JsonReportsTheResyncAndTheTrailingPartialFrame) {
 }
 
 TEST(InspectPave, TextListsEveryFrameAndTheSummary) {
-    const RunResult r = run("inspect pave " + capture("node-ar-drone_pave-68.bin"));
+    const RunResult r =
+        gs::test::run_cli_stdout("inspect pave " + capture("node-ar-drone_pave-68.bin"));
     ASSERT_EQ(r.exit_code, 0) << r.out;
     EXPECT_NE(r.out.find("245401"), std::string::npos);
     EXPECT_NE(r.out.find("245405"), std::string::npos);
@@ -94,8 +82,8 @@ TEST(InspectPave, DecodeWritesSeventeenPngsFromTheFirstIdr) {
     const auto dir =
         std::filesystem::temp_directory_path() / ("gs_inspect_pave_" + std::to_string(::getpid()));
     std::filesystem::remove_all(dir);
-    const RunResult r = run("inspect pave " + capture("node-ar-drone_pave.bin") +
-                            " --json --decode " + dir.string());
+    const RunResult r = gs::test::run_cli_stdout(
+        "inspect pave " + capture("node-ar-drone_pave.bin") + " --json --decode " + dir.string());
     ASSERT_EQ(r.exit_code, 0) << r.out;
     const auto j = nlohmann::json::parse(r.out);
     EXPECT_EQ(j["decode"]["images"], 17);
@@ -122,7 +110,7 @@ TEST(InspectPave, DecodeWritesSeventeenPngsFromTheFirstIdr) {
 }
 
 TEST(InspectPave, MissingFileFailsWithAMessage) {
-    const RunResult r = run("inspect pave /nonexistent/capture.bin 2>&1");
+    const RunResult r = gs::test::run_cli_stdout("inspect pave /nonexistent/capture.bin 2>&1");
     EXPECT_NE(r.exit_code, 0);
     EXPECT_NE(r.out.find("ardrone-gs: cannot open /nonexistent/capture.bin"), std::string::npos)
         << r.out;

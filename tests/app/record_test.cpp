@@ -1,6 +1,7 @@
 // `ardrone-gs record` run as a process against its in-process virtual drone: the dataset it
 // writes, the live decisions it logs (re-run over the recorded dataset, they must be identical),
 // a recording killed without warning, and a clear failure without a drone.
+#include "cli_test_util.hpp"
 #include "drone/dataset/csv.hpp"
 #include "drone/dataset/dataset.hpp"
 #include "drone/dataset/raw_replay.hpp"
@@ -28,36 +29,12 @@
 namespace {
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
-
-struct RunResult {
-    int exit_code = -1;
-    std::string out;  // stdout and stderr
-};
-
-RunResult run(const std::string& args) {
-    RunResult r;
-    const std::string cmd = std::string(GS_BINARY) + " " + args + " 2>&1";
-    FILE* p = popen(cmd.c_str(), "r");
-    if (p == nullptr) return r;
-    char buf[4096];
-    std::size_t n = 0;
-    while ((n = std::fread(buf, 1, sizeof buf, p)) > 0) r.out.append(buf, n);
-    const int status = pclose(p);
-    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return r;
-}
+using RunResult = gs::test::CmdResult;
 
 fs::path make_temp_dir() {
     std::string tmpl = (fs::temp_directory_path() / "gs_record_XXXXXX").string();
     if (::mkdtemp(tmpl.data()) == nullptr) return {};
     return tmpl;
-}
-
-std::string read_file(const fs::path& p) {
-    std::ifstream f(p, std::ios::binary);
-    std::stringstream ss;
-    ss << f.rdbuf();
-    return ss.str();
 }
 
 // One 4 s recording of the scripted left-pillar approach with the live classifier, shared by
@@ -66,8 +43,8 @@ class RecordCommand : public ::testing::Test {
 protected:
     static void SetUpTestSuite() {
         tmp_ = new fs::path(make_temp_dir());
-        result_ =
-            new RunResult(run("record --sim thesis_pillar_left --autopilot --seconds 4 --out " +
+        result_ = new RunResult(
+            gs::test::run_cli("record --sim thesis_pillar_left --autopilot --seconds 4 --out " +
                               (*tmp_ / "flight").string() + " --classifier thesis"));
     }
     static void TearDownTestSuite() {
@@ -144,8 +121,8 @@ TEST_F(RecordCommand, RawReplayReproducesFramesCsv) {
 TEST_F(RecordCommand, LiveDecisionsAreReproducedFromTheDataset) {
     auto d = gs::Dataset::open(dir());
     ASSERT_TRUE(d) << gs::to_string(d.error());
-    auto live =
-        gs::csv::Table::parse(read_file(dir() / "live_decisions.csv"), "live_decisions.csv");
+    auto live = gs::csv::Table::parse(gs::test::read_text(dir() / "live_decisions.csv"),
+                                      "live_decisions.csv");
     ASSERT_TRUE(live) << gs::to_string(live.error());
     const std::vector<std::string> cols = {"frame", "t_ms",       "left",         "center",
                                            "right", "left_score", "center_score", "right_score"};
@@ -245,16 +222,16 @@ TEST(Record, KilledRecordingIsReadableToWithinOneSecond) {
 
 TEST(Record, FailsClearlyWhenNoDroneAnswers) {
     const fs::path tmp = make_temp_dir();
-    const RunResult r =
-        run("record --drone 127.0.0.2 --connect-timeout 0.5 --out " + (tmp / "x").string());
+    const RunResult r = gs::test::run_cli("record --drone 127.0.0.2 --connect-timeout 0.5 --out " +
+                                          (tmp / "x").string());
     EXPECT_NE(r.exit_code, 0);
     EXPECT_NE(r.out.find("no connection to the drone at 127.0.0.2 within 0.5 s"), std::string::npos)
         << r.out;
     EXPECT_FALSE(fs::exists(tmp / "x"));  // nothing recorded
     const RunResult both =
-        run("record --drone 127.0.0.2 --sim warehouse --out " + (tmp / "y").string());
+        gs::test::run_cli("record --drone 127.0.0.2 --sim warehouse --out " + (tmp / "y").string());
     EXPECT_NE(both.exit_code, 0);
-    const RunResult neither = run("record --out " + (tmp / "z").string());
+    const RunResult neither = gs::test::run_cli("record --out " + (tmp / "z").string());
     EXPECT_NE(neither.exit_code, 0);
     EXPECT_NE(neither.out.find("--drone ADDR or --sim SCENARIO"), std::string::npos) << neither.out;
     std::error_code ec;

@@ -9,7 +9,6 @@
 
 namespace gs {
 namespace {
-constexpr TimeNs kMs = 1'000'000;
 
 // Stand-in parsers (the real navdata parser and PaVE framer are bound after merge): a navdata
 // datagram is a little-endian double roll; every video chunk completes one frame captured 1 ms
@@ -23,7 +22,7 @@ RawReplayDecoders fake_decoders() {
         return s;
     };
     d.video = [](std::span<const std::uint8_t>, TimeNs recv, std::vector<TimeNs>& out) {
-        out.push_back(recv - 1 * kMs);
+        out.push_back(recv - 1 * kNsPerMs);
     };
     return d;
 }
@@ -38,18 +37,18 @@ TEST(RawReplay, ReproducesTheRecordedFramesCsv) {
     ASSERT_TRUE(w);
     int frame = 0;
     for (int i = 0; i < 400; ++i) {  // 2 s of 200 Hz navdata, a frame about every 33 ms
-        const TimeNs tn = i * 5 * kMs + 1;
+        const TimeNs tn = i * 5 * kNsPerMs + 1;
         const double roll = 0.1 * i * i - i;
         std::uint8_t b[8];
         std::memcpy(b, &roll, 8);
         NavState s;
         s.roll_deg = roll;
         ASSERT_TRUE((*w)->add_navdata(tn, b, s));
-        const TimeNs tv = (33 * frame + 7) * kMs;
-        if (tv >= tn - 1 && tv < tn + 5 * kMs - 1) {
+        const TimeNs tv = (33 * frame + 7) * kNsPerMs;
+        if (tv >= tn - 1 && tv < tn + 5 * kNsPerMs - 1) {
             const std::vector<std::uint8_t> chunk(100, static_cast<std::uint8_t>(frame));
             ASSERT_TRUE((*w)->add_video_bytes(tv, chunk));
-            ASSERT_TRUE((*w)->add_frame(tv - 1 * kMs, test::fake_access_unit(true, 20, 1)));
+            ASSERT_TRUE((*w)->add_frame(tv - 1 * kNsPerMs, test::fake_access_unit(true, 20, 1)));
             ++frame;
         }
     }

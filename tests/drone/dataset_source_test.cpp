@@ -10,7 +10,6 @@ namespace gs {
 namespace {
 namespace fs = std::filesystem;
 using test::TempDir;
-constexpr TimeNs kMs = 1'000'000;
 
 DatasetSource open_source(const fs::path& dir, const Clock& clock, Pacing p) {
     auto d = Dataset::open(dir);
@@ -23,34 +22,34 @@ DatasetSource open_source(const fs::path& dir, const Clock& clock, Pacing p) {
 TEST(DatasetSource, RealtimePacingFollowsTheClock) {
     TempDir t;
     test::make_png_dataset(t.path(), 6);  // frames every 40 ms
-    FakeClock clock(1'000 * kMs);
+    FakeClock clock(1'000 * kNsPerMs);
     auto src = open_source(t.path(), clock, Pacing::realtime());
     FrameSample f;
     ASSERT_EQ(src.next(f), SourceStatus::Sample);  // frame 0 is due at once
     EXPECT_EQ(f.index, 0);
-    EXPECT_EQ(f.recv_ns, 1'000 * kMs);
+    EXPECT_EQ(f.recv_ns, 1'000 * kNsPerMs);
     ASSERT_EQ(src.next(f), SourceStatus::NotYet);
-    EXPECT_EQ(src.wait_hint_ns(), 40 * kMs);
+    EXPECT_EQ(src.wait_hint_ns(), 40 * kNsPerMs);
     clock.advance(std::chrono::milliseconds(39));
     ASSERT_EQ(src.next(f), SourceStatus::NotYet);
-    EXPECT_EQ(src.wait_hint_ns(), 1 * kMs);
+    EXPECT_EQ(src.wait_hint_ns(), 1 * kNsPerMs);
     clock.advance(std::chrono::milliseconds(1));
     ASSERT_EQ(src.next(f), SourceStatus::Sample);
     EXPECT_EQ(f.index, 1);
-    EXPECT_EQ(f.t_ns, 40 * kMs);
+    EXPECT_EQ(f.t_ns, 40 * kNsPerMs);
     EXPECT_EQ(f.nav.roll_deg, 1.0);
     EXPECT_EQ(cv::norm(f.image, test::test_image(1, 64, 48), cv::NORM_INF), 0.0);
     // 4x speed: the next 40 ms of flight take 10 ms
     src.set_pacing(Pacing::realtime(4));
     ASSERT_EQ(src.next(f), SourceStatus::NotYet);
-    EXPECT_EQ(src.wait_hint_ns(), 10 * kMs);
+    EXPECT_EQ(src.wait_hint_ns(), 10 * kNsPerMs);
     clock.advance(std::chrono::milliseconds(10));
     ASSERT_EQ(src.next(f), SourceStatus::Sample);
     EXPECT_EQ(f.index, 2);
     // speeds outside 0.25..8 are clamped
     src.set_pacing(Pacing::realtime(100));
     ASSERT_EQ(src.next(f), SourceStatus::NotYet);
-    EXPECT_EQ(src.wait_hint_ns(), 5 * kMs);
+    EXPECT_EQ(src.wait_hint_ns(), 5 * kNsPerMs);
     clock.advance(std::chrono::milliseconds(5));
     ASSERT_EQ(src.next(f), SourceStatus::Sample);
     EXPECT_EQ(f.index, 3);
@@ -61,7 +60,7 @@ TEST(DatasetSource, RealtimePacingFollowsTheClock) {
     ASSERT_EQ(src.next(f), SourceStatus::Sample);
     EXPECT_EQ(f.index, 4);
     ASSERT_EQ(src.next(f), SourceStatus::NotYet);
-    EXPECT_EQ(src.wait_hint_ns(), 40 * kMs);
+    EXPECT_EQ(src.wait_hint_ns(), 40 * kNsPerMs);
     clock.advance(std::chrono::milliseconds(40));
     ASSERT_EQ(src.next(f), SourceStatus::Sample);
     EXPECT_EQ(f.index, 5);
@@ -78,7 +77,7 @@ TEST(DatasetSource, FastestDeliversEverythingInOrderWithNavdataFirst) {
     std::vector<std::string> order;
     auto tag = [](char c, TimeNs when) {
         std::string s(1, c);
-        s += std::to_string(when / kMs);
+        s += std::to_string(when / kNsPerMs);
         return s;
     };
     FrameSample f;
@@ -114,7 +113,7 @@ TEST(DatasetSource, SeekStepAndPause) {
     EXPECT_EQ(f.index, 4);
     src.set_paused(false);
     ASSERT_EQ(src.next(f), SourceStatus::NotYet);  // resumes at frame 4's time, not 10 s later
-    EXPECT_EQ(src.wait_hint_ns(), 40 * kMs);
+    EXPECT_EQ(src.wait_hint_ns(), 40 * kNsPerMs);
     ASSERT_TRUE(src.seek(0));
     ASSERT_EQ(src.next(f), SourceStatus::Sample);
     EXPECT_EQ(f.index, 0);
@@ -192,7 +191,7 @@ TEST(Thesis, NaturalOrderOnlyTxtAndErrors) {
     ASSERT_EQ(d->frame_count(), 11);
     EXPECT_EQ(d->image_files()[1].filename(), "image_2.png");
     EXPECT_EQ(d->image_files()[10].filename(), "image_11.png");
-    EXPECT_EQ(d->frames()[10].nav.t_ns, 1'000 * kMs);
+    EXPECT_EQ(d->frames()[10].nav.t_ns, 1'000 * kNsPerMs);
     EXPECT_EQ(d->frames()[10].nav.roll_deg, 11.0);
     EXPECT_EQ(d->frames()[10].nav.vy_mps, -0.5);
     EXPECT_EQ(d->calibration().fx, 14.0);  // 560 scaled from 640 to 16 pixels wide

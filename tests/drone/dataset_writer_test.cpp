@@ -17,8 +17,6 @@ namespace {
 namespace fs = std::filesystem;
 using test::TempDir;
 
-constexpr TimeNs kMs = 1'000'000;
-
 NavState nav_at(double roll, double pitch, double yaw) {
     NavState s;
     s.roll_deg = roll;
@@ -38,7 +36,7 @@ DatasetOpenOptions with_assets(const TempDir& t) {
 
 TEST(DatasetWriter, RoundTripWithInterpolatedAttitude) {
     TempDir t;
-    FakeClock clock(5'000 * kMs);
+    FakeClock clock(5'000 * kNsPerMs);
     const TimeNs t0 = clock.now_ns();
     DatasetWriterOptions o;
     o.width = 64;
@@ -53,12 +51,12 @@ TEST(DatasetWriter, RoundTripWithInterpolatedAttitude) {
     // lags).
     int nav_i = 0;
     for (int k = 0; k < 10; ++k) {
-        const TimeNs cap = t0 + (40 * k + 4) * kMs;
-        while (t0 + nav_i * 10 * kMs <= cap + 20 * kMs) {
+        const TimeNs cap = t0 + (40 * k + 4) * kNsPerMs;
+        while (t0 + nav_i * 10 * kNsPerMs <= cap + 20 * kNsPerMs) {
             NavState s = nav_at(nav_i, -nav_i, nav_i * 2.0);
             s.seq = static_cast<std::uint32_t>(nav_i);
             s.drone_state = 0x80000000u | static_cast<std::uint32_t>(nav_i);
-            ASSERT_TRUE((*w)->add_navdata(t0 + nav_i * 10 * kMs, dgram, s));
+            ASSERT_TRUE((*w)->add_navdata(t0 + nav_i * 10 * kNsPerMs, dgram, s));
             ++nav_i;
         }
         ASSERT_TRUE((*w)->add_frame(cap, {}, test::test_image(k, 64, 48),
@@ -85,7 +83,7 @@ TEST(DatasetWriter, RoundTripWithInterpolatedAttitude) {
     for (int k = 0; k < 10; ++k) {
         const auto& r = d->frames()[static_cast<std::size_t>(k)];
         const double tm = 40.0 * k + 4;
-        EXPECT_EQ(r.nav.t_ns, static_cast<TimeNs>(tm * kMs));
+        EXPECT_EQ(r.nav.t_ns, static_cast<TimeNs>(tm * kNsPerMs));
         // halfway between samples tm-4 and tm+6 ... roll = tm / 10 exactly (linear in time)
         EXPECT_NEAR(r.nav.roll_deg, tm / 10, 1e-12) << k;
         EXPECT_NEAR(r.nav.pitch_deg, -tm / 10, 1e-12);
@@ -95,7 +93,7 @@ TEST(DatasetWriter, RoundTripWithInterpolatedAttitude) {
         EXPECT_TRUE(std::isnan(r.nav.vy_mps));
     }
     ASSERT_EQ(d->navdata().size(), static_cast<std::size_t>(nav_i));
-    EXPECT_EQ(d->navdata()[3].t_ns, 30 * kMs);
+    EXPECT_EQ(d->navdata()[3].t_ns, 30 * kNsPerMs);
     EXPECT_EQ(d->navdata()[3].roll_deg, 3.0);
     EXPECT_EQ(*d->navdata()[3].seq, 3u);
     EXPECT_EQ(*d->navdata()[3].drone_state, 0x80000003u);
@@ -134,9 +132,10 @@ TEST(DatasetWriter, VideoModeSkipsUntilIdrAndWritesOneAccessUnitPerFrame) {
     o.write_raw = false;
     auto w = DatasetWriter::create(t / "rec", o, clock);
     ASSERT_TRUE(w);
-    (*w)->add_frame(1 * kMs, test::fake_access_unit(false, 50, 1));  // P before any IDR: skipped
+    (*w)->add_frame(1 * kNsPerMs,
+                    test::fake_access_unit(false, 50, 1));  // P before any IDR: skipped
     for (int i = 0; i < 8; ++i)
-        (*w)->add_frame((10 + 33 * i) * kMs, test::fake_access_unit(i % 4 == 0, 60 + i, 2));
+        (*w)->add_frame((10 + 33 * i) * kNsPerMs, test::fake_access_unit(i % 4 == 0, 60 + i, 2));
     (*w)->close();
     EXPECT_EQ((*w)->stats().frames_skipped, 1u);
     EXPECT_EQ((*w)->stats().frames_written, 8u);
@@ -148,7 +147,7 @@ TEST(DatasetWriter, VideoModeSkipsUntilIdrAndWritesOneAccessUnitPerFrame) {
     EXPECT_TRUE(d->video_units()[4].idr);
     // no navdata at all: attitude unknown, not zero
     EXPECT_TRUE(std::isnan(d->frames()[2].nav.roll_deg));
-    EXPECT_EQ(d->frames()[2].nav.t_ns, 76 * kMs);
+    EXPECT_EQ(d->frames()[2].nav.t_ns, 76 * kNsPerMs);
     EXPECT_FALSE(fs::exists(t / "rec/raw"));
 }
 
@@ -162,12 +161,12 @@ TEST(DatasetWriter, InterpolationUsesTheTwoNeighbouringSamples) {
     auto w = DatasetWriter::create(t / "rec", o, clock);
     ASSERT_TRUE(w);
     // frame before any navdata, frame between, frame exactly on a sample, frame after the last
-    (*w)->add_frame(1 * kMs, {}, test::test_image(0, 8, 8));
-    (*w)->add_navdata(2 * kMs, {}, nav_at(10, 0, 170));
-    (*w)->add_navdata(12 * kMs, {}, nav_at(20, 4, -170));  // yaw wraps through 180
-    (*w)->add_frame(4 * kMs, {}, test::test_image(1, 8, 8));
-    (*w)->add_frame(12 * kMs, {}, test::test_image(2, 8, 8));
-    (*w)->add_frame(30 * kMs, {}, test::test_image(3, 8, 8));
+    (*w)->add_frame(1 * kNsPerMs, {}, test::test_image(0, 8, 8));
+    (*w)->add_navdata(2 * kNsPerMs, {}, nav_at(10, 0, 170));
+    (*w)->add_navdata(12 * kNsPerMs, {}, nav_at(20, 4, -170));  // yaw wraps through 180
+    (*w)->add_frame(4 * kNsPerMs, {}, test::test_image(1, 8, 8));
+    (*w)->add_frame(12 * kNsPerMs, {}, test::test_image(2, 8, 8));
+    (*w)->add_frame(30 * kNsPerMs, {}, test::test_image(3, 8, 8));
     (*w)->close();
     auto d = Dataset::open(t / "rec", with_assets(t));
     ASSERT_TRUE(d) << to_string(d.error());
@@ -193,7 +192,7 @@ TEST(DatasetWriter, FullQueueDropsAndCountsWithoutBlocking) {
     std::uint64_t refused = 0;
     constexpr int kN = 20'000;
     for (int i = 0; i < kN; ++i)
-        if (!(*w)->add_navdata(i * kMs, big, nav_at(1, 2, 3))) ++refused;
+        if (!(*w)->add_navdata(i * kNsPerMs, big, nav_at(1, 2, 3))) ++refused;
     (*w)->close();
     const auto st = (*w)->stats();
     EXPECT_GT(refused, 0u);
@@ -282,8 +281,8 @@ TEST(DatasetWriter, KilledRecordingIsReadableToWithinOneSecond) {
             (*w)->add_navdata(now, dgram, nav_at(i, 0, 0));
             if (i % 8 == 0) {
                 (*w)->add_video_bytes(now, chunk);
-                (*w)->add_frame(now - 1 * kMs, test::fake_access_unit(i % 240 == 0, 3000, 3));
-                const TimeNs produced = now - 1 * kMs - t0;
+                (*w)->add_frame(now - 1 * kNsPerMs, test::fake_access_unit(i % 240 == 0, 3000, 3));
+                const TimeNs produced = now - 1 * kNsPerMs - t0;
                 if (::write(pipefd[1], &produced, sizeof produced) != sizeof produced) ::_exit(3);
             }
             std::this_thread::sleep_for(std::chrono::milliseconds(5));  // the fake link's pace
@@ -292,7 +291,7 @@ TEST(DatasetWriter, KilledRecordingIsReadableToWithinOneSecond) {
     ::close(pipefd[1]);
     // Let it record ~2.5 s of flight, then kill it without warning.
     TimeNs last = -1, v = 0;
-    while (last < 2'500 * kMs) {
+    while (last < 2'500 * kNsPerMs) {
         const ssize_t n = ::read(pipefd[0], &v, sizeof v);
         ASSERT_EQ(n, static_cast<ssize_t>(sizeof v)) << "child stopped early";
         last = v;
@@ -308,7 +307,7 @@ TEST(DatasetWriter, KilledRecordingIsReadableToWithinOneSecond) {
     ASSERT_TRUE(d) << to_string(d.error());
     ASSERT_GT(d->frame_count(), 0);
     const TimeNs kept = d->frames().back().nav.t_ns;
-    EXPECT_GE(kept, last - 1'000 * kMs) << "last produced " << last << " ns, kept " << kept;
+    EXPECT_GE(kept, last - 1'000 * kNsPerMs) << "last produced " << last << " ns, kept " << kept;
     EXPECT_LE(kept, last);
     std::printf("killed recording: last frame produced at %.3f s, dataset holds frames to %.3f s\n",
                 ns_to_ms(last) / 1000, ns_to_ms(kept) / 1000);
@@ -317,7 +316,7 @@ TEST(DatasetWriter, KilledRecordingIsReadableToWithinOneSecond) {
     EXPECT_GT(d->frames().back().nav.roll_deg, d->frames().front().nav.roll_deg);
     auto raw = read_navdata_bin(t / "rec/raw");
     ASSERT_TRUE(raw) << to_string(raw.error());
-    EXPECT_GE(raw->records.back().t_us * 1000, last - 1'000 * kMs);
+    EXPECT_GE(raw->records.back().t_us * 1000, last - 1'000 * kNsPerMs);
 }
 
 }  // namespace

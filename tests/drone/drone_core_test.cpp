@@ -2,6 +2,8 @@
 #include "drone/at.hpp"
 #include "drone/navdata.hpp"
 
+#include "state_bits.hpp"
+
 #include <gtest/gtest.h>
 
 #include <functional>
@@ -10,14 +12,7 @@ using namespace gs;
 using namespace gs::sim;
 
 namespace {
-constexpr std::uint32_t kFly = 1u << 0;
-constexpr std::uint32_t kAck = 1u << 6;
-constexpr std::uint32_t kDemo = 1u << 10;
-constexpr std::uint32_t kBootstrap = 1u << 11;
-constexpr std::uint32_t kComLost = 1u << 13;
-constexpr std::uint32_t kVbatLow = 1u << 15;
-constexpr std::uint32_t kComWdg = 1u << 30;
-constexpr std::uint32_t kEmergency = 1u << 31;
+using namespace gs::test;
 
 net::Endpoint client(std::uint16_t port = 40000) {
     return *net::Endpoint::parse("127.0.0.1:" + std::to_string(port));

@@ -1,15 +1,14 @@
 #include "drone/link/link_state.hpp"
 
+#include "state_bits.hpp"
+
 #include <gtest/gtest.h>
 
 using namespace gs;
 using namespace gs::link;
 
 namespace {
-constexpr std::uint32_t kAck = 1u << 6;
-constexpr std::uint32_t kDemo = 1u << 10;
-constexpr std::uint32_t kBootstrap = 1u << 11;
-constexpr std::uint32_t kComWdg = 1u << 30;
+using namespace gs::test;
 constexpr std::uint32_t kBootstrapState = 0x4F800C10;  // PROTOCOL.md §7.4, a real bootstrap packet
 constexpr std::uint32_t kThreads = 0x0F800000;         // bits 23-27 as a running drone reports
 

@@ -3,6 +3,7 @@
 // framer with a given chunking.
 
 #include "drone/pave.hpp"
+#include "navdata_test_util.hpp"  // read_fixture
 
 #include <cstdint>
 #include <fstream>
@@ -21,10 +22,6 @@ inline std::string fixture_path(const std::string& name) {
 inline std::vector<std::uint8_t> read_bytes(const std::string& path) {
     std::ifstream f(path, std::ios::binary);
     return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
-}
-
-inline std::vector<std::uint8_t> read_fixture(const std::string& name) {
-    return read_bytes(fixture_path(name));
 }
 
 // A frame copied out of the framer (its span dies at the next push).

@@ -15,8 +15,6 @@ using namespace gs::vision;
 
 namespace {
 
-constexpr double kDeg = CV_PI / 180.0;
-
 // Points scattered over the image, each moved by a translation toward `foe` (expansion rate
 // `rate` per frame, different per point as depths differ) and then by the small rotation
 // omega, with Gaussian pixel noise.
@@ -49,11 +47,11 @@ TEST(ResidualRotation, RecoversASmallRotationUnderForwardFlight) {
     for (const cv::Vec3d& w_deg : {cv::Vec3d(0.4, -0.3, 0.2), cv::Vec3d(-1.0, 0, 0),
                                    cv::Vec3d(0, 0.8, 0), cv::Vec3d(0, 0, -0.6)}) {
         std::vector<cv::Point2f> pred, cur;
-        flow_field(c, foe, w_deg * kDeg, 0.2, 7, pred, cur);
+        flow_field(c, foe, w_deg * kRadPerDeg, 0.2, 7, pred, cur);
         cv::Vec3d w;
         ASSERT_TRUE(estimate_residual_rotation(c, pred, cur, foe, 30, 1.0, 12, scratch, w));
         for (int k = 0; k < 3; ++k)
-            EXPECT_NEAR(w[k] / kDeg, w_deg[k], 0.02) << "axis " << k << " of " << w_deg;
+            EXPECT_NEAR(w[k] / kRadPerDeg, w_deg[k], 0.02) << "axis " << k << " of " << w_deg;
     }
 }
 
@@ -67,7 +65,7 @@ TEST(ResidualRotation, NoRotationReadsZeroAndOutliersDoNotPullIt) {
     RotationFitScratch scratch;
     cv::Vec3d w;
     ASSERT_TRUE(estimate_residual_rotation(c, pred, cur, foe, 30, 1.0, 12, scratch, w));
-    EXPECT_LT(cv::norm(w) / kDeg, 0.03);
+    EXPECT_LT(cv::norm(w) / kRadPerDeg, 0.03);
 }
 
 TEST(ResidualRotation, TooFewPointsGiveNoEstimate) {

@@ -1,0 +1,30 @@
+#pragma once
+// drone_state masks the link and virtual-drone tests build packets and expectations from, named
+// after drone/navdata.hpp's DroneStateBit (PROTOCOL.md §3.2).
+
+#include "drone/navdata.hpp"
+
+#include <cstdint>
+
+namespace gs::test {
+
+using navdata::DroneStateBit;
+
+constexpr std::uint32_t state_bit(DroneStateBit b) {
+    return 1u << static_cast<unsigned>(b);
+}
+
+inline constexpr std::uint32_t kFly = state_bit(DroneStateBit::Fly);
+inline constexpr std::uint32_t kAck = state_bit(DroneStateBit::Command);  // bit 6: config ACK
+inline constexpr std::uint32_t kDemo = state_bit(DroneStateBit::NavdataDemo);
+inline constexpr std::uint32_t kBootstrap = state_bit(DroneStateBit::NavdataBootstrap);
+inline constexpr std::uint32_t kComLost = state_bit(DroneStateBit::ComLost);
+inline constexpr std::uint32_t kVbatLow = state_bit(DroneStateBit::VbatLow);
+inline constexpr std::uint32_t kComWdg = state_bit(DroneStateBit::ComWatchdog);
+inline constexpr std::uint32_t kEmergency = state_bit(DroneStateBit::Emergency);
+
+static_assert(kAck == 1u << 6 && kDemo == 1u << 10 && kBootstrap == 1u << 11 &&
+              kComLost == 1u << 13 && kVbatLow == 1u << 15 && kComWdg == 1u << 30 &&
+              kEmergency == 1u << 31);
+
+}  // namespace gs::test

@@ -1,0 +1,21 @@
+#pragma once
+// Small things every part of vision/ uses: the "unknown" value and a millisecond stopwatch for
+// the per-stage timings the classifiers and odometry report.
+
+#include <chrono>
+#include <limits>
+#include <numbers>
+
+namespace gs::vision {
+
+inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+inline constexpr double kRadPerDeg = std::numbers::pi / 180.0;
+
+using StageClock = std::chrono::steady_clock;
+
+// Milliseconds from t0 to now.
+inline double ms_since(StageClock::time_point t0) {
+    return std::chrono::duration<double, std::milli>(StageClock::now() - t0).count();
+}
+
+}  // namespace gs::vision
