@@ -88,6 +88,12 @@ const vision::PlotSeries* find(const vision::FrameResult& r, std::string_view na
     return r.find_series(name);
 }
 
+bool any_finite(const vision::PlotSeries& s) {
+    for (std::size_t i = 0; i < s.points.size(); ++i)
+        if (std::isfinite(s.points[i].y)) return true;
+    return false;
+}
+
 ui::SeriesData series_data(const vision::PlotSeries& ps, std::string name) {
     ui::SeriesData sd;
     sd.name = std::move(name);
@@ -213,7 +219,7 @@ void classifier_output(const PipelineOutput& o, ui::ClassifierOutput& c, double 
     }
     for (const char* n : {"centre.scale_raw", "centre.scale_filtered", "centre.scale_fitted",
                           "centre.points_rate", "centre.homography_rate", "centre.rate_raw"})
-        if (const auto* s = take(n))
+        if (const auto* s = take(n); s && any_finite(*s))  // a channel switched off stays out
             scale.series.push_back(series_data(*s, std::string(n).substr(7)));
     // The centre threshold, where it shares the plot's units. The thesis classifier flags the
     // centre when the fitted curve's tangent slope exceeds the threshold (per sample): drawn as a

@@ -11,7 +11,6 @@ namespace gs::vision {
 const ParamTable<FlowParams>& FlowParams::table() {
     static const ParamTable<FlowParams> t = [] {
         ParamTable<FlowParams> tab;
-        describe_tracker_params(tab);
         using P = FlowParams;
         tab.add("centre_band_px", &P::centre_band_px, 5, 400,
                 "centre region half-width around the image centre")
@@ -69,6 +68,7 @@ const ParamTable<FlowParams>& FlowParams::table() {
             .add("confirm_frames", &P::confirm_frames, 1, 30,
                  "a decision must hold this many frames")
             .add("colour_max", &P::colour_max, 0.01, 20, "overlay: red at this rate (1/s)");
+        describe_tracker_params(tab);  // after the classifier's own: what users tune first
         return tab;
     }();
     return t;

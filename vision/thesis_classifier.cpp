@@ -11,7 +11,6 @@ namespace gs::vision {
 const ParamTable<ThesisParams>& ThesisParams::table() {
     static const ParamTable<ThesisParams> t = [] {
         ParamTable<ThesisParams> tab;
-        describe_tracker_params(tab);
         using P = ThesisParams;
         tab.add("centre_band_px", &P::centre_band_px, 5, 400,
                 "centre region half-width around the image centre")
@@ -43,6 +42,7 @@ const ParamTable<ThesisParams>& ThesisParams::table() {
                  "centre unsafe when the fitted tangent slope exceeds this (per sample)")
             .add("colour_min", &P::colour_min, 0, 50, "overlay: blue at this scaled slope")
             .add("colour_max", &P::colour_max, 0, 50, "overlay: red at this scaled slope");
+        describe_tracker_params(tab);  // after the classifier's own: what users tune first
         return tab;
     }();
     return t;
