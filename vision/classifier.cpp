@@ -38,6 +38,14 @@ std::vector<std::string_view> classifier_names() {
     return {"thesis", "flow"};
 }
 
+TrackingClassifier::TrackingClassifier(const CameraCalibration& calib) : base_calib_(calib) {
+    for (Region r : {Region::Left, Region::Right, Region::Centre}) {
+        const std::string n = to_string(r);
+        s_score_[static_cast<std::size_t>(r)] = add_series(n + ".score");
+        s_threshold_[static_cast<std::size_t>(r)] = add_series(n + ".threshold");
+    }
+}
+
 void TrackingClassifier::reconfigure() {
     if (!calib_.valid()) calib_ = base_calib_;
     tracker_.configure(calib_, tracker_params());
@@ -115,6 +123,11 @@ const FrameResult& TrackingClassifier::process(const FrameInput& in) {
     auto t0 = StageClock::now();
     track_score_.assign(tracker_.tracks().size(), kNaN);
     classify(in);
+    for (Region r : kRegions) {
+        const auto i = static_cast<std::size_t>(r);
+        plot(s_score_[i], result_.regions[i].score);
+        plot(s_threshold_[i], result_.regions[i].threshold);
+    }
     result_.timings.classify_ms = ms_since(t0);
 
     t0 = StageClock::now();

@@ -108,11 +108,27 @@ public:
     void set_calibration(const CameraCalibration& calib) override;
 
 protected:
-    explicit TrackingClassifier(const CameraCalibration& calib) : base_calib_(calib) {}
+    // Registers the region score and threshold series every classifier plots ("left.score" ...).
+    explicit TrackingClassifier(const CameraCalibration& calib);
     // Called once after construction and whenever a state-resetting parameter changed.
     void reconfigure();
     // After parameters changed: reconfigure (resets) or hand the tracker its new values.
     void apply_params(bool resets);
+    // set_param / params_from_map over a classifier's parameter table.
+    template <class P>
+    ParamStatus set_param_in(const ParamTable<P>& table, P& p, std::string_view name, double v) {
+        bool resets = false;
+        const ParamStatus s = table.set(p, name, v, &resets);
+        if (s == ParamStatus::Ok) apply_params(resets);
+        return s;
+    }
+    template <class P>
+    ParamMapErrors params_from_map_in(const ParamTable<P>& table, P& p, const ParamMap& m) {
+        bool resets = false;
+        ParamMapErrors e = table.from_map(p, m, &resets);
+        apply_params(resets);
+        return e;
+    }
     virtual const TrackerParams& tracker_params() const = 0;
     virtual bool wants_derotation() const = 0;
     virtual double centre_band_px() const = 0;
@@ -146,6 +162,7 @@ private:
     void fill_traces();
     void build_overlay();
     std::vector<std::size_t> order_;
+    std::array<std::size_t, 3> s_score_{}, s_threshold_{};  // by Region
 };
 
 }  // namespace gs::vision

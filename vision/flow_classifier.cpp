@@ -76,12 +76,6 @@ const ParamTable<FlowParams>& FlowParams::table() {
 
 FlowClassifier::FlowClassifier(const CameraCalibration& calib, const FlowParams& p)
     : TrackingClassifier(calib), p_(p) {
-    s_left_ = add_series("left.score");
-    s_left_thr_ = add_series("left.threshold");
-    s_right_ = add_series("right.score");
-    s_right_thr_ = add_series("right.threshold");
-    s_centre_ = add_series("centre.score");
-    s_centre_thr_ = add_series("centre.threshold");
     s_centre_points_ = add_series("centre.points_rate");
     s_centre_hom_ = add_series("centre.homography_rate");
     s_scale_raw_ = add_series("centre.scale_raw");
@@ -91,20 +85,6 @@ FlowClassifier::FlowClassifier(const CameraCalibration& calib, const FlowParams&
     s_residual_yaw_ = add_series("derotation.residual_yaw_deg");
     s_residual_pitch_ = add_series("derotation.residual_pitch_deg");
     reconfigure();
-}
-
-ParamStatus FlowClassifier::set_param(std::string_view name, double value) {
-    bool resets = false;
-    const ParamStatus s = FlowParams::table().set(p_, name, value, &resets);
-    if (s == ParamStatus::Ok) apply_params(resets);
-    return s;
-}
-
-ParamMapErrors FlowClassifier::params_from_map(const ParamMap& m) {
-    bool resets = false;
-    ParamMapErrors e = FlowParams::table().from_map(p_, m, &resets);
-    apply_params(resets);
-    return e;
 }
 
 void FlowClassifier::on_reset() {
@@ -208,13 +188,6 @@ void FlowClassifier::classify(const FrameInput& in) {
         confirm(r, raw);
     }
     plot(s_hazards_, hazards);
-    const auto& r = result_.regions;
-    plot(s_left_, r[0].score);
-    plot(s_left_thr_, r[0].threshold);
-    plot(s_right_, r[2].score);
-    plot(s_right_thr_, r[2].threshold);
-    plot(s_centre_, r[1].score);
-    plot(s_centre_thr_, r[1].threshold);
 }
 
 void FlowClassifier::rate_points(const FrameInput& in) {

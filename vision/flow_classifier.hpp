@@ -81,12 +81,16 @@ public:
     const FlowParams& parameters() const { return p_; }
 
     std::vector<ParamInfo> params() const override { return FlowParams::table().list(p_); }
-    [[nodiscard]] ParamStatus set_param(std::string_view name, double value) override;
+    [[nodiscard]] ParamStatus set_param(std::string_view name, double value) override {
+        return set_param_in(FlowParams::table(), p_, name, value);
+    }
     [[nodiscard]] bool get_param(std::string_view name, double& value) const override {
         return FlowParams::table().get(p_, name, value);
     }
     ParamMap params_to_map() const override { return FlowParams::table().to_map(p_); }
-    [[nodiscard]] ParamMapErrors params_from_map(const ParamMap& m) override;
+    [[nodiscard]] ParamMapErrors params_from_map(const ParamMap& m) override {
+        return params_from_map_in(FlowParams::table(), p_, m);
+    }
 
     // Focus of expansion used for the last frame (undistorted pixels).
     cv::Point2f focus_of_expansion() const { return foe_; }
@@ -136,7 +140,6 @@ private:
     std::vector<double> scratch_;
     std::array<int, 3> streak_{};
     int rejections_ = 0;
-    std::size_t s_left_, s_left_thr_, s_right_, s_right_thr_, s_centre_, s_centre_thr_;
     std::size_t s_centre_points_, s_centre_hom_, s_scale_raw_, s_rate_raw_, s_rejected_, s_hazards_;
     std::size_t s_residual_yaw_, s_residual_pitch_;
 };

@@ -50,30 +50,10 @@ const ParamTable<ThesisParams>& ThesisParams::table() {
 
 ThesisClassifier::ThesisClassifier(const CameraCalibration& calib, const ThesisParams& p)
     : TrackingClassifier(calib), p_(p) {
-    s_left_ = add_series("left.score");
-    s_left_thr_ = add_series("left.threshold");
-    s_right_ = add_series("right.score");
-    s_right_thr_ = add_series("right.threshold");
-    s_centre_ = add_series("centre.score");
-    s_centre_thr_ = add_series("centre.threshold");
     s_scale_raw_ = add_series("centre.scale_raw");
     s_scale_filt_ = add_series("centre.scale_filtered");
     s_scale_fit_ = add_series("centre.scale_fitted");
     reconfigure();
-}
-
-ParamStatus ThesisClassifier::set_param(std::string_view name, double value) {
-    bool resets = false;
-    const ParamStatus s = ThesisParams::table().set(p_, name, value, &resets);
-    if (s == ParamStatus::Ok) apply_params(resets);
-    return s;
-}
-
-ParamMapErrors ThesisClassifier::params_from_map(const ParamMap& m) {
-    bool resets = false;
-    ParamMapErrors e = ThesisParams::table().from_map(p_, m, &resets);
-    apply_params(resets);
-    return e;
 }
 
 void ThesisClassifier::on_reset() {
@@ -84,13 +64,6 @@ void ThesisClassifier::on_reset() {
 void ThesisClassifier::classify(const FrameInput&) {
     classify_sides();
     classify_centre();
-    const auto& r = result_.regions;
-    plot(s_left_, r[0].score);
-    plot(s_left_thr_, r[0].threshold);
-    plot(s_right_, r[2].score);
-    plot(s_right_thr_, r[2].threshold);
-    plot(s_centre_, r[1].score);
-    plot(s_centre_thr_, r[1].threshold);
 }
 
 int ThesisClassifier::find(int i) {

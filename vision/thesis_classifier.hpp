@@ -56,12 +56,16 @@ public:
     const ThesisParams& parameters() const { return p_; }
 
     std::vector<ParamInfo> params() const override { return ThesisParams::table().list(p_); }
-    [[nodiscard]] ParamStatus set_param(std::string_view name, double value) override;
+    [[nodiscard]] ParamStatus set_param(std::string_view name, double value) override {
+        return set_param_in(ThesisParams::table(), p_, name, value);
+    }
     [[nodiscard]] bool get_param(std::string_view name, double& value) const override {
         return ThesisParams::table().get(p_, name, value);
     }
     ParamMap params_to_map() const override { return ThesisParams::table().to_map(p_); }
-    [[nodiscard]] ParamMapErrors params_from_map(const ParamMap& m) override;
+    [[nodiscard]] ParamMapErrors params_from_map(const ParamMap& m) override {
+        return params_from_map_in(ThesisParams::table(), p_, m);
+    }
 
 private:
     const TrackerParams& tracker_params() const override { return p_; }
@@ -90,7 +94,6 @@ private:
     std::vector<std::uint8_t> inliers_;
     RingBuffer<double> filtered_{256};
     double filter_state_ = kNaN;
-    std::size_t s_left_, s_left_thr_, s_right_, s_right_thr_, s_centre_, s_centre_thr_;
     std::size_t s_scale_raw_, s_scale_filt_, s_scale_fit_;
 };
 
