@@ -131,7 +131,10 @@ int run(const Opts& o) {
     const bool two = !o.single && !extras->top_images.empty();
 
     vision::OdometryParams params;
-    if (o.thesis) params.centre_on_principal_point = false;
+    if (o.thesis) {
+        params.centre_on_principal_point = false;
+        params.tilt_compensation = false;
+    }
     auto ys = vision::yaw_source_from_string(o.yaw);
     if (!ys) throw fail("unknown --yaw '" + o.yaw + "' (visual, navdata, fused)");
     params.yaw_source = *ys;
@@ -320,8 +323,9 @@ CommandRegistration reg(60, [](CLI::App& root) {
         ->required();
     sub->add_option("--out", o->out, "Write samples.csv, summary.json and errors.txt here");
     sub->add_flag("--single", o->single, "Use the bottom camera only, even when top/ exists");
-    sub->add_flag("--thesis", o->thesis,
-                  "Homography about the pixel origin, as the thesis (default: principal point)");
+    sub->add_flag(
+        "--thesis", o->thesis,
+        "As the thesis computed it: homography about the pixel origin, no tilt compensation");
     sub->add_option("--yaw", o->yaw, "Rotation source: visual, navdata or fused")
         ->capture_default_str();
     sub->add_option(

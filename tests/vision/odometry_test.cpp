@@ -844,3 +844,68 @@ TEST(OdometrySynthetic, TexturelessFloorGivesNoEstimate) {
     nd.update(a);
     EXPECT_EQ(nd.update(b).bottom.status, CameraStatus::NoDistance);
 }
+
+namespace {
+
+// The bottom camera's view when the body is tilted by roll and pitch (FRD, aerospace ZYX: level
+// from body = Ry(pitch) Rx(roll); pitch up lifts the nose, so the belly and the camera look
+// forward). Built from the level view by the pure-rotation homography K B^T R B K^-1 (tilted
+// pixel -> level pixel), B the camera's axes in the body: x right, y backward, z down.
+cv::Mat tilted_bottom_view(const PlanarPose& pose, double roll_deg, double pitch_deg) {
+    const CameraCalibration cal = synthetic_camera();
+    // A level view with a margin, so the tilted view does not reach past its border.
+    CameraCalibration wide = cal;
+    wide.width += 200;
+    wide.height += 200;
+    wide.cx += 100;
+    wide.cy += 100;
+    const cv::Mat level =
+        render_view(floor_texture(), wide, CameraMount::Bottom, kFloorDistance_m, pose);
+    const double cr = std::cos(roll_deg * kDeg), sr = std::sin(roll_deg * kDeg);
+    const double cp = std::cos(pitch_deg * kDeg), sp = std::sin(pitch_deg * kDeg);
+    const cv::Matx33d ry{cp, 0, sp, 0, 1, 0, -sp, 0, cp};
+    const cv::Matx33d rx{1, 0, 0, 0, cr, -sr, 0, sr, cr};
+    const cv::Matx33d b{0, -1, 0, 1, 0, 0, 0, 0, 1};  // columns: camera x, y, z in body FRD
+    const cv::Matx33d k_in{cal.fx, 0, cal.cx, 0, cal.fy, cal.cy, 0, 0, 1};
+    const cv::Matx33d k_wide{wide.fx, 0, wide.cx, 0, wide.fy, wide.cy, 0, 0, 1};
+    const cv::Matx33d m = k_wide * b.t() * ry * rx * b * k_in.inv();
+    cv::Mat img;
+    cv::warpPerspective(level, img, cv::Mat(m), cv::Size(cal.width, cal.height),
+                        cv::INTER_LINEAR | cv::WARP_INVERSE_MAP, cv::BORDER_REPLICATE);
+    return img;
+}
+
+}  // namespace
+
+TEST(OdometrySynthetic, TiltChangeIsNotMotionWithTiltCompensation) {
+    // The body stays put and pitches up 1.5° and rolls right 1°: the camera's view moves by
+    // D tan(angle) on the floor, about 3 cm forward and 2 cm left at 1.2 m. Without the navdata
+    // attitude (the thesis) that is reported as motion; with it (the default) it is not.
+    const PlanarPose p{0.1, 0.2, 30};
+    auto input = [&](double roll, double pitch, std::int64_t i) {
+        OdometryInput in = bottom_input(p, i);
+        in.bottom = tilted_bottom_view(p, roll, pitch);
+        in.roll_deg = roll;
+        in.pitch_deg = pitch;
+        return in;
+    };
+    const double roll = 1.0, pitch = 1.5;
+    OdometryParams off;
+    off.tilt_compensation = false;
+    ASSERT_TRUE(OdometryParams{}.tilt_compensation);  // the default
+    VisualOdometry plain(synthetic_camera(), std::nullopt, off);
+    plain.update(input(0, 0, 0));
+    const OdometrySample& a = plain.update(input(roll, pitch, 1));
+    ASSERT_TRUE(a.valid);
+    // The camera looks D tan(pitch) further forward and D tan(roll) further left: the floor
+    // seems to have moved back and right, i.e. the drone forward and left.
+    EXPECT_NEAR(a.out.forward_m, kFloorDistance_m * std::tan(pitch * kDeg), 3 * kTolM);
+    EXPECT_NEAR(a.out.right_m, -kFloorDistance_m * std::tan(roll * kDeg), 3 * kTolM);
+    VisualOdometry levelled(synthetic_camera(), std::nullopt);
+    levelled.update(input(0, 0, 0));
+    const OdometrySample& b = levelled.update(input(roll, pitch, 1));
+    ASSERT_TRUE(b.valid);
+    EXPECT_NEAR(b.out.forward_m, 0, kTolM);
+    EXPECT_NEAR(b.out.right_m, 0, kTolM);
+    EXPECT_NEAR(b.out.yaw_deg, 0, kTolDeg);
+}
