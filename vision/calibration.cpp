@@ -439,6 +439,25 @@ const char* to_string(FrameStatus s) {
 CalibrationSession::CalibrationSession(BoardSpec board, SessionOptions opts)
     : board_(board), opts_(opts) {}
 
+namespace {
+
+// What a detection means for a view: only a found board goes on to the coverage checks.
+FrameStatus frame_status(DetectStatus d) {
+    switch (d) {
+        case DetectStatus::EmptyImage:
+            return FrameStatus::EmptyImage;
+        case DetectStatus::NotFound:
+            return FrameStatus::NotFound;
+        case DetectStatus::Blurry:
+            return FrameStatus::Blurry;
+        case DetectStatus::Found:
+            break;
+    }
+    return FrameStatus::Accepted;
+}
+
+}  // namespace
+
 ViewResult CalibrationSession::check(const cv::Mat& image) const {
     ViewResult fr;
     if (image_size_ && !image.empty() && image.size() != *image_size_) {
@@ -447,20 +466,8 @@ ViewResult CalibrationSession::check(const cv::Mat& image) const {
         return fr;
     }
     fr.detection = detect_board(image, board_, opts_.detect);
-    switch (fr.detection.status) {
-        case DetectStatus::EmptyImage:
-            fr.status = FrameStatus::EmptyImage;
-            return fr;
-        case DetectStatus::NotFound:
-            fr.status = FrameStatus::NotFound;
-            return fr;
-        case DetectStatus::Blurry:
-            fr.status = FrameStatus::Blurry;
-            return fr;
-        case DetectStatus::Found:
-            break;
-    }
-    fr.status = FrameStatus::Accepted;
+    fr.status = frame_status(fr.detection.status);
+    if (fr.status != FrameStatus::Accepted) return fr;
     fr.new_cells = coverage_.views() > 0
                        ? coverage_.new_cells(fr.detection.corners)
                        : CoverageMap(image.size(), opts_.grid_cols, opts_.grid_rows)
@@ -478,19 +485,8 @@ ViewResult CalibrationSession::add_detection(const BoardDetection& detection,
                                              bool require_new_coverage) {
     ViewResult fr;
     fr.detection = detection;
-    switch (detection.status) {
-        case DetectStatus::EmptyImage:
-            fr.status = FrameStatus::EmptyImage;
-            return fr;
-        case DetectStatus::NotFound:
-            fr.status = FrameStatus::NotFound;
-            return fr;
-        case DetectStatus::Blurry:
-            fr.status = FrameStatus::Blurry;
-            return fr;
-        case DetectStatus::Found:
-            break;
-    }
+    fr.status = frame_status(detection.status);
+    if (fr.status != FrameStatus::Accepted) return fr;
     if (static_cast<int>(detection.corners.size()) != board_.corner_count()) {
         fr.status = FrameStatus::NotFound;
         return fr;

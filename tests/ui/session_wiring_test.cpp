@@ -6,7 +6,7 @@
 #include "app/session.hpp"
 #include "drone/at_parser.hpp"
 #include "drone/dataset/dataset.hpp"
-#include "imgui_fixture.hpp"
+#include "session_fixture.hpp"
 
 #include <gtest/gtest.h>
 
@@ -22,51 +22,11 @@ namespace gs::ui::test {
 namespace {
 
 using namespace std::chrono_literals;
-using app::GuiAdapter;
-using app::Session;
 using app::SessionOptions;
 
-class Wiring : public ImGuiFixture {
+class Wiring : public SessionFixture {
 protected:
-    void start(SessionOptions so, const std::string& scenario) {
-        session = std::make_unique<Session>(so);
-        adapter = std::make_unique<GuiAdapter>(*session);
-        ASSERT_TRUE(session->request(app::StartSim{scenario, false}));
-    }
-    void TearDown() override {
-        adapter.reset();
-        session.reset();
-        ImGuiFixture::TearDown();
-    }
-    // One window frame: snapshot from the session, draw, hand the actions back.
-    Actions step(const InputState& in = {}) {
-        adapter->fill(snap);
-        Actions a = frame(gui, snap, in);
-        adapter->consume(a);
-        return a;
-    }
-    // Window frames (~100 per second) until `pred` holds or `timeout` passes.
-    bool run_until(const std::function<bool()>& pred, std::chrono::milliseconds timeout,
-                   const InputState& in = {}) {
-        const auto t0 = std::chrono::steady_clock::now();
-        while (std::chrono::steady_clock::now() - t0 < timeout) {
-            step(in);
-            if (pred()) return true;
-            std::this_thread::sleep_for(10ms);
-        }
-        return false;
-    }
-    static InputState key(PilotKey k) {
-        InputState in;
-        in.keys.set(static_cast<std::size_t>(Keymap::defaults().key(k)));
-        return in;
-    }
     app::SourceInfo src() const { return session->source().latest().value_or(app::SourceInfo{}); }
-
-    std::unique_ptr<Session> session;
-    std::unique_ptr<GuiAdapter> adapter;
-    Gui gui;
-    GuiSnapshot snap;
 };
 
 // Every PCMD the link sent, parsed from the AT datagrams it published as raw events.

@@ -5,7 +5,7 @@
 // closes only once the drone reports it has landed. Waits are bounded polls.
 #include "app/gui_adapter.hpp"
 #include "app/session.hpp"
-#include "imgui_fixture.hpp"
+#include "session_fixture.hpp"
 
 #include <gtest/gtest.h>
 
@@ -20,47 +20,7 @@ namespace {
 
 using namespace std::chrono_literals;
 
-class WindowFlows : public ImGuiFixture {
-protected:
-    void start(app::SessionOptions so, const std::string& scenario) {
-        session = std::make_unique<app::Session>(so);
-        adapter = std::make_unique<app::GuiAdapter>(*session);
-        ASSERT_TRUE(session->request(app::StartSim{scenario, false}));
-    }
-    void TearDown() override {
-        adapter.reset();
-        session.reset();
-        ImGuiFixture::TearDown();
-    }
-    Actions step(const InputState& in = {}) {
-        adapter->fill(snap);
-        Actions a = frame(gui, snap, in);
-        adapter->consume(a);
-        last = a;
-        return a;
-    }
-    bool run_until(const std::function<bool()>& pred, std::chrono::milliseconds timeout,
-                   const InputState& in = {}) {
-        const auto t0 = std::chrono::steady_clock::now();
-        while (std::chrono::steady_clock::now() - t0 < timeout) {
-            step(in);
-            if (pred()) return true;
-            std::this_thread::sleep_for(10ms);
-        }
-        return false;
-    }
-    static InputState key(PilotKey k) {
-        InputState in;
-        in.keys.set(static_cast<std::size_t>(Keymap::defaults().key(k)));
-        return in;
-    }
-
-    std::unique_ptr<app::Session> session;
-    std::unique_ptr<app::GuiAdapter> adapter;
-    Gui gui;
-    GuiSnapshot snap;
-    Actions last;
-};
+using WindowFlows = SessionFixture;
 
 TEST_F(WindowFlows, TelemetryListsNavdataFieldsGroupedAndLinkHealthCountersAppear) {
     start({}, "warehouse");

@@ -1,0 +1,64 @@
+// The window wired to a live session (Gui -> GuiAdapter -> Session -> DroneLink -> loopback ->
+// VirtualDrone) for tests that press keys and watch what the drone does. Real sockets and
+// threads: waits are bounded polls, never fixed sleeps standing in for logic.
+#pragma once
+
+#include "app/gui_adapter.hpp"
+#include "app/session.hpp"
+#include "imgui_fixture.hpp"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <functional>
+#include <memory>
+#include <string>
+#include <thread>
+
+namespace gs::ui::test {
+
+class SessionFixture : public ImGuiFixture {
+protected:
+    void start(app::SessionOptions so, const std::string& scenario) {
+        session = std::make_unique<app::Session>(so);
+        adapter = std::make_unique<app::GuiAdapter>(*session);
+        ASSERT_TRUE(session->request(app::StartSim{scenario, false}));
+    }
+    void TearDown() override {
+        adapter.reset();
+        session.reset();
+        ImGuiFixture::TearDown();
+    }
+    // One window frame: snapshot from the session, draw, hand the actions back.
+    Actions step(const InputState& in = {}) {
+        adapter->fill(snap);
+        Actions a = frame(gui, snap, in);
+        adapter->consume(a);
+        last = a;
+        return a;
+    }
+    // Window frames (~100 per second) until `pred` holds or `timeout` passes.
+    bool run_until(const std::function<bool()>& pred, std::chrono::milliseconds timeout,
+                   const InputState& in = {}) {
+        const auto t0 = std::chrono::steady_clock::now();
+        while (std::chrono::steady_clock::now() - t0 < timeout) {
+            step(in);
+            if (pred()) return true;
+            std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        }
+        return false;
+    }
+    static InputState key(PilotKey k) {
+        InputState in;
+        in.keys.set(static_cast<std::size_t>(Keymap::defaults().key(k)));
+        return in;
+    }
+
+    std::unique_ptr<app::Session> session;
+    std::unique_ptr<app::GuiAdapter> adapter;
+    Gui gui;
+    GuiSnapshot snap;
+    Actions last;  // what the last frame asked for
+};
+
+}  // namespace gs::ui::test
