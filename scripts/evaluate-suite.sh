@@ -22,6 +22,6 @@ for c in thesis flow; do
     [[ $s != all ]] && split=(--split "$s")
     "$bin" eval "$suite" --out "$out" --classifier "$c" "${split[@]}" -j 2 -q
     echo "== seed $seed, classifier $c, split $s ($out/report.md)"
-    grep -E '^\| (group|cluttered|open|uncluttered|\*\*all) \|' "$out/report.md"
+    grep -E '^\| (group|cluttered|open|uncluttered|\*\*all\*\*) \|' "$out/report.md"
   done
 done
