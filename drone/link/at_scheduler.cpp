@@ -156,10 +156,15 @@ void AtScheduler::build(TimeNs now, std::optional<std::uint32_t> drone_state,
         } else {
             commands_.push_back(at::hover(seq_.next()));
         }
+    } else if (lost_) {
+        // Lost while the take-off intent was unknown or Fly: PCMD hover alone holds a flying
+        // drone in place and feeds its communication watchdog, without a REF that a drone which
+        // rebooted meanwhile would take as a take-off (or a flying one as a landing).
+        commands_.push_back(at::hover(seq_.next()));
     }
     // The watchdog bit is answered every cycle while the drone reports it (an answer may be
-    // lost); with no flight command to send, AT*COMWDG is the keep-alive. Nothing while the
-    // link is lost: the drone state we hold is stale.
+    // lost); with no flight command to send, AT*COMWDG is the keep-alive. Not while the link
+    // is lost: the drone state we hold is stale.
     const bool watchdog =
         drone_state && (*drone_state & kStateComWatchdog) && !(*drone_state & kStateBootstrap);
     if (!lost_ && (watchdog || !flight)) {

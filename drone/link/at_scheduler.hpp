@@ -8,16 +8,16 @@
 // toggle has not yet shown in navdata. The take-off intent (REF bit 9) is only ever sent when it
 // rests on something fresh, so no stale command is replayed:
 //   Unknown  until the link is Connected; then adopted from the drone's FLY bit (a ground station
-//            that connects to a flying drone keeps it flying). Nothing flight-related is sent
-//            while unknown: an AT*COMWDG keep-alive while navdata flows, nothing while it is lost.
+//            that connects to a flying drone keeps it flying). No REF is sent while unknown:
+//            an AT*COMWDG keep-alive while navdata flows, PCMD hover alone while it is lost.
 //   Fly      the pilot pressed Take off (or the drone was flying when adopted). Dropped (→ Land)
 //            when the pilot cuts the motors, when the drone reports an emergency, lands on its
 //            own after it had flown, or never shows FLY within the take-off timeout.
 //   Land     the pilot pressed Land or Emergency, the drone was landed when adopted, or the drone
 //            restarted: after a restart the pilot must press Take off again.
-// Losing the link drops any Move and turns Fly into Unknown: nothing is sent to a drone we cannot
-// see (it may have rebooted and would take a replayed REF bit 9 as a take-off); it hovers and
-// follows its own communication-loss behaviour until navdata returns and the intent is adopted.
+// Losing the link drops any Move and turns Fly into Unknown: the sender keeps sending hover, but
+// no REF bit 9 goes to a drone we cannot see (it may have rebooted and would take a replayed
+// take-off bit as a take-off); the intent is adopted again when navdata returns.
 
 #include "drone/at.hpp"
 #include "drone/clock.hpp"
@@ -80,7 +80,7 @@ public:
     void request_emergency(bool drone_emergency_now, TimeNs now);
     bool emergency_pending() const { return emergency_.has_value(); }
 
-    // The link was lost: forget the Move, and a Fly intent becomes Unknown (see above).
+    // The link was lost: forget the Move (hover), and a Fly intent becomes Unknown (see above).
     void on_link_lost();
     // Navdata flows again after a loss (the drone may still be configuring).
     void on_link_restored();
@@ -109,7 +109,7 @@ private:
     TimeNs takeoff_timeout_ns_;
     at::SeqCounter seq_;
     FlyIntent intent_ = FlyIntent::Unknown;
-    bool lost_ = false;                // the link is lost: no keep-alive, no watchdog answers
+    bool lost_ = false;                // the link is lost: hover only, no watchdog answers
     bool seen_flying_ = false;         // the drone showed FLY since the intent became Fly
     std::optional<TimeNs> fly_since_;  // first cycle of the current Fly intent
     Move move_{};

@@ -195,6 +195,7 @@ void DroneCore::apply_command(const at::Command& c, TimeNs now) {
         }
         void operator()(const at::Calib&) {
             if (d.model_.state().flying()) {
+                d.autopilot_yield("calibration");  // it yaws a full turn for the pilot
                 ++d.counters_.calibrations;
                 d.calibration_yaw_left_deg_ = 360.0;
             }
@@ -223,6 +224,7 @@ void DroneCore::apply_command(const at::Command& c, TimeNs now) {
                           at::leds_anim_value(l.anim_id, l.freq_hz, l.duration_s));
         }
         void operator()(const at::Anim& a) {
+            d.autopilot_yield("animation");
             ++d.counters_.anims;
             d.config_.set("control:flight_anim", at::flight_anim_value(a.anim_id, a.duration_ms));
         }
@@ -244,6 +246,7 @@ void DroneCore::apply_config(const std::string& key, const std::string& value) {
     config_.set(key, value);
 
     if (key == "control:flight_anim") {
+        autopilot_yield("animation");
         ++counters_.anims;
     } else if (key == "leds:leds_anim") {
         ++counters_.leds;

@@ -36,7 +36,8 @@ struct DroneCoreOptions {
     Pose start;  // where the drone sits at boot (z = 0: on the ground)
     // Flown from boot when enabled and non-empty. The pilot always wins: the autopilot yields
     // for good as soon as the client asks for something it is not doing (a PCMD with the
-    // progressive flag, REF's take-off bit going from set to clear while flying, an emergency).
+    // progressive flag, REF's take-off bit going from set to clear while flying, an emergency,
+    // a flight animation (AT*ANIM or CONFIG control:flight_anim), a calibration).
     std::vector<AutopilotStep> autopilot;
     bool autopilot_enabled = false;
     NavdataFaults faults;

@@ -41,16 +41,17 @@ TEST(AtScheduler, IdleCycleIsRefLandedPlusHoverWithConsecutiveSequenceNumbers) {
     EXPECT_EQ(s.counters().cycles, 2u);
 }
 
-TEST(AtScheduler, BeforeTheDroneStateIsKnownOnlyAKeepAliveIsSentAndNothingWhileLost) {
+TEST(AtScheduler, BeforeTheDroneStateIsKnownOnlyAKeepAliveIsSentAndOnlyHoverWhileLost) {
     AtScheduler s;
     EXPECT_EQ(s.intent(), FlyIntent::Unknown);
     // No REF at all: REF without the take-off bit would land a drone that is already flying.
     EXPECT_EQ(cycle(s), "AT*COMWDG=1\r");
     EXPECT_EQ(cycle(s, ms_to_ns(30), kBootstrapBit | kWatchdogBit), "AT*COMWDG=2\r");
     s.on_link_lost();
-    EXPECT_EQ(cycle(s, ms_to_ns(60), kWatchdogBit), "");  // stale state: not answered either
+    // Stale state: the watchdog bit is not answered; PCMD hover alone, no REF.
+    EXPECT_EQ(cycle(s, ms_to_ns(60), kWatchdogBit), "AT*PCMD=3,0,0,0,0,0\r");
     s.on_link_restored();
-    EXPECT_EQ(cycle(s, ms_to_ns(90)), "AT*COMWDG=3\r");
+    EXPECT_EQ(cycle(s, ms_to_ns(90)), "AT*COMWDG=4\r");
     EXPECT_EQ(s.counters().comwdg_sent, 3u);
 }
 
@@ -169,16 +170,16 @@ TEST(AtScheduler, LosingTheLinkSendsNothingAndTheIntentIsAdoptedWhenItReturns) {
     s.set_move({0, -0.5f, 0, 0});
     EXPECT_EQ(ref_of(cycle(s, ms_to_ns(30), kFlying)), kRefFly);
     s.on_link_lost();
-    // The drone may have rebooted: a replayed take-off bit would start it. It hovers on its own.
-    EXPECT_EQ(cycle(s, ms_to_ns(60), kFlying), "");
+    // The drone may have rebooted: a replayed take-off bit would start it. Hover, no REF.
+    EXPECT_EQ(cycle(s, ms_to_ns(60), kFlying), "AT*PCMD=3,0,0,0,0,0\r");
     EXPECT_EQ(s.intent(), FlyIntent::Unknown);
     EXPECT_EQ(s.counters().stale_moves_dropped, 1u);
     s.set_fly(true);  // nobody knows what the drone does: ignored
     EXPECT_EQ(s.counters().takeoffs_while_lost, 1u);
-    EXPECT_EQ(cycle(s, ms_to_ns(90), kFlying), "");
+    EXPECT_EQ(cycle(s, ms_to_ns(90), kFlying), "AT*PCMD=4,0,0,0,0,0\r");
     // Back, still flying: kept flying, and the Move is not replayed.
     s.on_connected(kFlying);
-    EXPECT_EQ(cycle(s, ms_to_ns(120), kFlying), "AT*REF=3,290718208\rAT*PCMD=4,0,0,0,0,0\r");
+    EXPECT_EQ(cycle(s, ms_to_ns(120), kFlying), "AT*REF=5,290718208\rAT*PCMD=6,0,0,0,0,0\r");
 
     // Lost again, and the drone comes back landed: Land.
     s.on_link_lost();

@@ -359,6 +359,46 @@ TEST(DroneCore, AManualMoveMakesTheAutopilotYieldForGood) {
     EXPECT_NEAR(s.core.flight().vx_body_mps(), 0.0, 0.1);
 }
 
+TEST(DroneCore, AFlightAnimationOrACalibrationMakesTheAutopilotYield) {
+    // A client that only keeps the link alive (hover PCMD, take-off bit adopted) and LED
+    // animations leave the script alone; a flight animation or a calibration is the pilot's.
+    {
+        Station s(scripted_flight());
+        s.configure_demo();
+        s.fly = true;
+        s.run(1000);
+        s.extra.push_back([](at::SeqCounter& sq) { return at::led(sq.next(), 1, 2.0f, 1); });
+        s.run(300);
+        EXPECT_TRUE(s.core.autopilot_active());
+        s.config("control:flight_anim", "8,2000");
+        s.run(100);
+        EXPECT_FALSE(s.core.autopilot_active());
+        EXPECT_EQ(s.core.autopilot_yield_reason(), "animation");
+        EXPECT_EQ(s.core.counters().anims, 1u);
+        EXPECT_EQ(s.core.counters().autopilot_yields, 1u);
+    }
+    {
+        Station s(scripted_flight());
+        s.configure_demo();
+        s.fly = true;
+        s.run(1000);
+        s.extra.push_back([](at::SeqCounter& sq) { return at::anim(sq.next(), 3, 1000); });
+        s.run(100);
+        EXPECT_EQ(s.core.autopilot_yield_reason(), "animation");
+    }
+    {
+        Station s(scripted_flight());
+        s.configure_demo();
+        s.fly = true;
+        s.run(1000);
+        s.extra.push_back([](at::SeqCounter& sq) { return at::calib(sq.next()); });
+        s.run(100);
+        EXPECT_FALSE(s.core.autopilot_active());
+        EXPECT_EQ(s.core.autopilot_yield_reason(), "calibration");
+        EXPECT_EQ(s.core.counters().calibrations, 1u);
+    }
+}
+
 TEST(DroneCore, TheTakeOffBitGoingFromSetToClearLandsTheAutopilotedDrone) {
     Station s(scripted_flight());
     s.configure_demo();

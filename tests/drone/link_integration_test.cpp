@@ -13,6 +13,7 @@
 #include <chrono>
 #include <functional>
 #include <map>
+#include <regex>
 #include <thread>
 
 using namespace gs;
@@ -328,7 +329,7 @@ TEST(LinkIntegration, ADroneRebootMidFlightIsRecoveredAndTheDroneStaysOnTheGroun
     rig.drone->inject(sim::FaultReboot{1000});
     ASSERT_TRUE(wait_for([&] { return !rig.connected(); }, 2s));
     // Until the link noticed, its take-off bit went to a drone still booting (deaf); then the
-    // link sends nothing until navdata returns and shows the restart.
+    // link sends hover alone (no REF) until navdata returns and shows the restart.
     bool flew = false;
     ASSERT_TRUE(wait_for(
         [&] {
@@ -393,21 +394,53 @@ TEST(LinkIntegration, TheLinkAdoptsAnAutopilotedFlightAndLandLandsIt) {
     EXPECT_EQ(st.flight.z_m, 0.0);
 }
 
-TEST(LinkIntegration, FlightAnimationsAreWrittenAsConfigAndAcknowledged) {
+TEST(LinkIntegration, FlightAnimationsGoAsConfigAndLedAnimationsAsAtLed) {
+    // PROTOCOL.md §2.4/§2.9: firmware 2 takes flight animations as CONFIG control:flight_anim
+    // (SDK 2.0 no longer sends AT*ANIM); AT*LED is what SDK 2.0 still emits for the LEDs.
     Rig rig(100.0, false);
     ASSERT_TRUE(wait_for([&] { return rig.connected(); }, 5s));
-    auto r = rig.link->execute(Anim{3, 1000}, 3s);
-    EXPECT_EQ(r.code, ResultCode::Sent) << r.reason;
+    auto raw = rig.link->subscribe_raw(4096);
+    auto r = rig.link->execute(Anim{8, 2000}, 3s);
+    EXPECT_EQ(r.code, ResultCode::Sent) << r.reason;  // after the drone's ACK
+    auto led = rig.link->execute(Led{1, 3.0f, 3}, 1s);
+    EXPECT_EQ(led.code, ResultCode::Sent) << led.reason;
+    ASSERT_TRUE(wait_for([&] { return rig.drone->status().counters.leds == 1; }, 1s));
     EXPECT_EQ(rig.drone->status().counters.anims, 1u);
     auto bad = rig.link->execute(Anim{20, 1000}, 1s);
     EXPECT_EQ(bad.code, ResultCode::Rejected);
-    auto cfg = rig.link->execute(SetConfig{"control:flight_anim", "3,1000", true}, 3s);
-    EXPECT_EQ(cfg.code, ResultCode::Sent) << cfg.reason;  // the drone holds "3,1000"
+    EXPECT_NE(bad.reason.find("0..19"), std::string::npos) << bad.reason;
+    EXPECT_EQ(rig.link->execute(Anim{3, 0}, 1s).code, ResultCode::Rejected);
+    rig.link->unsubscribe(raw.get());
+
+    // The datagrams as they went out: CONFIG_IDS immediately before the CONFIG, in one
+    // datagram, with consecutive sequence numbers; the LED with the float sent as its bits.
+    const std::regex anim_re(
+        "AT\\*CONFIG_IDS=(\\d+),\"[0-9a-f]{8}\",\"[0-9a-f]{8}\",\"[0-9a-f]{8}\"\r"
+        "AT\\*CONFIG=(\\d+),\"control:flight_anim\",\"8,2000\"\r");
+    const std::regex led_re("AT\\*LED=\\d+,1,1077936128,3\r");
+    int anims = 0, leds = 0, old_style = 0;
+    while (auto e = raw->try_pop()) {
+        if (e->kind != RawEvent::Kind::At) continue;
+        const std::string text(e->bytes.begin(), e->bytes.end());
+        std::smatch m;
+        if (std::regex_search(text, m, anim_re)) {
+            ++anims;
+            EXPECT_EQ(std::stoul(m[2].str()), std::stoul(m[1].str()) + 1) << text;
+        }
+        if (std::regex_search(text, led_re)) ++leds;
+        if (text.find("AT*ANIM=") != std::string::npos) ++old_style;
+    }
+    EXPECT_GE(anims, 1);  // resent only if the ACK did not come
+    EXPECT_EQ(leds, 1);   // a one-shot: exactly once
+    EXPECT_EQ(old_style, 0);
+    auto cfg = rig.link->execute(SetConfig{"control:flight_anim", "8,2000", true}, 3s);
+    EXPECT_EQ(cfg.code, ResultCode::Sent) << cfg.reason;  // the drone holds "8,2000"
 }
 
 TEST(LinkIntegration, CorruptChecksumsAreCountedAndDropped) {
     Rig rig(100.0, false);
     ASSERT_TRUE(wait_for([&] { return rig.connected(); }, 5s));
+    const auto before = rig.link->status();
     sim::NavdataFaults f;
     f.corrupt_checksum = 0.4;
     rig.drone->inject(sim::FaultNavdata{f});
@@ -417,6 +450,10 @@ TEST(LinkIntegration, CorruptChecksumsAreCountedAndDropped) {
     const auto corrupted = rig.drone->status().counters.navdata_corrupted;
     const auto st = rig.link->status();
     EXPECT_EQ(st.navdata.checksum_failures, corrupted);  // every one, and only those
+    // Each dropped packet leaves a hole in the sequence the next good one shows; nothing else.
+    EXPECT_EQ(st.machine.sequence_gaps - before.machine.sequence_gaps, corrupted);
+    EXPECT_EQ(st.machine.out_of_order, before.machine.out_of_order);
+    EXPECT_EQ(st.navdata.foreign_dropped, 0u);
     EXPECT_EQ(st.navdata.parse_errors, 0u);
     EXPECT_NE(st.navdata.last_error.find("checksum"), std::string::npos) << st.navdata.last_error;
     EXPECT_TRUE(rig.connected());
@@ -425,6 +462,7 @@ TEST(LinkIntegration, CorruptChecksumsAreCountedAndDropped) {
 TEST(LinkIntegration, ReorderedAndDuplicatedNavdataIsDroppedAsOutOfOrder) {
     Rig rig(100.0, false);
     ASSERT_TRUE(wait_for([&] { return rig.connected(); }, 5s));
+    const auto gaps_before = rig.link->status().machine.sequence_gaps;
     sim::NavdataFaults f;
     f.reorder = 0.3;
     f.duplicate = 0.3;
@@ -441,7 +479,11 @@ TEST(LinkIntegration, ReorderedAndDuplicatedNavdataIsDroppedAsOutOfOrder) {
     const auto st = rig.link->status();
     // A held-back packet arrives after a newer one, a duplicate after itself: both are dropped.
     EXPECT_EQ(st.machine.out_of_order, c.navdata_reordered + c.navdata_duplicated);
+    // A held-back packet is first seen as a one-packet gap by its successor.
+    EXPECT_EQ(st.machine.sequence_gaps - gaps_before, c.navdata_reordered);
+    EXPECT_EQ(c.navdata_dropped, 0u);
     EXPECT_EQ(st.navdata.checksum_failures, 0u);
+    EXPECT_EQ(st.navdata.foreign_dropped, 0u);
     EXPECT_TRUE(rig.connected());
 }
 
@@ -453,5 +495,12 @@ TEST(LinkIntegration, PacketsFromAnyOtherAddressAreDroppedAndCounted) {
     auto to = net::Endpoint::loopback(rig.link->navdata_local_port());
     for (int i = 0; i < 5; ++i) ASSERT_TRUE(intruder->send_to("spoofed navdata", to));
     ASSERT_TRUE(wait_for([&] { return rig.link->status().navdata.foreign_dropped == 5; }, 2s));
+    std::this_thread::sleep_for(200ms);
+    const auto st = rig.link->status();
+    EXPECT_EQ(st.navdata.foreign_dropped, 5u);  // those five, and the drone's packets none
+    EXPECT_EQ(st.navdata.checksum_failures, 0u);
+    EXPECT_EQ(st.navdata.parse_errors, 0u);
+    EXPECT_EQ(st.machine.out_of_order, 0u);
+    EXPECT_EQ(st.machine.sequence_gaps, 0u);
     EXPECT_TRUE(rig.connected());
 }
