@@ -337,7 +337,8 @@ void GuiAdapter::fill_link(ui::GuiSnapshot& s, TimeNs now) {
     v.packets = st.video.decoded;
     v.gaps = st.video.frame_gaps;
     v.drops = out_ ? out_->frames_dropped : 0;  // frames the classifier could not keep up with
-    v.decode_errors = st.video.decode_errors;
+    // Frames in a codec other than H.264 cannot be decoded either (the reason is in last_error).
+    v.decode_errors = st.video.decode_errors + st.video.unsupported_codec_frames;
     v.idr_waits = st.video.idr_waits;
 
     ui::StreamHealth& a = s.link.at;

@@ -5,14 +5,65 @@
 
 namespace gs::link {
 namespace {
+constexpr std::uint32_t kStateFly = 1u << 0;
+constexpr std::uint32_t kStateBootstrap = 1u << 11;
+constexpr std::uint32_t kStateComWatchdog = 1u << 30;
 constexpr std::uint32_t kEmergencyBit = 1u << 31;
 float clamp1(float v) {
     return std::isfinite(v) ? std::clamp(v, -1.0f, 1.0f) : 0.0f;
 }
 }  // namespace
 
-AtScheduler::AtScheduler(NavdataIds ids, TimeNs emergency_timeout_ns)
-    : ids_(std::move(ids)), emergency_timeout_ns_(emergency_timeout_ns) {}
+const char* to_string(FlyIntent i) {
+    switch (i) {
+        case FlyIntent::Unknown:
+            return "unknown";
+        case FlyIntent::Land:
+            return "land";
+        case FlyIntent::Fly:
+            return "fly";
+    }
+    return "?";
+}
+
+AtScheduler::AtScheduler(NavdataIds ids, TimeNs emergency_timeout_ns, TimeNs takeoff_timeout_ns)
+    : ids_(std::move(ids)),
+      emergency_timeout_ns_(emergency_timeout_ns),
+      takeoff_timeout_ns_(takeoff_timeout_ns) {}
+
+void AtScheduler::set_fly(bool fly) {
+    if (!fly) {
+        intent_ = FlyIntent::Land;
+    } else if (lost_) {
+        ++counters_.takeoffs_while_lost;
+        return;
+    } else if (intent_ != FlyIntent::Fly) {
+        intent_ = FlyIntent::Fly;
+        seen_flying_ = false;
+    }
+    fly_since_.reset();
+}
+
+void AtScheduler::drop_takeoff_intent() {
+    intent_ = FlyIntent::Land;
+    seen_flying_ = false;
+    fly_since_.reset();
+    ++counters_.takeoff_intents_dropped;
+}
+
+void AtScheduler::update_intent(TimeNs now, std::uint32_t drone_state) {
+    if (!fly_since_) fly_since_ = now;
+    if (drone_state & kEmergencyBit) {
+        drop_takeoff_intent();  // motors cut by the drone: never restart them by ourselves
+    } else if (drone_state & kStateFly) {
+        seen_flying_ = true;
+    } else if (seen_flying_) {
+        drop_takeoff_intent();  // it flew and landed on its own (battery, com loss, ...)
+    } else if (now - *fly_since_ > takeoff_timeout_ns_) {
+        ++counters_.takeoff_timeouts;  // refused: a later change must not make it take off
+        drop_takeoff_intent();
+    }
+}
 
 void AtScheduler::set_move(const Move& m) {
     move_ = {clamp1(m.roll), clamp1(m.pitch), clamp1(m.gaz), clamp1(m.yaw)};
@@ -27,11 +78,43 @@ void AtScheduler::hover() {
 void AtScheduler::request_emergency(bool drone_emergency_now, TimeNs now) {
     emergency_ = EmergencyRequest{drone_emergency_now, now};
     ++counters_.emergency_requests;
+    intent_ = FlyIntent::Land;
+    seen_flying_ = false;
+    fly_since_.reset();
 }
 
 void AtScheduler::on_link_lost() {
     if (moving_) ++counters_.stale_moves_dropped;
     hover();
+    lost_ = true;
+    if (intent_ == FlyIntent::Fly) intent_ = FlyIntent::Unknown;
+    seen_flying_ = false;
+    fly_since_.reset();
+}
+
+void AtScheduler::on_link_restored() {
+    lost_ = false;
+}
+
+void AtScheduler::on_connected(std::uint32_t drone_state) {
+    lost_ = false;
+    if (intent_ != FlyIntent::Unknown) return;  // the pilot decided meanwhile
+    const bool flying = (drone_state & kStateFly) && !(drone_state & kEmergencyBit);
+    intent_ = flying ? FlyIntent::Fly : FlyIntent::Land;
+    seen_flying_ = flying;
+    fly_since_.reset();
+    if (flying) ++counters_.flying_adopted;
+}
+
+void AtScheduler::on_drone_restart() {
+    lost_ = false;
+    if (moving_) ++counters_.stale_moves_dropped;
+    hover();
+    emergency_.reset();
+    if (intent_ == FlyIntent::Fly) ++counters_.takeoff_intents_dropped;
+    intent_ = FlyIntent::Land;
+    seen_flying_ = false;
+    fly_since_.reset();
 }
 
 void AtScheduler::build(TimeNs now, std::optional<std::uint32_t> drone_state,
@@ -39,6 +122,18 @@ void AtScheduler::build(TimeNs now, std::optional<std::uint32_t> drone_state,
     out.clear();
     commands_.clear();
     ++counters_.cycles;
+
+    if (intent_ == FlyIntent::Fly && !lost_) {
+        if (drone_state) {
+            update_intent(now, *drone_state);
+        } else {
+            if (!fly_since_) fly_since_ = now;
+            if (now - *fly_since_ > takeoff_timeout_ns_) {
+                ++counters_.takeoff_timeouts;
+                drop_takeoff_intent();
+            }
+        }
+    }
 
     bool emergency_bit = false;
     if (emergency_) {
@@ -52,12 +147,29 @@ void AtScheduler::build(TimeNs now, std::optional<std::uint32_t> drone_state,
             emergency_bit = true;
         }
     }
-    commands_.push_back(at::ref(seq_.next(), at::ref_input(fly_, emergency_bit)));
-    if (moving_) {
-        commands_.push_back(at::pcmd(seq_.next(), at::kPcmdProgressive, move_.roll, move_.pitch,
-                                     move_.gaz, move_.yaw));
-    } else {
+    const bool flight = intent_ != FlyIntent::Unknown || emergency_bit;
+    if (flight) {
+        commands_.push_back(at::ref(seq_.next(), at::ref_input(fly(), emergency_bit)));
+        if (moving_) {
+            commands_.push_back(at::pcmd(seq_.next(), at::kPcmdProgressive, move_.roll, move_.pitch,
+                                         move_.gaz, move_.yaw));
+        } else {
+            commands_.push_back(at::hover(seq_.next()));
+        }
+    } else if (lost_) {
+        // Lost while the take-off intent was unknown or Fly: PCMD hover alone holds a flying
+        // drone in place and feeds its communication watchdog, without a REF that a drone which
+        // rebooted meanwhile would take as a take-off (or a flying one as a landing).
         commands_.push_back(at::hover(seq_.next()));
+    }
+    // The watchdog bit is answered every cycle while the drone reports it (an answer may be
+    // lost); with no flight command to send, AT*COMWDG is the keep-alive. Not while the link
+    // is lost: the drone state we hold is stale.
+    const bool watchdog =
+        drone_state && (*drone_state & kStateComWatchdog) && !(*drone_state & kStateBootstrap);
+    if (!lost_ && (watchdog || !flight)) {
+        commands_.push_back(at::comwdg(seq_.next()));
+        ++counters_.comwdg_sent;
     }
 
     for (const OneShot& s : oneshots_) {
@@ -97,6 +209,7 @@ void AtScheduler::build(TimeNs now, std::optional<std::uint32_t> drone_state,
         }
     }
     oneshots_.clear();
+    if (commands_.empty()) return;
     counters_.commands += commands_.size();
     auto packed = at::pack_into(commands_, out);
     if (!packed) {

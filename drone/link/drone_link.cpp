@@ -22,6 +22,7 @@ constexpr std::uint32_t kBitAnglesOut = 1u << 19;
 constexpr std::uint32_t kBitEmergency = 1u << 31;
 constexpr std::array<std::uint8_t, 4> kWakeUp = {1, 0, 0, 0};
 constexpr std::size_t kFramePool = 6;
+constexpr int kMaxFlightAnim = 19;  // FLIP_RIGHT (PROTOCOL.md §2.9)
 
 std::future<CommandResult> ready(ResultCode code, std::string reason = {}) {
     std::promise<CommandResult> p;
@@ -312,13 +313,18 @@ std::future<CommandResult> DroneLink::submit(Command c) {
             o.b = l.duration_s;
             return push(std::move(o));
         }
+        // Firmware 2 takes flight animations as CONFIG control:flight_anim (PROTOCOL.md §2.4,
+        // §2.9: SDK 2.0 no longer sends AT*ANIM); the result comes with the drone's ACK.
         std::future<CommandResult> operator()(const Anim& a) {
-            if (!connected) return ready(ResultCode::NotConnected, nc);
-            OneShot o;
-            o.kind = OneShot::Kind::Anim;
-            o.a = a.anim_id;
-            o.b = a.duration_ms;
-            return push(std::move(o));
+            if (a.anim_id < 0 || a.anim_id > kMaxFlightAnim) {
+                return ready(ResultCode::Rejected,
+                             "flight animation id must be 0.." + std::to_string(kMaxFlightAnim));
+            }
+            if (a.duration_ms <= 0) {
+                return ready(ResultCode::Rejected, "flight animation duration must be positive");
+            }
+            return (*this)(SetConfig{"control:flight_anim",
+                                     at::flight_anim_value(a.anim_id, a.duration_ms), false});
         }
         std::future<CommandResult> oneshot(OneShot::Kind k) {
             OneShot o;
@@ -393,12 +399,17 @@ void DroneLink::navdata_loop() {
         }
         if (actions.send_ctrl_ack) oneshot({OneShot::Kind::Ctrl, {}, {}, 5, 0, 0});
         if (actions.send_ctrl_get_config) oneshot({OneShot::Kind::Ctrl, {}, {}, 4, 0, 0});
-        if (actions.send_comwdg) oneshot({OneShot::Kind::Comwdg, {}, {}, 0, 0, 0});
-        if (actions.link_lost) {
+        // Edges for the AT sender's take-off intent, in the order they happened.
+        auto edge = [&](AtRequest::Kind k, std::uint32_t drone_state = 0) {
             AtRequest r;
-            r.kind = AtRequest::Kind::LinkLost;
+            r.kind = k;
+            r.drone_state = drone_state;
             push_at(std::move(r));
-        }
+        };
+        if (actions.link_lost) edge(AtRequest::Kind::LinkLost);
+        if (actions.drone_restarted) edge(AtRequest::Kind::DroneRestarted);
+        if (actions.link_restored) edge(AtRequest::Kind::LinkRestored);
+        if (actions.connected) edge(AtRequest::Kind::Connected, *actions.connected);
         for (auto& d : actions.done) {
             auto it = std::find_if(pending.begin(), pending.end(),
                                    [&](auto& p) { return p.first == d.id; });
@@ -505,6 +516,15 @@ void DroneLink::navdata_loop() {
     for (auto& [id, r] : pending) r.done.set_value({ResultCode::NotConnected, "link stopped"});
 }
 
+bool accept_video_codec(const PaveHeader& h, VideoStats& stats) {
+    if (h.video_codec == PaveCodec::H264) return true;
+    ++stats.unsupported_codec_frames;
+    stats.last_error = "PaVE frame " + std::to_string(h.frame_number) + " has codec " +
+                       to_string(h.video_codec) +
+                       ": only H.264 is decoded (set video:video_codec to an H.264 mode)";
+    return false;
+}
+
 double AtStats::period_ms_quantile(double q) const {
     if (periods == 0) return std::numeric_limits<double>::quiet_NaN();
     const double want = q * static_cast<double>(periods);
@@ -561,6 +581,15 @@ void DroneLink::at_loop() {
                 case AtRequest::Kind::LinkLost:
                     sched.on_link_lost();
                     break;
+                case AtRequest::Kind::LinkRestored:
+                    sched.on_link_restored();
+                    break;
+                case AtRequest::Kind::Connected:
+                    sched.on_connected(r->drone_state);
+                    break;
+                case AtRequest::Kind::DroneRestarted:
+                    sched.on_drone_restart();
+                    break;
             }
         }
         std::optional<std::uint32_t> drone_state;
@@ -587,6 +616,7 @@ void DroneLink::at_loop() {
         }
         last_cycle = now;
         stats.counters = sched.counters();
+        stats.intent = sched.intent();
         at_stats_slot_.publish(stats);
     }
 }
@@ -636,6 +666,11 @@ void DroneLink::video_loop() {
                             "no video for " + std::to_string((now - last_data) / 1'000'000) + " ms";
                         break;
                     }
+                    if (now - last_publish >= ms_to_ns(50)) {  // the last frames' counts, fps
+                        stats.fps = rate.rate_hz(now);
+                        video_stats_slot_.publish(stats);
+                        last_publish = now;
+                    }
                     continue;
                 }
                 stats.last_error = got.error().message();
@@ -652,7 +687,7 @@ void DroneLink::video_loop() {
                 auto* frame = std::get_if<PaveFrame>(&*ev);
                 if (frame == nullptr) continue;  // resync events are counted by the framer
                 ++stats.pave_frames;
-                if (frame->header.video_codec != PaveCodec::H264) continue;
+                if (!accept_video_codec(frame->header, stats)) continue;
                 AccessUnit au;
                 au.data = frame->payload;
                 au.frame_number = frame->header.frame_number;
@@ -669,6 +704,7 @@ void DroneLink::video_loop() {
                 fs.recv_ns = now;
                 fs.t_ns = now - start_ns_;
                 fs.frame_number = frame->header.frame_number;
+                fs.pave_timestamp_ms = frame->header.timestamp;
                 fs.image = out;  // shares the pooled buffer; the pool skips it while held
                 if (auto n = nav_slot_.latest()) {
                     fs.nav = n->state;
@@ -682,6 +718,7 @@ void DroneLink::video_loop() {
                     e.recv_ns = now;
                     e.t_ns = fs.t_ns;
                     e.frame_number = frame->header.frame_number;
+                    e.pave_timestamp_ms = frame->header.timestamp;
                     e.is_idr = contains_idr(frame->payload);
                     e.bytes.assign(frame->payload.begin(), frame->payload.end());
                     e.image = out;

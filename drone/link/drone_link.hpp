@@ -13,6 +13,7 @@
 #include "drone/link/commands.hpp"
 #include "drone/link/link_state.hpp"
 #include "drone/navdata.hpp"
+#include "drone/pave.hpp"
 #include "drone/sample.hpp"
 #include "drone/sync.hpp"
 
@@ -22,6 +23,7 @@
 #include <cstdint>
 #include <future>
 #include <memory>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -67,8 +69,9 @@ struct AccessUnitEvent {
     std::int64_t index = 0;  // the decoded frame's FrameSample::index
     TimeNs recv_ns = 0;      // monotonic receive time of the chunk that completed it (capture)
     TimeNs t_ns = 0;         // recv_ns from the link's start (FrameSample::t_ns)
-    std::uint32_t frame_number = 0;  // PaVE frame_number
-    bool is_idr = false;             // contains an IDR slice
+    std::uint32_t frame_number = 0;                  // PaVE frame_number
+    std::optional<std::uint32_t> pave_timestamp_ms;  // PaVE timestamp (drone clock, ms)
+    bool is_idr = false;                             // contains an IDR slice
     std::vector<std::uint8_t> bytes;
     cv::Mat image;  // the decoded frame (shares the link's pooled buffer: drop it soon)
 };
@@ -108,13 +111,18 @@ struct VideoStats {
     std::uint64_t resyncs = 0;  // PaVE resynchronisations
     std::uint64_t bytes_skipped = 0;
     std::uint64_t connects = 0;
-    std::uint64_t disconnects = 0;     // resets, silences, errors
-    std::uint64_t pool_exhausted = 0;  // every pooled frame still in use: one allocated
+    std::uint64_t disconnects = 0;               // resets, silences, errors
+    std::uint64_t pool_exhausted = 0;            // every pooled frame still in use: one allocated
+    std::uint64_t unsupported_codec_frames = 0;  // PaVE frames not H.264: skipped (last_error)
     double fps = 0;
     double decode_ms_last = 0;
     TimeNs last_frame_ns = 0;
     std::string last_error;
 };
+
+// True when the frame's codec is H.264 (the only one decoded); otherwise counts it in
+// stats.unsupported_codec_frames and says why in stats.last_error.
+[[nodiscard]] bool accept_video_codec(const PaveHeader& h, VideoStats& stats);
 
 struct AtStats {
     AtCounters counters;
@@ -127,8 +135,9 @@ struct AtStats {
     static constexpr std::size_t kPeriodBins = 100;
     std::array<std::uint32_t, kPeriodBins> period_hist{};
     std::uint64_t periods = 0;
-    std::uint64_t periods_off_by_3ms = 0;  // gaps outside the period +- 3 ms
-    bool realtime = false;                 // the sender thread got a real-time priority
+    std::uint64_t periods_off_by_3ms = 0;   // gaps outside the period +- 3 ms
+    bool realtime = false;                  // the sender thread got a real-time priority
+    FlyIntent intent = FlyIntent::Unknown;  // the take-off intent REF carries (at_scheduler.hpp)
     // The gap (ms, bin resolution) below which a share q of the gaps fell; NaN before any.
     double period_ms_quantile(double q) const;
 };
@@ -198,11 +207,22 @@ private:
         std::promise<CommandResult> done;
     };
     struct AtRequest {
-        enum class Kind { Fly, Move, Hover, Emergency, OneShot, LinkLost };
+        enum class Kind {
+            Fly,
+            Move,
+            Hover,
+            Emergency,
+            OneShot,
+            LinkLost,
+            LinkRestored,
+            Connected,
+            DroneRestarted
+        };
         Kind kind = Kind::Hover;
         bool fly = false;
         Move move;
         bool drone_emergency = false;
+        std::uint32_t drone_state = 0;  // Connected: the drone's state then
         OneShot oneshot;
     };
 

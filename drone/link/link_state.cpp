@@ -62,10 +62,11 @@ const char* to_string(ConfigOutcome o) {
 }
 
 void LinkActions::clear() {
-    send_trigger = send_comwdg = send_ctrl_ack = send_ctrl_get_config = false;
+    send_trigger = send_ctrl_ack = send_ctrl_get_config = false;
     configs.clear();
     done.clear();
-    link_lost = link_restored = false;
+    link_lost = link_restored = drone_restarted = false;
+    connected.reset();
 }
 
 LinkStateMachine::LinkStateMachine(LinkSetup setup) : setup_(std::move(setup)) {}
@@ -73,6 +74,11 @@ LinkStateMachine::LinkStateMachine(LinkSetup setup) : setup_(std::move(setup)) {
 void LinkStateMachine::enter(ConnectionState s, std::string reason) {
     state_ = s;
     reason_ = std::move(reason);
+}
+
+void LinkStateMachine::enter_connected(std::string reason, LinkActions& out) {
+    enter(ConnectionState::Connected, std::move(reason));
+    out.connected = last_state_.value_or(0);
 }
 
 void LinkStateMachine::start(TimeNs now, LinkActions& out) {
@@ -170,10 +176,10 @@ bool LinkStateMachine::on_navdata(const NavdataHeaderInfo& nav, TimeNs now, Link
     last_navdata_ns_ = now;
     ++counters_.packets_accepted;
 
+    // The AT sender answers the bit with AT*COMWDG every cycle while it is set.
     const bool comwdg = (nav.drone_state & kBitComWatchdog) && !bootstrap;
     if (comwdg && !prev_comwdg_) {
-        out.send_comwdg = true;
-        ++counters_.comwdg_sent;
+        ++counters_.com_watchdog_events;
         last_seq_.reset();  // the SDK resets its expectation after a watchdog event
         ++counters_.sequence_resets;
     }
@@ -187,9 +193,10 @@ bool LinkStateMachine::on_navdata(const NavdataHeaderInfo& nav, TimeNs now, Link
             out.link_restored = true;
             if (bootstrap && configured_) {
                 ++counters_.drone_restarts;
+                out.drone_restarted = true;
                 begin_configuration();
             } else if (configured_) {
-                enter(ConnectionState::Connected, "navdata flows again");
+                enter_connected("navdata flows again", out);
             } else {
                 begin_configuration();
             }
@@ -197,6 +204,7 @@ bool LinkStateMachine::on_navdata(const NavdataHeaderInfo& nav, TimeNs now, Link
         case ConnectionState::Connected:
             if (bootstrap) {
                 ++counters_.drone_restarts;
+                out.drone_restarted = true;
                 begin_configuration();
             }
             break;
@@ -367,11 +375,11 @@ void LinkStateMachine::tick(TimeNs now, LinkActions& out) {
         const bool demo = *last_state_ & kBitDemo;
         const bool settled = now - configured_at_ns_ > t.settle_ns;
         if (!bootstrap && demo == setup_.navdata_demo) {
-            enter(ConnectionState::Connected, "navdata " + std::string(demo ? "demo" : "full"));
+            enter_connected("navdata " + std::string(demo ? "demo" : "full"), out);
         } else if (!bootstrap && settled) {
-            enter(ConnectionState::Connected,
-                  std::string("navdata ") + (demo ? "demo" : "full") + " although " +
-                      (setup_.navdata_demo ? "demo" : "full") + " was configured");
+            enter_connected(std::string("navdata ") + (demo ? "demo" : "full") + " although " +
+                                (setup_.navdata_demo ? "demo" : "full") + " was configured",
+                            out);
         } else if (settled) {
             begin_configuration();  // still in bootstrap: the write did not take; again
             reason_ = "still in bootstrap mode after configuring; writing again";

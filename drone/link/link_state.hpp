@@ -64,13 +64,16 @@ struct ConfigDone {
 // What the link must do now, filled by on_navdata()/tick(). Vectors are reused between calls.
 struct LinkActions {
     bool send_trigger = false;          // wake-up datagram to navdata port
-    bool send_comwdg = false;           // AT*COMWDG
     bool send_ctrl_ack = false;         // AT*CTRL=…,5,0
     bool send_ctrl_get_config = false;  // AT*CTRL=…,4,0 (the dump arrives on 5559)
     std::vector<std::pair<std::string, std::string>> configs;  // each as CONFIG_IDS + CONFIG
     std::vector<ConfigDone> done;
-    bool link_lost = false;      // edge: entered LinkLost this call (drop any Move intent)
-    bool link_restored = false;  // edge: navdata flows again after LinkLost
+    bool link_lost = false;        // edge: entered LinkLost this call (drop any Move intent)
+    bool link_restored = false;    // edge: navdata flows again after LinkLost
+    bool drone_restarted = false;  // edge: the drone rebooted (its take-off state is gone)
+    // Edge: entered Connected (first time, after a loss or a restart), with the drone's state
+    // then: the AT sender adopts its flying state.
+    std::optional<std::uint32_t> connected;
     void clear();
 };
 
@@ -83,8 +86,8 @@ struct LinkCounters {
     std::uint64_t triggers_sent = 0;
     std::uint64_t configs_sent = 0;
     std::uint64_t config_timeouts = 0;
-    std::uint64_t comwdg_sent = 0;
-    std::uint64_t drone_restarts = 0;  // bootstrap seen again after being configured
+    std::uint64_t com_watchdog_events = 0;  // COM_WATCHDOG rising edges (AT answers it)
+    std::uint64_t drone_restarts = 0;       // bootstrap seen again after being configured
 };
 
 // Navdata header facts the machine needs.
@@ -139,6 +142,7 @@ private:
     };
 
     void enter(ConnectionState s, std::string reason);
+    void enter_connected(std::string reason, LinkActions& out);
     void begin_configuration();
     void run_jobs(TimeNs now, LinkActions& out);
     void finish_job(ConfigOutcome o, std::string detail, TimeNs now, LinkActions& out);

@@ -136,12 +136,17 @@ bool DroneCore::autopilot_done() const {
 }
 
 void DroneCore::on_navdata_trigger(const net::Endpoint& from, TimeNs now) {
-    navdata_client_ = from;
     now_ = std::max(now_, now);
+    if (booting(now)) return;
+    navdata_client_ = from;
 }
 
 void DroneCore::on_at(std::span<const std::uint8_t> datagram, const net::Endpoint& from,
                       TimeNs now) {
+    if (booting(now)) {
+        ++counters_.at_while_booting;
+        return;
+    }
     ++counters_.at_datagrams;
     last_at_ns_ = now;
     auto parsed = at::parse_datagram(datagram);
@@ -166,12 +171,19 @@ void DroneCore::apply_command(const at::Command& c, TimeNs now) {
     struct V {
         DroneCore& d;
         void operator()(const at::Ref& r) {
-            d.input_.start = r.input & at::kRefTakeoffBit;
-            d.input_.emergency = r.input & at::kRefEmergencyBit;
+            const bool start = r.input & at::kRefTakeoffBit;
+            const bool emergency = r.input & at::kRefEmergencyBit;
+            if (d.input_.start && !start && d.model_.state().flying()) {
+                d.autopilot_yield("land");
+            }
+            if (emergency && !d.input_.emergency) d.autopilot_yield("emergency");
+            d.input_.start = start;
+            d.input_.emergency = emergency;
         }
         void operator()(const at::Pcmd& p) { set(p.flags, p.roll, p.pitch, p.gaz, p.yaw); }
         void operator()(const at::PcmdMag& p) { set(p.flags, p.roll, p.pitch, p.gaz, p.yaw); }
         void set(std::int32_t flags, float roll, float pitch, float gaz, float yaw) {
+            if (flags & at::kPcmdProgressive) d.autopilot_yield("manual move");
             d.input_.progressive = flags & at::kPcmdProgressive;
             d.input_.roll = roll;
             d.input_.pitch = pitch;
@@ -183,6 +195,7 @@ void DroneCore::apply_command(const at::Command& c, TimeNs now) {
         }
         void operator()(const at::Calib&) {
             if (d.model_.state().flying()) {
+                d.autopilot_yield("calibration");  // it yaws a full turn for the pilot
                 ++d.counters_.calibrations;
                 d.calibration_yaw_left_deg_ = 360.0;
             }
@@ -211,6 +224,7 @@ void DroneCore::apply_command(const at::Command& c, TimeNs now) {
                           at::leds_anim_value(l.anim_id, l.freq_hz, l.duration_s));
         }
         void operator()(const at::Anim& a) {
+            d.autopilot_yield("animation");
             ++d.counters_.anims;
             d.config_.set("control:flight_anim", at::flight_anim_value(a.anim_id, a.duration_ms));
         }
@@ -231,6 +245,12 @@ void DroneCore::apply_config(const std::string& key, const std::string& value) {
     if (!is_bool && is_number && !config_float(value)) return;
     config_.set(key, value);
 
+    if (key == "control:flight_anim") {
+        autopilot_yield("animation");
+        ++counters_.anims;
+    } else if (key == "leds:leds_anim") {
+        ++counters_.leds;
+    }
     if (key == "general:navdata_demo") {
         demo_ = *config_bool(value);
         bootstrap_ = false;
@@ -256,8 +276,10 @@ void DroneCore::blackout(TimeNs from, TimeNs until) {
     blackout_until_ = until;
 }
 
-void DroneCore::reboot(TimeNs now) {
+void DroneCore::reboot(TimeNs now, TimeNs boot_ns) {
     ++counters_.reboots;
+    booted_at_ns_ = now + boot_ns;
+    ap_active_ = false;  // a rebooted drone waits on the ground for a pilot
     config_ = default_drone_config();
     seq_filter_ = at::SeqFilter{};
     navdata_client_.reset();
@@ -279,6 +301,13 @@ void DroneCore::reboot(TimeNs now) {
     model_ = fresh;
     apply_config("control:euler_angle_max", *config_.get("control:euler_angle_max"));
     update_bits();
+}
+
+void DroneCore::autopilot_yield(const char* reason) {
+    if (!ap_active_) return;
+    ap_active_ = false;
+    ap_yield_reason_ = reason;
+    ++counters_.autopilot_yields;
 }
 
 FlightInput DroneCore::autopilot_input() {

@@ -33,8 +33,12 @@ struct NavdataFaults {
 
 struct DroneCoreOptions {
     FlightParams flight;
-    Pose start;                            // where the drone sits at boot (z = 0: on the ground)
-    std::vector<AutopilotStep> autopilot;  // flown after the first take-off when non-empty
+    Pose start;  // where the drone sits at boot (z = 0: on the ground)
+    // Flown from boot when enabled and non-empty. The pilot always wins: the autopilot yields
+    // for good as soon as the client asks for something it is not doing (a PCMD with the
+    // progressive flag, REF's take-off bit going from set to clear while flying, an emergency,
+    // a flight animation (AT*ANIM or CONFIG control:flight_anim), a calibration).
+    std::vector<AutopilotStep> autopilot;
     bool autopilot_enabled = false;
     NavdataFaults faults;
     std::uint64_t seed = 1;
@@ -63,7 +67,9 @@ struct DroneCoreCounters {
     std::uint64_t navdata_dropped = 0;  // by the loss fault
     std::uint64_t navdata_reordered = 0, navdata_duplicated = 0, navdata_corrupted = 0;
     std::uint64_t reboots = 0;
-    std::uint64_t ftrims = 0, calibrations = 0, leds = 0, anims = 0;
+    std::uint64_t at_while_booting = 0;  // AT datagrams that arrived before the boot finished
+    std::uint64_t ftrims = 0, calibrations = 0, leds = 0, anims = 0;  // AT*LED/ANIM or CONFIG
+    std::uint64_t autopilot_yields = 0;                               // 1 once the pilot took over
 };
 
 class DroneCore {
@@ -82,7 +88,10 @@ public:
     // Faults.
     void set_faults(const NavdataFaults& f) { options_.faults = f; }
     void blackout(TimeNs from, TimeNs until);  // no navdata at all in [from, until)
-    void reboot(TimeNs now);                   // sequences, configuration and client forgotten
+    // Sequences, configuration, client and autopilot forgotten; back on the ground. For
+    // `boot_ns` the drone is down (a real one takes seconds): it neither hears AT commands or
+    // wake-ups nor sends navdata.
+    void reboot(TimeNs now, TimeNs boot_ns = 0);
 
     const FlightState& flight() const { return model_.state(); }
     Pose pose() const;  // the drone body pose in the world (DATASET.md frame)
@@ -101,6 +110,8 @@ public:
     std::uint32_t navdata_sequence() const { return seq_; }
     TimeNs now() const { return now_; }
     bool autopilot_done() const;
+    bool autopilot_active() const { return ap_active_; }  // false once the pilot took over
+    const std::string& autopilot_yield_reason() const { return ap_yield_reason_; }
 
 private:
     void apply_command(const at::Command& c, TimeNs now);
@@ -109,6 +120,8 @@ private:
     void emit_navdata(std::vector<OutDatagram>& out);
     void send(std::vector<std::uint8_t> bytes, std::vector<OutDatagram>& out);
     FlightInput autopilot_input();
+    void autopilot_yield(const char* reason);
+    bool booting(TimeNs now) const { return now < booted_at_ns_; }
 
     DroneCoreOptions options_;
     FlightModel model_;
@@ -125,7 +138,8 @@ private:
     TimeNs last_at_ns_ = 0;
     TimeNs last_nav_ns_ = 0;
     TimeNs blackout_from_ = 0, blackout_until_ = 0;
-    bool started_ = false;  // advance() has run once
+    TimeNs booted_at_ns_ = 0;  // down until then after a reboot
+    bool started_ = false;     // advance() has run once
     std::uint32_t seq_ = 0;
     std::uint32_t state_bits_ = 0;
     bool bootstrap_ = true;
@@ -142,6 +156,7 @@ private:
     std::size_t ap_step_ = 0;
     double ap_step_time_s_ = 0;
     bool ap_active_ = false;
+    std::string ap_yield_reason_;
     DroneCoreCounters counters_;
     navdata::Navdata nav_;  // reused packet contents
 };

@@ -135,7 +135,7 @@ void VirtualDrone::core_loop() {
                 }
                 void operator()(const FaultVideoStall& s) { vd.video_stalls_.push(s); }
                 void operator()(const FaultVideoReset& r) { vd.video_resets_.push(r); }
-                void operator()(const FaultReboot&) { core.reboot(now); }
+                void operator()(const FaultReboot& r) { core.reboot(now, ms_to_ns(r.boot_ms)); }
             };
             std::visit(V{core, *this, now}, *f);
         }
@@ -163,6 +163,7 @@ void VirtualDrone::core_loop() {
             st.render_ms_last = report.render_ms;
             st.encode_ms_last = report.encode_ms;
             st.autopilot_done = core.autopilot_done();
+            st.autopilot_active = core.autopilot_active();
             st.last_error = report.error;
             status_.publish(std::move(st));
             truth_.publish({now, core.pose(), report.frame_number});
@@ -193,6 +194,8 @@ void VirtualDrone::video_loop() {
     std::uint64_t byte_pos = 0;
     const TimeNs period = 1'000'000'000LL / std::max(1, options_.fps);
     const TimeNs t0 = mono_now();
+    // A requested reset, waiting for its frame (two bools: g++ 12 misreads an optional here).
+    bool reset_pending = false, reset_during_idr = false;
 
     while (running_) {
         auto client = sockets_->video.accept(net::Millis{100});
@@ -252,7 +255,14 @@ void VirtualDrone::video_loop() {
             std::copy(au.begin(), au.end(), packet.begin() + h.header_size);
             byte_pos += au.size();
 
-            if (video_resets_.try_pop()) {
+            if (!reset_pending) {
+                if (auto r = video_resets_.try_pop()) {
+                    reset_pending = true;
+                    reset_during_idr = r->during_idr;
+                }
+            }
+            if (reset_pending && (!reset_during_idr || idr)) {
+                reset_pending = false;
                 // Half a frame, then a TCP reset (SO_LINGER 0 turns close into RST).
                 (void)client->write_all(
                     std::span<const std::uint8_t>(packet.data(), packet.size() / 2),

@@ -42,8 +42,16 @@ struct FaultBlackout {
 struct FaultVideoStall {
     int ms = 1000;  // no video bytes for this long
 };
-struct FaultVideoReset {};  // reset the video TCP connection in the middle of a frame
-struct FaultReboot {};      // the drone restarts: sequences and configuration reset
+// Reset the video TCP connection in the middle of a frame; with `during_idr`, of the next IDR
+// frame, so the new connection starts with P-frames the decoder must skip until the next IDR.
+struct FaultVideoReset {
+    bool during_idr = false;
+};
+// The drone restarts: sequences, configuration and client reset, back on the ground. It is down
+// (deaf and silent) for `boot_ms`, as a real one is for seconds.
+struct FaultReboot {
+    int boot_ms = 1000;
+};
 using Fault =
     std::variant<FaultNavdata, FaultBlackout, FaultVideoStall, FaultVideoReset, FaultReboot>;
 
@@ -56,6 +64,7 @@ struct VirtualDroneStatus {
     std::uint64_t video_resets = 0;
     double render_ms_last = 0, encode_ms_last = 0;
     bool autopilot_done = false;
+    bool autopilot_active = false;  // flying its script (false once a pilot took over)
     std::string last_error;
 };
 

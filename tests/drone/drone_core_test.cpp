@@ -311,3 +311,145 @@ TEST(DroneCore, TheAutopilotFliesTheScriptedSegment) {
     EXPECT_NEAR(s.core.flight().x_m, 7.0, 0.7);
     EXPECT_NEAR(s.core.flight().y_m, 0.0, 0.01);
 }
+
+namespace {
+// Starts hovering at 1 m, hovers half a second, then flies forward at 1 m/s for ten seconds.
+DroneCoreOptions scripted_flight() {
+    DroneCoreOptions o;
+    o.start.z_m = 1.0;
+    o.autopilot_enabled = true;
+    o.autopilot = {{"hover", 0.5, 0, 0, 0, 0}, {"move", 10.0, 1.0, 0, 0, 0}};
+    return o;
+}
+}  // namespace
+
+TEST(DroneCore, TheAutopilotIgnoresAClientThatOnlyKeepsTheLinkAlive) {
+    // A ground station that adopted the flying state (REF take-off bit set, PCMD hover), and one
+    // that never set the bit: neither asks for anything, so the script flies on.
+    for (bool fly : {true, false}) {
+        Station s(scripted_flight());
+        s.configure_demo();
+        s.fly = fly;
+        s.run(3000);
+        EXPECT_TRUE(s.core.autopilot_active()) << fly;
+        EXPECT_EQ(s.core.counters().autopilot_yields, 0u);
+        EXPECT_NEAR(s.core.flight().vx_body_mps(), 1.0, 0.1) << fly;
+        EXPECT_NEAR(s.core.flight().z_m, 1.0, 0.05) << fly;
+    }
+}
+
+TEST(DroneCore, AManualMoveMakesTheAutopilotYieldForGood) {
+    Station s(scripted_flight());
+    s.configure_demo();
+    s.fly = true;
+    s.run(2000);
+    ASSERT_GT(s.core.flight().vx_body_mps(), 0.5);   // the script flies forward
+    s.pcmd = {at::kPcmdProgressive, 0.5f, 0, 0, 0};  // the pilot banks right
+    s.run(2000);
+    EXPECT_FALSE(s.core.autopilot_active());
+    EXPECT_EQ(s.core.autopilot_yield_reason(), "manual move");
+    EXPECT_EQ(s.core.counters().autopilot_yields, 1u);
+    EXPECT_GT(s.core.flight().vy_body_mps(), 0.5);  // the pilot's move, not the script's
+    EXPECT_LT(s.core.flight().vx_body_mps(), 0.5);  // no longer driven: drag slows it
+    // The pilot lets go: the drone hovers, the script does not come back.
+    s.pcmd = {};
+    s.run(3000);
+    EXPECT_FALSE(s.core.autopilot_active());
+    EXPECT_EQ(s.core.flight().major, CtrlMajor::Hovering);
+    EXPECT_NEAR(s.core.flight().vx_body_mps(), 0.0, 0.1);
+}
+
+TEST(DroneCore, AFlightAnimationOrACalibrationMakesTheAutopilotYield) {
+    // A client that only keeps the link alive (hover PCMD, take-off bit adopted) and LED
+    // animations leave the script alone; a flight animation or a calibration is the pilot's.
+    {
+        Station s(scripted_flight());
+        s.configure_demo();
+        s.fly = true;
+        s.run(1000);
+        s.extra.push_back([](at::SeqCounter& sq) { return at::led(sq.next(), 1, 2.0f, 1); });
+        s.run(300);
+        EXPECT_TRUE(s.core.autopilot_active());
+        s.config("control:flight_anim", "8,2000");
+        s.run(100);
+        EXPECT_FALSE(s.core.autopilot_active());
+        EXPECT_EQ(s.core.autopilot_yield_reason(), "animation");
+        EXPECT_EQ(s.core.counters().anims, 1u);
+        EXPECT_EQ(s.core.counters().autopilot_yields, 1u);
+    }
+    {
+        Station s(scripted_flight());
+        s.configure_demo();
+        s.fly = true;
+        s.run(1000);
+        s.extra.push_back([](at::SeqCounter& sq) { return at::anim(sq.next(), 3, 1000); });
+        s.run(100);
+        EXPECT_EQ(s.core.autopilot_yield_reason(), "animation");
+    }
+    {
+        Station s(scripted_flight());
+        s.configure_demo();
+        s.fly = true;
+        s.run(1000);
+        s.extra.push_back([](at::SeqCounter& sq) { return at::calib(sq.next()); });
+        s.run(100);
+        EXPECT_FALSE(s.core.autopilot_active());
+        EXPECT_EQ(s.core.autopilot_yield_reason(), "calibration");
+        EXPECT_EQ(s.core.counters().calibrations, 1u);
+    }
+}
+
+TEST(DroneCore, TheTakeOffBitGoingFromSetToClearLandsTheAutopilotedDrone) {
+    Station s(scripted_flight());
+    s.configure_demo();
+    s.fly = true;
+    s.run(1000);
+    s.fly = false;  // Land
+    s.run(100);
+    EXPECT_FALSE(s.core.autopilot_active());
+    EXPECT_EQ(s.core.autopilot_yield_reason(), "land");
+    s.run(3000);
+    EXPECT_EQ(s.core.flight().major, CtrlMajor::Landed);
+    EXPECT_FALSE(s.last_state() & kFly);
+    s.run(2000);  // and it stays there
+    EXPECT_EQ(s.core.flight().z_m, 0.0);
+}
+
+TEST(DroneCore, AnEmergencyEndsTheAutopilotAndTheResetLeavesTheDroneOnTheGround) {
+    Station s(scripted_flight());
+    s.configure_demo();
+    s.run(1000);
+    s.emergency = true;
+    s.run(100);
+    s.emergency = false;
+    s.run(1000);  // fallen
+    EXPECT_FALSE(s.core.autopilot_active());
+    EXPECT_EQ(s.core.autopilot_yield_reason(), "emergency");
+    EXPECT_TRUE(s.last_state() & kEmergency);
+    s.emergency = true;  // reset
+    s.run(100);
+    s.emergency = false;
+    s.run(2000);
+    EXPECT_FALSE(s.last_state() & kEmergency);
+    EXPECT_FALSE(s.last_state() & kFly);
+    EXPECT_EQ(s.core.flight().z_m, 0.0);
+}
+
+TEST(DroneCore, ARebootEndsTheAutopilotAndTheDroneIsDeafWhileBooting) {
+    Station s(scripted_flight());
+    s.configure_demo();
+    s.fly = true;
+    s.run(1000);
+    s.core.reboot(s.now, ms_to_ns(500));
+    const auto at_before = s.core.counters().at_datagrams;
+    s.run(400);  // the take-off bit keeps coming: nobody is listening yet
+    EXPECT_GT(s.core.counters().at_while_booting, 10u);
+    EXPECT_EQ(s.core.counters().at_datagrams, at_before);
+    s.wake();  // ignored too
+    s.fly = false;
+    s.run(600);
+    EXPECT_FALSE(s.core.navdata_client());
+    EXPECT_FALSE(s.core.autopilot_active());
+    EXPECT_FALSE(s.core.flight().flying());
+    EXPECT_GT(s.core.counters().at_datagrams, at_before);  // booted: listening again
+}

@@ -45,13 +45,14 @@ struct Harness {
     void advance(int ms) { now += ms_to_ns(ms); }
     void merge(const LinkActions& t) {
         out.send_trigger |= t.send_trigger;
-        out.send_comwdg |= t.send_comwdg;
         out.send_ctrl_ack |= t.send_ctrl_ack;
         out.send_ctrl_get_config |= t.send_ctrl_get_config;
         out.configs.insert(out.configs.end(), t.configs.begin(), t.configs.end());
         out.done.insert(out.done.end(), t.done.begin(), t.done.end());
         out.link_lost |= t.link_lost;
         out.link_restored |= t.link_restored;
+        out.drone_restarted |= t.drone_restarted;
+        if (t.connected) out.connected = t.connected;
     }
     // The drone's side of one CONFIG exchange: ACK up, then cleared on CTRL 5.
     void ack_config(std::uint32_t base) {
@@ -190,9 +191,32 @@ TEST(LinkState, SilenceIsLinkLostWithinHalfASecondAndRecoveredAtOnce) {
     h.tick_for(1000);
     EXPECT_TRUE(h.out.send_trigger);
     // Data flows again, with a lower sequence (expectations were reset): connected at once.
-    EXPECT_TRUE(h.nav(kThreads | kDemo, 50));
+    EXPECT_TRUE(h.nav(kThreads | kDemo | kFly, 50));
     EXPECT_TRUE(h.out.link_restored);
     EXPECT_EQ(h.sm.state(), ConnectionState::Connected);
+    // The AT sender adopts the drone's state as it is now, not as it was before the loss.
+    ASSERT_TRUE(h.out.connected);
+    EXPECT_EQ(*h.out.connected, kThreads | kDemo | kFly);
+    EXPECT_FALSE(h.out.drone_restarted);
+}
+
+TEST(LinkState, EnteringConnectedIsAnEdgeCarryingTheDroneState) {
+    Harness h;
+    h.start();
+    h.advance(20);
+    h.nav(kBootstrapState, 1);
+    EXPECT_FALSE(h.out.connected);
+    h.advance(10);
+    h.nav(kThreads | kDemo | kFly | kAck);
+    EXPECT_FALSE(h.out.connected);  // configuring
+    h.advance(10);
+    h.nav(kThreads | kDemo | kFly);
+    ASSERT_EQ(h.sm.state(), ConnectionState::Connected);
+    ASSERT_TRUE(h.out.connected);
+    EXPECT_EQ(*h.out.connected, kThreads | kDemo | kFly);
+    h.advance(10);
+    h.nav(kThreads | kDemo | kFly);
+    EXPECT_FALSE(h.out.connected);  // once
 }
 
 TEST(LinkState, ADroneRestartIsDetectedAndReconfigured) {
@@ -201,6 +225,7 @@ TEST(LinkState, ADroneRestartIsDetectedAndReconfigured) {
     h.nav(kThreads | kDemo, 5000);
     EXPECT_TRUE(h.nav(kBootstrapState, 1));  // rebooted: sequence from 1, bootstrap again
     EXPECT_EQ(h.sm.counters().drone_restarts, 1u);
+    EXPECT_TRUE(h.out.drone_restarted);  // the AT sender forgets the take-off intent
     EXPECT_EQ(h.sm.state(), ConnectionState::Configuring);
     ASSERT_EQ(h.out.configs.size(), 1u);
     EXPECT_EQ(h.out.configs[0].first, "general:navdata_demo");
@@ -208,14 +233,12 @@ TEST(LinkState, ADroneRestartIsDetectedAndReconfigured) {
     EXPECT_EQ(h.sm.state(), ConnectionState::Connected);
 }
 
-TEST(LinkState, TheComWatchdogBitIsAnsweredOnceAndResetsTheSequence) {
+TEST(LinkState, AComWatchdogEventIsCountedOnceAndResetsTheSequence) {
     Harness h;
     h.connect_demo();
     h.nav(kThreads | kDemo | kComWdg, 900);
-    EXPECT_TRUE(h.out.send_comwdg);
     h.nav(kThreads | kDemo | kComWdg, 901);
-    EXPECT_FALSE(h.out.send_comwdg);
-    EXPECT_EQ(h.sm.counters().comwdg_sent, 1u);
+    EXPECT_EQ(h.sm.counters().com_watchdog_events, 1u);  // AtScheduler answers it every cycle
     // The reset lets a lower sequence through once after the event.
     h.nav(kThreads | kDemo, 902);
     h.nav(kThreads | kDemo | kComWdg, 903);
