@@ -163,7 +163,7 @@ TEST(AtScheduler, FlyAndMoveAreRepeatedEveryCycleAndClamped) {
     EXPECT_EQ(s.move().roll, 0.0f);
 }
 
-TEST(AtScheduler, LosingTheLinkSendsNothingAndTheIntentIsAdoptedWhenItReturns) {
+TEST(AtScheduler, LosingTheLinkSendsHoverOnlyAndTheIntentIsAdoptedWhenItReturns) {
     AtScheduler s;
     s.on_connected(kLanded);
     s.set_fly(true);
