@@ -94,9 +94,12 @@ std::string text_or(const nlohmann::json& j, const char* key, const std::string&
     return fallback;
 }
 
-// Frames replayed so far over every flight, for the progress line.
+// Frames replayed so far over every flight, for the progress line, and the frame counts of the
+// flights opened so far (the estimate of the total: their mean times the number of flights).
 struct EvalProgress {
     std::atomic<std::int64_t> frames{0};
+    std::atomic<std::int64_t> opened_frames{0};
+    std::atomic<std::int64_t> opened_flights{0};
     std::function<void()> tick;  // called after each frame (may print)
 };
 
@@ -122,6 +125,8 @@ FlightResult evaluate(const fs::path& path, const Opts& o, const fs::path& out,
         r.error = "skip";
         return r;
     }
+    progress.opened_frames += ds->frame_count();
+    ++progress.opened_flights;
     const fs::path dir = out / r.name;
     std::error_code ec;
     fs::create_directories(dir, ec);
@@ -252,7 +257,8 @@ int run(const Opts& o) {
     const double t0 = wall_seconds();
     double last_print_s = -1;
     EvalProgress progress;
-    // "eval: 1 / 3 flights, 212 frames, 180 frames/s, 2 s left", rewritten in place (under mu).
+    // "eval: 1 / 3 flights, 212 / 459 frames, 180 frames/s, 2 s left", rewritten in place (under
+    // mu). The total is estimated from the flights opened so far.
     auto print_progress = [&](bool always) {
         const double now = wall_seconds();
         if (!always && last_print_s >= 0 && now - last_print_s < 0.2) return;
@@ -260,15 +266,20 @@ int run(const Opts& o) {
         const double el = now - t0;
         const std::size_t d = done.load();
         const std::int64_t f = progress.frames.load();
-        std::cerr << "\reval: " << d << " / " << flights.size() << " flights, " << f << " frames, "
-                  << fixed(el > 0 ? static_cast<double>(f) / el : 0.0, 0) << " frames/s";
-        if (d > 0)
-            std::cerr << ", "
-                      << fixed(
-                             el / static_cast<double>(d) * static_cast<double>(flights.size() - d),
-                             0)
-                      << " s left";
-        std::cerr << "   " << std::flush;
+        const std::int64_t opened = progress.opened_flights.load();
+        const double rate = el > 0 ? static_cast<double>(f) / el : 0.0;
+        std::cerr << "\reval: " << d << " / " << flights.size() << " flights, " << f;
+        if (opened > 0) {
+            const double total = static_cast<double>(progress.opened_frames.load()) /
+                                 static_cast<double>(opened) * static_cast<double>(flights.size());
+            std::cerr << " / " << fixed(total, 0) << " frames, " << fixed(rate, 0) << " frames/s";
+            if (rate > 0)
+                std::cerr << ", " << fixed(std::max(0.0, total - static_cast<double>(f)) / rate, 0)
+                          << " s left";
+        } else {
+            std::cerr << " frames";
+        }
+        std::cerr << "\033[K" << std::flush;
     };
     if (tty) {
         progress.tick = [&] {
