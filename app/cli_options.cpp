@@ -14,17 +14,16 @@ CLI::Option* add_calibration_option(CLI::App& sub, std::string& file,
     const CLI::Validator loads(
         [](std::string& path) -> std::string {
             auto c = load_calibration_file(path);
-            if (!c) return "--calibration " + path + ": " + to_string(c.error());
+            if (!c) return to_string(c.error());
             return {};
         },
-        "FILE", "calibration file");
+        "", "calibration file");
     return sub
         .add_option("--calibration", file,
                     "Camera calibration JSON (flight.json's calibration object or what `calibrate` "
                     "writes), used instead of " +
                         instead_of)
         ->type_name("FILE")
-        ->check(CLI::ExistingFile)
         ->check(loads);
 }
 
@@ -35,11 +34,11 @@ CLI::Option* add_thesis_fps_option(CLI::App& sub, double& fps) {
             const char* end = text.data() + text.size();
             auto [p, ec] = std::from_chars(text.data(), end, v);
             if (ec != std::errc() || p != end || !std::isfinite(v) || v <= 0 || v > 1000)
-                return "--fps must be a frame rate in frames per second, > 0 and <= 1000; got '" +
-                       text + "'";
+                return "expected a frame rate in frames per second, > 0 and <= 1000; got '" + text +
+                       "'";
             return {};
         },
-        "FPS", "frame rate");
+        "", "frame rate");
     return sub
         .add_option("--fps", fps,
                     "Frame rate of a thesis-style image folder (default 25, or its imu_meta.json). "
