@@ -277,6 +277,44 @@ TEST_F(ThesisCli, CalibrationFileReachesTheUndistortedVideo) {
     EXPECT_EQ(read_json(out / "flat/summary.json")["calibration"], (out / "flat.json").string());
 }
 
+// The line of `text` that starts with `prefix` (empty when none).
+std::string line_starting(const std::string& text, const std::string& prefix) {
+    for (const auto& l : lines_of(text))
+        if (l.rfind(prefix, 0) == 0) return l;
+    return {};
+}
+
+TEST(ThesisOdometry, FpsAndCalibrationOnABottomCameraFolder) {
+    // A short generated bottom-camera flight (15 fps) in the thesis layout.
+    const fs::path dir = scratch_dir("thesis_odometry", "flight");
+    CmdResult r = run_cli("odometry " + (dir / "d").string() +
+                          " --generate hover --duration 1 --no-top --summary");
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    r = run_cli("dataset export-thesis " + (dir / "d").string() + " " + (dir / "t").string());
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    const CmdResult own = run_cli("odometry " + (dir / "t").string() + " --summary");
+    ASSERT_EQ(own.exit_code, 0) << own.out;
+    EXPECT_NE(own.out.find("16 frames at 15.0 fps"), std::string::npos) << own.out;
+    r = run_cli("odometry " + (dir / "t").string() + " --fps 5 --summary");
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    EXPECT_NE(r.out.find("16 frames at 5.0 fps"), std::string::npos) << r.out;
+    // --calibration replaces the bottom camera's: twice the focal length, other motion in metres.
+    nlohmann::json cal = read_json(dir / "t/imu_meta.json").value("calibration", nlohmann::json());
+    if (cal.is_null()) {
+        cal = read_json(fs::path(GS_ASSETS_DIR) / "calibration/ardrone2_bottom.json");
+    }
+    cal["fx"] = cal["fx"].get<double>() * 2;
+    cal["fy"] = cal["fy"].get<double>() * 2;
+    write_file_text(dir / "long.json", cal.dump());
+    r = run_cli("odometry " + (dir / "t").string() + " --summary --calibration " +
+                (dir / "long.json").string());
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    const std::string x_own = line_starting(own.out, "X Axis"),
+                      x_long = line_starting(r.out, "X Axis");
+    ASSERT_FALSE(x_own.empty()) << own.out;
+    EXPECT_NE(x_long, x_own) << r.out;
+}
+
 TEST(CalibrationOption, MissingOrMalformedFileIsRefusedEverywhere) {
     const fs::path dir = scratch_dir("calibration_option", "bad");
     write_file_text(dir / "bad.json", R"({"fx": 500, "fy": 500, "cx": 320})");
