@@ -3,6 +3,8 @@
 // views whose error stands out, and reports per-image and overall error, the parameters with
 // their uncertainty and the coverage of the field of view. Writes flight.json's calibration shape.
 #include "app/command.hpp"
+#include "drone/dataset/dataset.hpp"
+#include "drone/dataset/video_frames.hpp"
 #include "vision/calibration.hpp"
 #include "vision/calibration_file.hpp"
 
@@ -38,10 +40,42 @@ struct Opts {
     bool fix_k3 = false;
 };
 
-struct Input {
-    std::string path;
-    std::string name;  // as shown in the report
+// A dataset's frames, read through the dataset reader (the path rules of DATASET.md apply) and
+// its FrameStore: video.h264 decoded, else the frames/ images.
+struct DatasetFrames {
+    Dataset dataset;
+    std::unique_ptr<FrameStore> store;
+    std::int64_t last = -1;  // last frame read (video decodes forward from it)
 };
+
+struct Input {
+    std::string path;                       // an image file, or the dataset's directory
+    std::string name;                       // as shown in the report
+    std::shared_ptr<DatasetFrames> frames;  // set: frame `index` of that dataset
+    std::int64_t index = -1;
+};
+
+// The input's pixels (BGR); empty with `error` set when they cannot be read.
+cv::Mat load_input(const Input& in, std::string& error) {
+    if (!in.frames) {
+        cv::Mat img = cv::imread(in.path, cv::IMREAD_COLOR);
+        if (img.empty()) error = "not an image OpenCV can read";
+        return img;
+    }
+    DatasetFrames& f = *in.frames;
+    cv::Mat img;
+    // Video: decode the frames in between in order (one access unit each) rather than going back
+    // to the last IDR for every frame taken.
+    if (f.dataset.video_path() && in.index > f.last + 1 && f.last >= 0) {
+        for (std::int64_t i = f.last + 1; i < in.index; ++i) (void)f.store->read(i, img);
+    }
+    f.last = in.index;
+    if (auto e = f.store->read(in.index, img)) {
+        error = to_string(*e);
+        return {};
+    }
+    return img;
+}
 
 bool is_image_file(const fs::path& p) {
     std::string ext = p.extension().string();
@@ -65,31 +99,32 @@ std::vector<Input> folder_images(const fs::path& dir, int step) {
     std::sort(files.begin(), files.end());
     std::vector<Input> out;
     for (std::size_t i = 0; i < files.size(); i += static_cast<std::size_t>(step)) {
-        out.push_back({files[i].string(), files[i].filename().string()});
+        out.push_back({files[i].string(), files[i].filename().string(), nullptr, -1});
     }
     return out;
 }
 
-// A recorded dataset (DATASET.md): flight.json + the image folder it names ("frames" by default).
-std::vector<Input> dataset_images(const fs::path& dir, int step, std::string& camera) {
-    std::ifstream in(dir / "flight.json");
-    const nlohmann::json j = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
-    if (j.is_discarded() || !j.is_object()) {
-        throw fail((dir / "flight.json").string() + " is not valid JSON");
+// A recorded dataset (DATASET.md), opened by the dataset reader: every `step`-th frame, from
+// video.h264 when it has one (the source of truth), else from its image folder.
+std::vector<Input> dataset_frames(const fs::path& dir, int step, std::string& camera) {
+    auto d = Dataset::open(dir);
+    if (!d) throw fail(dir.string() + ": " + to_string(d.error()));
+    auto store = open_frames(*d);
+    if (!store) throw fail(dir.string() + ": " + to_string(store.error()));
+    if (camera.empty()) camera = to_string(d->info().camera);
+    auto frames = std::make_shared<DatasetFrames>(DatasetFrames{std::move(*d), std::move(*store)});
+    const Dataset& ds = frames->dataset;
+    std::vector<Input> out;
+    for (std::int64_t i = 0; i < ds.frame_count(); i += step) {
+        std::string name;
+        if (ds.video_path()) {
+            name = ds.info().video + " frame " + std::to_string(i);
+        } else {
+            name = ds.info().images + "/" +
+                   ds.image_files()[static_cast<std::size_t>(i)].filename().string();
+        }
+        out.push_back({dir.string(), std::move(name), frames, i});
     }
-    if (camera.empty() && j.contains("camera") && j["camera"].is_string()) {
-        camera = j["camera"].get<std::string>();
-    }
-    std::string images = "frames";
-    if (j.contains("images") && j["images"].is_string()) images = j["images"].get<std::string>();
-    const fs::path frames = dir / images;
-    if (!fs::is_directory(frames)) {
-        throw fail("dataset " + dir.string() + " has no " + images +
-                   "/ image folder; calibrating from a dataset's video.h264 is not supported "
-                   "yet (export its frames to images first)");
-    }
-    std::vector<Input> out = folder_images(frames, step);
-    for (auto& i : out) i.name = images + "/" + i.name;
     return out;
 }
 
@@ -99,12 +134,13 @@ std::vector<Input> collect_inputs(const Opts& o, std::string& camera) {
         const fs::path p(arg);
         std::error_code ec;
         if (fs::is_directory(p, ec)) {
-            auto imgs = fs::exists(p / "flight.json") ? dataset_images(p, o.step, camera)
-                                                      : folder_images(p, o.step);
+            auto imgs = fs::exists(fs::symlink_status(p / "flight.json", ec))
+                            ? dataset_frames(p, o.step, camera)
+                            : folder_images(p, o.step);
             if (imgs.empty()) throw fail("no images (jpg, png, ...) in " + arg);
             all.insert(all.end(), imgs.begin(), imgs.end());
         } else if (fs::exists(p, ec)) {
-            all.push_back({arg, p.filename().string()});
+            all.push_back({arg, p.filename().string(), nullptr, -1});
         } else {
             throw fail(arg + ": no such file or folder");
         }
@@ -186,12 +222,13 @@ void run(const Opts& o) {
     for (std::size_t i = 0; i < inputs.size(); ++i) {
         ImageRow row{inputs[i]};
         const auto t0 = std::chrono::steady_clock::now();
-        const cv::Mat img = cv::imread(inputs[i].path, cv::IMREAD_COLOR);
+        std::string read_error;
+        const cv::Mat img = load_input(inputs[i], read_error);
         std::printf("[%*zu/%zu] %-28s ", width, i + 1, inputs.size(), inputs[i].name.c_str());
         if (img.empty()) {
             row.unreadable = true;
             ++unreadable;
-            std::printf("not an image OpenCV can read, skipped\n");
+            std::printf("%s, skipped\n", read_error.c_str());
             rows.push_back(row);
             continue;
         }
@@ -217,7 +254,10 @@ void run(const Opts& o) {
                             f.detection.sharpness_px, so.detect.max_blur_px);
             } else {
                 ++not_found;
-                std::printf("board not found (%.0f ms)\n", ms_since(t0));
+                std::printf(
+                    "board not found: no whole %dx%d board (partly out of view, covered, or "
+                    "another size?) (%.0f ms)\n",
+                    board.cols, board.rows, ms_since(t0));
             }
         }
         rows.push_back(row);
@@ -226,13 +266,26 @@ void run(const Opts& o) {
     std::fflush(stdout);
 
     const std::size_t found = session.view_count();
-    if (found == 0) {
+    const std::string board_hint =
+        "Check --board: it counts inner corners (a board of 10x7 squares is 9x6), and the whole "
+        "board must be in view" +
+        std::string(o.sb ? "" : "; --sb tries a slower, more robust detector");
+    if (found == 0 && not_found == inputs.size()) {
         throw fail("the " + o.board + " board was found in none of the " +
-                   std::to_string(inputs.size()) +
-                   " image(s). Check --board: it counts inner corners (a board of 10x7 squares "
-                   "is 9x6), and the whole board must be in view" +
-                   (o.sb ? "" : "; --sb tries a slower, more robust detector") +
+                   std::to_string(inputs.size()) + " image(s). " + board_hint +
                    ". No calibration written.");
+    }
+    if (found == 0) {
+        // Say why each view was refused: the board may well have been found, only too blurry.
+        std::string why = "no usable view in the " + std::to_string(inputs.size()) +
+                          " image(s): " + std::to_string(blurry) + " blurry, " +
+                          std::to_string(not_found) + " without the board, " +
+                          std::to_string(unreadable) + " unreadable.";
+        if (blurry > 0)
+            why += " Blurry: the board was found but its edges are wider than " +
+                   shortest(so.detect.max_blur_px) + " px; hold it still, add light or refocus.";
+        if (not_found > 0) why += " Without the board: " + board_hint + ".";
+        throw fail(why + " No calibration written.");
     }
     if (static_cast<int>(found) < so.calibration.min_views) {
         throw fail("the board was found in only " + std::to_string(found) + " of " +
@@ -247,7 +300,7 @@ void run(const Opts& o) {
     const double cal_s = ms_since(t_cal) / 1000;
     if (!res) throw fail(res.error().message() + ". No calibration written.");
     const CalibrationResult& r = *res;
-    const CameraCalibration& cam = r.camera;
+    const vision::CameraCalibration& cam = r.camera;
 
     std::cout << "\nPer image                      RMS px   lines raw/undist px   status\n";
     for (const ImageRow& row : rows) {
@@ -341,8 +394,8 @@ CommandRegistration reg(70, [](CLI::App& root) {
         "calibration JSON");
     c->footer(
         "Inputs are image files, folders of images, or recorded datasets (a folder with "
-        "flight.json and its frames/ images; --step N takes every Nth frame). Datasets holding "
-        "only video.h264 are not supported yet: export their frames first.\n"
+        "flight.json: its video.h264 decoded, else its frames/ images; --step N takes every Nth "
+        "frame).\n"
         "The output is flight.json's calibration object plus width, height, rms_px, std_dev, "
         "views and source; use it with --calibration FILE.\n"
         "Example: ardrone-gs calibrate shots/ --board 9x6 --square 0.025 --out front.json");

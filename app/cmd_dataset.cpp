@@ -3,6 +3,7 @@
 //   dataset export-thesis DATASET OUT    the thesis' layout: one image per frame + imu.txt
 //   dataset import-thesis FOLDER OUT     a thesis-style folder into a dataset directory
 //   dataset frames DATASET OUT [--every N] [--from A --to B]   frames as PNG files
+#include "app/cli_options.hpp"
 #include "app/command.hpp"
 #include "app/replay_outputs.hpp"
 #include "drone/dataset/thesis.hpp"
@@ -20,12 +21,12 @@ namespace fs = std::filesystem;
 
 struct Opts {
     std::string in, out;
-    double fps = 25;
+    double fps = 0;  // --fps (thesis-style folders); 0: not given
     std::int64_t every = 1, from = 0, to = -1;
 };
 
 int info(const Opts& o) {
-    auto d = open_any_dataset(o.in);
+    auto d = open_any_dataset(o.in, given_fps(o.fps));
     if (!d) throw fail(d.error());
     const DatasetInfo& i = d->info();
     const double dur =
@@ -57,17 +58,19 @@ int export_thesis_cmd(const Opts& o) {
     auto frames = open_frames(*d);
     if (!frames) throw fail(o.in + ": " + to_string(frames.error()));
     if (auto e = export_thesis(*d, **frames, o.out)) throw fail(to_string(*e));
-    std::cout << "wrote " << d->frame_count() << " images and imu.txt to " << o.out << '\n';
+    std::cout << "wrote " << d->frame_count() << " images, imu.txt, imu_extra.csv and imu_meta.json"
+              << (d->labels() || d->label_rows() ? " and the labels" : "") << " to " << o.out
+              << '\n';
     return 0;
 }
 
 int import_thesis_cmd(const Opts& o) {
     ThesisImportOptions to;
-    to.fps = o.fps;
+    to.fps = given_fps(o.fps);
     auto d = import_thesis(o.in, o.out, to);
     if (!d) throw fail(to_string(d.error()));
-    std::cout << "imported " << d->frame_count() << " frames at " << fixed(o.fps, 2) << " fps into "
-              << o.out << '\n';
+    std::cout << "imported " << d->frame_count() << " frames at " << fixed(d->info().fps, 2)
+              << " fps into " << o.out << '\n';
     return 0;
 }
 
@@ -102,6 +105,7 @@ CommandRegistration reg_info(
         auto o = std::make_shared<Opts>();
         auto* c = parent.add_subcommand("info", "What a dataset holds");
         c->add_option("DATASET", o->in, "Dataset or thesis-style folder")->required();
+        add_thesis_fps_option(*c, o->fps);
         c->callback([o] { (void)info(*o); });
     });
 
@@ -111,6 +115,12 @@ CommandRegistration reg_export(
         auto* c = parent.add_subcommand(
             "export-thesis",
             "Write the thesis' layout: 000000.png ... + imu.txt (roll pitch yaw vx vy)");
+        c->footer(
+            "The IMU lines hold only roll pitch yaw vx vy, so the rest travels in side files the "
+            "import reads when present: imu_extra.csv (per image, frames.csv's columns: frame, "
+            "t_ms, vz_mps, altitude_m, gt_*), imu_meta.json (fps, camera, calibration as in "
+            "flight.json) and the labels (labels.json, labels.csv). Import gives back the same "
+            "flight, so a replay decides the same.");
         c->add_option("DATASET", o->in, "Dataset directory")->required();
         c->add_option("OUT", o->out, "Folder to create (new or empty)")->required();
         c->callback([o] { (void)export_thesis_cmd(*o); });
@@ -123,9 +133,7 @@ CommandRegistration reg_import(
             "import-thesis", "Turn a thesis-style image folder into a dataset directory");
         c->add_option("FOLDER", o->in, "Images + one IMU text line per image")->required();
         c->add_option("OUT", o->out, "Dataset directory to create (new or empty)")->required();
-        c->add_option("--fps", o->fps, "Frame rate of the folder")
-            ->capture_default_str()
-            ->check(CLI::Range(0.1, 1000.0));
+        add_thesis_fps_option(*c, o->fps);
         c->callback([o] { (void)import_thesis_cmd(*o); });
     });
 

@@ -2,7 +2,11 @@
 // writes DIR/<flight>/decisions.csv and summary.json, scores every flight as DATASET.md's
 // "Scoring a flight" says and writes DIR/report.md (thesis-style tables: per flight TP/FP/FN/TN
 // and detection distance, per group and overall) and DIR/report.json with the same figures.
-// A directory that is not itself a dataset is searched (one level) for flights.
+// A directory that is not itself a dataset is searched (one level) for flights. A flight with
+// frames that cannot be read is scored on the others, listed under "Evaluated with errors" and
+// makes the exit status non-zero. On a terminal, progress shows flights and frames done, the
+// frame rate and the time left.
+#include "app/cli_options.hpp"
 #include "app/command.hpp"
 #include "app/replay_outputs.hpp"
 #include "app/replay_run.hpp"
@@ -12,6 +16,7 @@
 #include <algorithm>
 #include <atomic>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <map>
 #include <memory>
@@ -30,6 +35,7 @@ struct Opts {
     std::string out;
     std::string classifier{vision::kDefaultClassifier};
     std::vector<std::string> set;
+    DatasetInputOptions input;  // --calibration, --fps
     std::string split;
     int jobs = 1;
     bool quiet = false;
@@ -38,9 +44,10 @@ struct Opts {
 struct FlightResult {
     fs::path path;
     std::string name;
-    std::string group;  // labels.json "group" (free key), else the scenario
-    std::string split;  // labels.json "split" (free key), else ""
-    std::string error;  // non-empty: the flight could not be evaluated
+    std::string group;       // labels.json "group" (free key), else the scenario
+    std::string split;       // labels.json "split" (free key), else ""
+    std::string error;       // non-empty: the flight could not be evaluated
+    std::string read_error;  // non-empty: evaluated, but some frames could not be read
     FlightScore score;
     ReplayStats stats;
     nlohmann::json labels;  // labels.json as read
@@ -87,12 +94,22 @@ std::string text_or(const nlohmann::json& j, const char* key, const std::string&
     return fallback;
 }
 
-FlightResult evaluate(const fs::path& path, const Opts& o, const fs::path& out) {
+// Frames replayed so far over every flight, for the progress line, and the frame counts of the
+// flights opened so far (the estimate of the total: their mean times the number of flights).
+struct EvalProgress {
+    std::atomic<std::int64_t> frames{0};
+    std::atomic<std::int64_t> opened_frames{0};
+    std::atomic<std::int64_t> opened_flights{0};
+    std::function<void()> tick;  // called after each frame (may print)
+};
+
+FlightResult evaluate(const fs::path& path, const Opts& o, const fs::path& out,
+                      EvalProgress& progress) {
     FlightResult r;
     r.path = path;
     r.name = path.filename().string();
     if (r.name.empty()) r.name = path.parent_path().filename().string();
-    auto ds = open_any_dataset(path.string());
+    auto ds = open_input_dataset(path.string(), o.input);
     if (!ds) {
         r.error = ds.error();
         return r;
@@ -108,6 +125,8 @@ FlightResult evaluate(const fs::path& path, const Opts& o, const fs::path& out) 
         r.error = "skip";
         return r;
     }
+    progress.opened_frames += ds->frame_count();
+    ++progress.opened_flights;
     const fs::path dir = out / r.name;
     std::error_code ec;
     fs::create_directories(dir, ec);
@@ -118,13 +137,21 @@ FlightResult evaluate(const fs::path& path, const Opts& o, const fs::path& out) 
     ReplaySettings rs;
     rs.classifier = o.classifier;
     rs.set = o.set;
-    ReplayOutputs outputs(dir, ds->calibration());
+    if (!o.input.calibration.empty()) rs.calibration_file = o.input.calibration;
+    auto calib = input_calibration(*ds, o.input);
+    if (!calib) {
+        r.error = calib.error();
+        return r;
+    }
+    ReplayOutputs outputs(dir, *calib);
     if (auto e = outputs.open_decisions(dir / "decisions.csv")) {
         r.error = *e;
         return r;
     }
     auto st = replay_dataset(*ds, rs, [&](const FrameSample& s, const vision::FrameResult* res) {
         outputs.frame(s, res);
+        ++progress.frames;
+        if (progress.tick) progress.tick();
     });
     if (!st) {
         r.error = path.string() + ": " + st.error();
@@ -135,6 +162,9 @@ FlightResult evaluate(const fs::path& path, const Opts& o, const fs::path& out) 
         return r;
     }
     r.stats = std::move(*st);
+    if (r.stats.decode_errors > 0)
+        r.read_error = path.string() + ": " + frames_unread_text(r.stats) +
+                       " (scored on the frames that could)";
     r.score = score_flight(ds->labels()->scenario,
                            ds->label_rows().value_or(std::vector<LabelRow>{}), r.stats.flags);
     nlohmann::json j = summary_json(*ds, rs, r.stats);
@@ -213,7 +243,8 @@ int run(const Opts& o) {
     fs::create_directories(out, ec);
     if (ec) throw fail("cannot create " + out.string() + ": " + ec.message());
     {
-        // Validate the classifier and overrides once, before any work.
+        // Validate the classifier and overrides once, before any work (--calibration is checked
+        // when parsed).
         auto probe = vision::make_classifier(o.classifier, {});
         if (!probe) throw fail("unknown classifier '" + o.classifier + "'");
         if (auto e = apply_overrides(*probe, o.set)) throw fail(*e);
@@ -224,17 +255,45 @@ int run(const Opts& o) {
     std::mutex mu;
     const bool tty = !o.quiet && ::isatty(STDERR_FILENO) == 1;
     const double t0 = wall_seconds();
+    double last_print_s = -1;
+    EvalProgress progress;
+    // "eval: 1 / 3 flights, 212 / 459 frames, 180 frames/s, 2 s left", rewritten in place (under
+    // mu). The total is estimated from the flights opened so far.
+    auto print_progress = [&](bool always) {
+        const double now = wall_seconds();
+        if (!always && last_print_s >= 0 && now - last_print_s < 0.2) return;
+        last_print_s = now;
+        const double el = now - t0;
+        const std::size_t d = done.load();
+        const std::int64_t f = progress.frames.load();
+        const std::int64_t opened = progress.opened_flights.load();
+        const double rate = el > 0 ? static_cast<double>(f) / el : 0.0;
+        std::cerr << "\reval: " << d << " / " << flights.size() << " flights, " << f;
+        if (opened > 0) {
+            const double total = static_cast<double>(progress.opened_frames.load()) /
+                                 static_cast<double>(opened) * static_cast<double>(flights.size());
+            std::cerr << " / " << fixed(total, 0) << " frames, " << fixed(rate, 0) << " frames/s";
+            if (rate > 0)
+                std::cerr << ", " << fixed(std::max(0.0, total - static_cast<double>(f)) / rate, 0)
+                          << " s left";
+        } else {
+            std::cerr << " frames";
+        }
+        std::cerr << "\033[K" << std::flush;
+    };
+    if (tty) {
+        progress.tick = [&] {
+            std::lock_guard lock(mu);
+            print_progress(false);
+        };
+    }
     auto worker = [&] {
         for (std::size_t i = next++; i < flights.size(); i = next++) {
-            results[i] = evaluate(flights[i], o, out);
-            const std::size_t d = ++done;
+            results[i] = evaluate(flights[i], o, out, progress);
+            ++done;
             if (tty) {
                 std::lock_guard lock(mu);
-                const double el = wall_seconds() - t0;
-                const double left =
-                    el / static_cast<double>(d) * static_cast<double>(flights.size() - d);
-                std::cerr << "\reval: " << d << " / " << flights.size() << " flights, "
-                          << fixed(left, 0) << " s left   " << std::flush;
+                print_progress(true);
             }
         }
     };
@@ -256,12 +315,14 @@ int run(const Opts& o) {
     per << "| flight | group | scenario | FP | TP | FN | TN | detection distance | false positive "
            "region | frames |\n|---|---|---|---|---|---|---|---|---|---|\n";
     int evaluated = 0;
+    std::vector<std::string> incomplete;  // evaluated, with frames that could not be read
     for (const FlightResult& r : results) {
         if (r.error == "skip") continue;
         if (!r.error.empty()) {
             errors.push_back(r.error);
             continue;
         }
+        if (!r.read_error.empty()) incomplete.push_back(r.read_error);
         ++evaluated;
         groups[r.group].add(r.score);
         all.add(r.score);
@@ -313,6 +374,10 @@ int run(const Opts& o) {
         md << "\n## Not evaluated\n\n";
         for (const auto& e : errors) md << "- " << e << "\n";
     }
+    if (!incomplete.empty()) {
+        md << "\n## Evaluated with errors\n\n";
+        for (const auto& e : incomplete) md << "- " << e << "\n";
+    }
     md << "\nReplay CPU time " << fixed(cpu_s, 1) << " s ("
        << fixed(cpu_s > 0 ? static_cast<double>(frames) / cpu_s : 0, 0)
        << " frames per CPU second).\n";
@@ -327,6 +392,7 @@ int run(const Opts& o) {
     for (const auto& [g, s] : groups) jg[g] = summary_to_json(s);
     jr["groups"] = jg;
     jr["errors"] = errors;
+    jr["read_errors"] = incomplete;
     jr["frames"] = frames;
     jr["cpu_s"] = cpu_s;
 
@@ -345,7 +411,8 @@ int run(const Opts& o) {
                   << (out / "report.md").string() << " and report.json\n";
     }
     for (const auto& e : errors) std::cerr << "ardrone-gs: " << e << '\n';
-    return errors.empty() ? 0 : 1;
+    for (const auto& e : incomplete) std::cerr << "ardrone-gs: " << e << '\n';
+    return errors.empty() && incomplete.empty() ? 0 : 1;
 }
 
 CommandRegistration reg(31, [](CLI::App& root) {
@@ -355,10 +422,9 @@ CommandRegistration reg(31, [](CLI::App& root) {
         "Replay labelled flights, score them (DATASET.md) and write report.md / report.json");
     sub->add_option("DATASET", o->datasets, "Flight datasets, or folders holding them")->required();
     sub->add_option("--out,-o", o->out, "Output directory (created)")->required();
-    sub->add_option("--classifier", o->classifier, "Obstacle classifier: thesis or flow")
-        ->capture_default_str()
-        ->check(CLI::IsMember({"thesis", "flow"}));
-    sub->add_option("--set", o->set, "Classifier parameter key=value (repeatable)");
+    add_classifier_options(*sub, o->classifier, o->set);
+    add_dataset_input_options(*sub, o->input,
+                              "each flight's own (flight.json's or the camera default)");
     sub->add_option("--split", o->split,
                     "Only flights whose labels.json \"split\" is this (e.g. tune or test)");
     sub->add_option("--jobs,-j", o->jobs, "Flights replayed in parallel")

@@ -4,7 +4,9 @@
 // A bottom-camera dataset (DATASET.md) runs single-camera with altitude_m as the distance; with
 // top/ and distances.csv beside it, both cameras are combined (eq. 3.16-3.18).
 // `--generate TEST` first renders one of the thesis' four test flights into DATASET.
+#include "app/cli_options.hpp"
 #include "app/command.hpp"
+#include "app/replay_run.hpp"
 #include "drone/dataset/dataset.hpp"
 #include "drone/dataset/frame_store.hpp"
 #include "drone/dataset/video_frames.hpp"
@@ -33,6 +35,7 @@ struct Opts {
     bool thesis = false;
     bool summary = false;
     std::string yaw = "visual";
+    DatasetInputOptions input;  // --calibration (the bottom camera's), --fps
     std::vector<std::string> set;
     // generation
     std::string generate;
@@ -118,8 +121,8 @@ int run(const Opts& o) {
                   << " s, writing " << num(r->write_ms / 1000, 1) << " s\n";
     }
 
-    auto ds = Dataset::open(dir);
-    if (!ds) throw fail(to_string(ds.error()));
+    auto ds = open_input_dataset(dir.string(), o.input);
+    if (!ds) throw fail(ds.error());
     const DatasetInfo& info = ds->info();
     if (info.camera != CameraId::Bottom)
         throw fail(dir.string() + ": the odometry needs a bottom-camera dataset (camera is '" +
@@ -149,8 +152,9 @@ int run(const Opts& o) {
         throw fail("--set " + perr.rejected.front().first + ": " +
                    vision::to_string(perr.rejected.front().second));
 
-    const vision::CameraCalibration bottom_cal =
-        to_vision(ds->calibration(), info.width, info.height);
+    auto bottom_calib = input_calibration(*ds, o.input);
+    if (!bottom_calib) throw fail(bottom_calib.error());
+    const vision::CameraCalibration bottom_cal = to_vision(*bottom_calib, info.width, info.height);
     std::optional<vision::CameraCalibration> top_cal;
     if (two)
         top_cal = extras->top_calibration
@@ -319,7 +323,9 @@ CommandRegistration reg(60, [](CLI::App& root) {
     auto o = std::make_shared<Opts>();
     auto* sub = root.add_subcommand(
         "odometry", "Visual odometry (thesis §3.1) over a bottom-camera or two-camera dataset");
-    sub->add_option("DATASET", o->dataset, "Dataset directory (with --generate: created)")
+    sub->add_option("DATASET", o->dataset,
+                    "Dataset directory (with --generate: created), or a thesis-style image folder "
+                    "with its IMU text file")
         ->required();
     sub->add_option("--out", o->out, "Write samples.csv, summary.json and errors.txt here");
     sub->add_flag("--single", o->single, "Use the bottom camera only, even when top/ exists");
@@ -328,6 +334,9 @@ CommandRegistration reg(60, [](CLI::App& root) {
         "As the thesis computed it: homography about the pixel origin, no tilt compensation");
     sub->add_option("--yaw", o->yaw, "Rotation source: visual, navdata or fused")
         ->capture_default_str();
+    add_dataset_input_options(*sub, o->input,
+                              "the bottom camera's of the dataset (flight.json's or the default); "
+                              "the top camera keeps its own");
     sub->add_option(
         "--set", o->set,
         "Parameter override key=value (odo.*, filter.*; e.g. filter.smoothing_samples=4)");

@@ -2,6 +2,7 @@
 // drone on loopback ephemeral ports), records a dataset until N seconds, the end of the virtual
 // drone's scripted flight or Ctrl-C, and optionally runs the obstacle pipeline on the recorded
 // frames (DIR/live_decisions.csv: the decisions replay must reproduce).
+#include "app/cli_options.hpp"
 #include "app/command.hpp"
 #include "app/pipeline.hpp"
 #include "app/replay_run.hpp"
@@ -37,6 +38,7 @@ struct Opts {
     std::string out;
     double seconds = 0;
     std::string classifier;
+    std::string calibration;
     double connect_timeout_s = 10;
     bool quiet = false;
 };
@@ -90,6 +92,16 @@ int run(const Opts& o) {
             throw fail("unknown classifier '" + o.classifier + "' (one of: " + names + ")", 2);
         }
     }
+    // The calibration recorded in flight.json and used for the live decisions: FILE when given
+    // (checked before connecting), else the camera default.
+    record::RecorderOptions ro;
+    if (!o.calibration.empty()) {
+        auto c = load_calibration_for(o.calibration, ro.writer.width, ro.writer.height);
+        if (!c) throw fail(c.error(), 2);
+        ro.writer.calibration = *c;
+    } else if (auto c = default_calibration(CameraId::Front, GS_ASSETS_DIR)) {
+        ro.writer.calibration = scaled_to(*c, ro.writer.width, ro.writer.height);
+    }
     std::unique_ptr<sim::VirtualDrone> drone;
     link::LinkConfig lc;
     if (!o.sim.empty()) {
@@ -139,10 +151,7 @@ int run(const Opts& o) {
     }
     if (!link.video().latest()) std::cerr << "ardrone-gs: record: no video yet, recording anyway\n";
 
-    record::RecorderOptions ro;
     if (drone) ro.writer.source = "simulated (virtual drone, scene " + drone->scene().name + ")";
-    if (auto c = default_calibration(CameraId::Front, GS_ASSETS_DIR))
-        ro.writer.calibration = scaled_to(*c, ro.writer.width, ro.writer.height);
     if (!o.classifier.empty()) ro.frame_tap = 4096;
     record::Recorder rec(link, drone.get());
     if (auto s = rec.start(o.out, ro); !s)
@@ -233,6 +242,9 @@ CommandRegistration reg(45, [](CLI::App& root) {
         ->check(CLI::NonNegativeNumber);
     sub->add_option("--classifier", o->classifier,
                     "Also run this obstacle classifier live: DIR/live_decisions.csv");
+    add_calibration_option(*sub, o->calibration,
+                           "the front camera default: recorded in flight.json and used by "
+                           "--classifier");
     sub->add_option("--connect-timeout", o->connect_timeout_s, "Seconds to wait for the connection")
         ->capture_default_str()
         ->check(CLI::PositiveNumber);

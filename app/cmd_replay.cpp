@@ -3,7 +3,9 @@
 // DIR/summary.json (frames, decode errors, timing, flagged frames per region; the flight's score
 // when it is labelled), with --video DIR/overlay.mp4 (the frames with the overlay drawn;
 // --undistort shows the undistorted image) and with --plots PNG plots of the classifier's series in
-// DIR/plots/.
+// DIR/plots/. Frames that cannot be read leave their decisions.csv row empty and make the exit
+// status non-zero (the outputs for the other frames are still written).
+#include "app/cli_options.hpp"
 #include "app/command.hpp"
 #include "app/replay_outputs.hpp"
 #include "app/replay_run.hpp"
@@ -23,7 +25,7 @@ struct Opts {
     std::string dataset;
     std::string out;
     std::string classifier{vision::kDefaultClassifier};
-    std::string calibration;
+    DatasetInputOptions input;  // --calibration, --fps
     std::vector<std::string> set;
     bool video = false;
     bool undistort = false;
@@ -32,7 +34,7 @@ struct Opts {
 };
 
 int run(const Opts& o) {
-    auto ds = open_any_dataset(o.dataset);
+    auto ds = open_input_dataset(o.dataset, o.input);
     if (!ds) throw fail(ds.error());
     for (const auto& w : ds->warnings())
         std::cerr << "ardrone-gs: " << o.dataset << ": " << w << '\n';
@@ -43,10 +45,13 @@ int run(const Opts& o) {
 
     ReplaySettings rs;
     rs.classifier = o.classifier;
-    if (!o.calibration.empty()) rs.calibration_file = o.calibration;
+    if (!o.input.calibration.empty()) rs.calibration_file = o.input.calibration;
     rs.set = o.set;
 
-    ReplayOutputs outputs(out, ds->calibration());
+    // One calibration for the whole run: the classifier and the undistorted video alike.
+    auto calib = input_calibration(*ds, o.input);
+    if (!calib) throw fail(calib.error());
+    ReplayOutputs outputs(out, *calib);
     if (auto e = outputs.open_decisions(out / "decisions.csv")) throw fail(*e);
     if (o.video) {
         if (auto e = outputs.open_video(out / "overlay.mp4", ds->info(), o.undistort))
@@ -77,13 +82,14 @@ int run(const Opts& o) {
                   << " s (" << fixed(stats->processed / std::max(stats->wall_s, 1e-9), 0)
                   << " frames/s); flagged frames: left " << stats->flagged[0] << ", center "
                   << stats->flagged[1] << ", right " << stats->flagged[2];
-        if (stats->decode_errors > 0)
-            std::cout << "; " << stats->decode_errors
-                      << " frames could not be decoded (first: " << stats->first_error << ")";
         std::cout << "\nwrote " << (out / "decisions.csv").string() << ", summary.json"
                   << (o.video ? ", overlay.mp4" : "") << (o.plots ? ", plots/" : "") << '\n';
     }
-    return stats->decode_errors > 0 && stats->processed == 0 ? 1 : 0;
+    // The outputs hold every frame that could be read; a frame that could not is still an error.
+    if (stats->decode_errors > 0)
+        throw fail(o.dataset + ": " + frames_unread_text(*stats) +
+                   " (their decisions.csv rows are empty; summary.json counts them)");
+    return 0;
 }
 
 CommandRegistration reg(30, [](CLI::App& root) {
@@ -96,13 +102,10 @@ CommandRegistration reg(30, [](CLI::App& root) {
                     "text file")
         ->required();
     sub->add_option("--out,-o", o->out, "Output directory (created)")->required();
-    sub->add_option("--classifier", o->classifier, "Obstacle classifier: thesis or flow")
-        ->capture_default_str()
-        ->check(CLI::IsMember({"thesis", "flow"}));
-    sub->add_option("--calibration", o->calibration,
-                    "Camera calibration JSON (instead of flight.json's or the default)")
-        ->check(CLI::ExistingFile);
-    sub->add_option("--set", o->set, "Classifier parameter key=value (repeatable)");
+    add_classifier_options(*sub, o->classifier, o->set);
+    add_dataset_input_options(*sub, o->input,
+                              "flight.json's or the camera default, by the classifier and the "
+                              "--undistort video alike");
     sub->add_flag("--video", o->video, "Also write overlay.mp4: the frames with the overlay");
     sub->add_flag("--undistort", o->undistort,
                   "With --video: show the undistorted image (straight lines come out straight)")

@@ -13,16 +13,23 @@
 namespace gs::app {
 namespace fs = std::filesystem;
 
-Expected<Dataset, std::string> open_any_dataset(const std::string& path) {
+Expected<Dataset, std::string> open_any_dataset(const std::string& path,
+                                                std::optional<double> thesis_fps) {
     std::error_code ec;
     if (!fs::is_directory(path, ec)) return Unexpected(path + ": not a directory");
-    if (fs::exists(fs::path(path) / "flight.json", ec)) {
+    if (fs::exists(fs::symlink_status(fs::path(path) / "flight.json", ec))) {
+        if (thesis_fps)
+            return Unexpected(path +
+                              ": --fps is only for thesis-style image folders; this is a dataset "
+                              "directory, whose frame rate is flight.json's 'fps'");
         auto d = Dataset::open(path);
         if (!d) return Unexpected(path + ": " + to_string(d.error()));
         return std::move(*d);
     }
     // No flight.json: a thesis-style folder (images + one IMU line per image)?
-    auto t = open_thesis_folder(path);
+    ThesisImportOptions to;
+    to.fps = thesis_fps;
+    auto t = open_thesis_folder(path, to);
     if (!t)
         return Unexpected(path +
                           ": no flight.json (not a dataset), and not a thesis-style "

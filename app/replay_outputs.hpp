@@ -21,9 +21,11 @@
 
 namespace gs::app {
 
-// A dataset directory, or a thesis-style image folder (imported in memory). The error names the
-// path and the problem.
-[[nodiscard]] Expected<Dataset, std::string> open_any_dataset(const std::string& path);
+// A dataset directory, or a thesis-style image folder (imported in memory; `thesis_fps` is its
+// frame rate when given, which a dataset directory refuses: flight.json has its own). The error
+// names the path and the problem.
+[[nodiscard]] Expected<Dataset, std::string> open_any_dataset(
+    const std::string& path, std::optional<double> thesis_fps = std::nullopt);
 
 std::string fixed(double v, int decimals);
 

@@ -55,6 +55,25 @@ std::optional<std::string> apply_overrides(vision::ObstacleClassifier& c,
     return std::nullopt;
 }
 
+Expected<CameraCalibration, std::string> load_calibration_for(const std::string& file, int width,
+                                                              int height) {
+    auto c = load_calibration_file(file);
+    if (!c) return Unexpected(to_string(c.error()));
+    return scaled_to(*c, width, height);
+}
+
+Expected<CameraCalibration, std::string> replay_calibration(const Dataset& dataset,
+                                                            const ReplaySettings& settings) {
+    if (!settings.calibration_file) return dataset.calibration();
+    return load_calibration_for(*settings.calibration_file, dataset.info().width,
+                                dataset.info().height);
+}
+
+std::string frames_unread_text(const ReplayStats& st) {
+    return std::to_string(st.decode_errors) + " of " + std::to_string(st.frames) +
+           " frames could not be read (first: " + st.first_error + ")";
+}
+
 double thread_cpu_seconds() {
     timespec ts{};
     clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
@@ -107,13 +126,9 @@ Expected<ReplayStats, std::string> replay_dataset(const Dataset& dataset,
                                                   const ReplaySettings& settings,
                                                   const ReplayFrameFn& on_frame,
                                                   Progress* progress) {
-    CameraCalibration calib = dataset.calibration();
-    if (settings.calibration_file) {
-        auto c = load_calibration_file(*settings.calibration_file);
-        if (!c) return Unexpected(to_string(c.error()));
-        calib = scaled_to(*c, dataset.info().width, dataset.info().height);
-    }
-    ObstaclePipeline pipeline(settings.classifier, calib);
+    auto calib = replay_calibration(dataset, settings);
+    if (!calib) return Unexpected(calib.error());
+    ObstaclePipeline pipeline(settings.classifier, *calib);
     if (!pipeline.ok()) {
         std::string names;
         for (auto n : vision::classifier_names())

@@ -28,6 +28,15 @@ struct ReplaySettings {
     std::vector<std::string> set;                 // classifier parameter overrides key=value
 };
 
+// The calibration in `file` (--calibration FILE), scaled to `width` x `height`, the size of the
+// frames it is used on. The error names the file and the problem.
+[[nodiscard]] Expected<CameraCalibration, std::string> load_calibration_for(const std::string& file,
+                                                                            int width, int height);
+// What a replay of `dataset` uses, for the classifier and every output alike: the settings'
+// calibration file when given, else the dataset's (flight.json's or the camera default).
+[[nodiscard]] Expected<CameraCalibration, std::string> replay_calibration(
+    const Dataset& dataset, const ReplaySettings& settings);
+
 // Parses key=value overrides and applies them; the error names the first bad one.
 [[nodiscard]] std::optional<std::string> apply_overrides(vision::ObstacleClassifier& c,
                                                          const std::vector<std::string>& set);
@@ -45,6 +54,9 @@ struct ReplayStats {
     std::vector<RegionFlags> flags;  // per frame, for scoring
     vision::ParamMap params;         // the classifier's parameters as run
 };
+
+// "3 of 153 frames could not be read (first: ...)": the error a run with unreadable frames ends on.
+std::string frames_unread_text(const ReplayStats& st);
 
 // What the caller sees for each frame (result null when the frame could not be decoded).
 using ReplayFrameFn =

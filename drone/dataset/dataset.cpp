@@ -468,6 +468,26 @@ Expected<std::vector<LabelRow>, DatasetError> parse_labels_csv(std::string text)
     return rows;
 }
 
+namespace {
+
+// Where `dir / relative` really is when it exists and (through symlinks) leaves `dir`; nullopt
+// when it is absent or inside.
+Expected<std::optional<fs::path>, DatasetError> escape_target(const fs::path& dir,
+                                                              const fs::path& relative) {
+    const fs::path p = dir / relative;
+    std::error_code ec;
+    if (!fs::exists(fs::symlink_status(p, ec)))
+        return std::optional<fs::path>();  // absent: nothing to escape through
+    const fs::path root = fs::weakly_canonical(dir.empty() ? fs::path(".") : dir, ec);
+    if (ec) return Unexpected(err(DatasetErrorCode::Io, dir.string(), ec.message()));
+    const fs::path real = fs::weakly_canonical(p, ec);
+    if (ec) return Unexpected(err(DatasetErrorCode::Io, relative.generic_string(), ec.message()));
+    if (is_inside(root, real)) return std::optional<fs::path>();
+    return std::optional<fs::path>(real);
+}
+
+}  // namespace
+
 Expected<fs::path, DatasetError> resolve_inside(const fs::path& dir, const std::string& relative,
                                                 const std::string& what) {
     const fs::path rel(relative);
@@ -475,35 +495,44 @@ Expected<fs::path, DatasetError> resolve_inside(const fs::path& dir, const std::
         return Unexpected(err(
             DatasetErrorCode::UnsafePath, "flight.json",
             "'" + what + "' must be a relative path inside the dataset, got '" + relative + "'"));
-    const fs::path p = dir / rel;
-    std::error_code ec;
-    if (!fs::exists(fs::symlink_status(p, ec))) return p;  // absent: nothing to escape through
-    const fs::path root = fs::weakly_canonical(dir, ec);
-    if (ec) return Unexpected(err(DatasetErrorCode::Io, dir.string(), ec.message()));
-    const fs::path real = fs::weakly_canonical(p, ec);
-    if (ec) return Unexpected(err(DatasetErrorCode::Io, relative, ec.message()));
-    if (!is_inside(root, real))
+    auto out = escape_target(dir, rel);
+    if (!out) return Unexpected(out.error());
+    if (*out)
         return Unexpected(
             err(DatasetErrorCode::UnsafePath, "flight.json",
                 "'" + what + "' (" + relative + ") resolves outside the dataset directory"));
-    return p;
+    return dir / rel;
+}
+
+Expected<fs::path, DatasetError> resolve_fixed(const fs::path& dir, const std::string& name) {
+    auto out = escape_target(dir, fs::path(name));
+    if (!out) return Unexpected(out.error());
+    if (*out)
+        return Unexpected(err(DatasetErrorCode::UnsafePath, name,
+                              "resolves outside the dataset directory (to " + (*out)->string() +
+                                  "); only files inside it are read"));
+    return dir / name;
 }
 
 std::optional<fs::path> Dataset::raw_dir() const {
-    std::error_code ec;
-    const fs::path p = dir_ / "raw";
-    if (fs::is_directory(p, ec)) return p;
-    return std::nullopt;
+    return has_raw_ ? std::optional<fs::path>(dir_ / "raw") : std::nullopt;
 }
 
 Dataset Dataset::from_parts(fs::path dir, DatasetInfo info, CameraCalibration calib,
-                            std::vector<FrameRow> frames, std::vector<fs::path> images) {
+                            std::vector<FrameRow> frames, std::vector<fs::path> images,
+                            std::optional<FlightLabels> labels,
+                            std::optional<std::vector<LabelRow>> label_rows,
+                            std::vector<std::string> warnings) {
     Dataset d;
     d.dir_ = std::move(dir);
+    d.calibration_is_default_ = !info.calibration;
     d.info_ = std::move(info);
     d.calibration_ = std::move(calib);
     d.frames_ = std::move(frames);
     d.image_files_ = std::move(images);
+    d.labels_ = std::move(labels);
+    d.label_rows_ = std::move(label_rows);
+    d.warnings_ = std::move(warnings);
     return d;
 }
 
@@ -515,13 +544,18 @@ Expected<Dataset, DatasetError> Dataset::open(const fs::path& dir, const Dataset
     d.dir_ = dir;
     const DatasetLimits& lim = opts.limits;
 
-    auto flight_text = read_text_file(dir / "flight.json", "flight.json", lim.max_json_bytes);
+    // Every file with a fixed name is resolved first: none may lead out of the dataset.
+    auto flight_path = resolve_fixed(dir, "flight.json");
+    if (!flight_path) return Unexpected(flight_path.error());
+    auto flight_text = read_text_file(*flight_path, "flight.json", lim.max_json_bytes);
     if (!flight_text) return Unexpected(flight_text.error());
     auto info = parse_flight_json(*flight_text, lim, &d.warnings_);
     if (!info) return Unexpected(info.error());
     d.info_ = std::move(*info);
 
-    auto frames_text = read_text_file(dir / "frames.csv", "frames.csv", lim.max_csv_bytes);
+    auto frames_path = resolve_fixed(dir, "frames.csv");
+    if (!frames_path) return Unexpected(frames_path.error());
+    auto frames_text = read_text_file(*frames_path, "frames.csv", lim.max_csv_bytes);
     if (!frames_text) return Unexpected(frames_text.error());
     auto frames = parse_frames_csv(std::move(*frames_text));
     if (!frames) return Unexpected(frames.error());
@@ -577,7 +611,7 @@ Expected<Dataset, DatasetError> Dataset::open(const fs::path& dir, const Dataset
                 continue;
             }
             if (it->is_symlink(ec)) {
-                auto r = resolve_inside(dir, fs::relative(it->path(), dir, ec).string(), "image");
+                auto r = resolve_fixed(dir, fs::relative(it->path(), dir, ec).generic_string());
                 if (!r) return Unexpected(r.error());
             }
             if (!found.emplace(*idx, it->path()).second && !problem) {
@@ -635,28 +669,37 @@ Expected<Dataset, DatasetError> Dataset::open(const fs::path& dir, const Dataset
         d.calibration_is_default_ = true;
     }
 
-    if (fs::exists(dir / "navdata.csv", ec)) {
-        auto text = read_text_file(dir / "navdata.csv", "navdata.csv", lim.max_csv_bytes);
+    auto navdata_path = resolve_fixed(dir, "navdata.csv");
+    if (!navdata_path) return Unexpected(navdata_path.error());
+    if (fs::exists(*navdata_path, ec)) {
+        auto text = read_text_file(*navdata_path, "navdata.csv", lim.max_csv_bytes);
         if (!text) return Unexpected(text.error());
         auto nav = parse_navdata_csv(std::move(*text));
         if (!nav) return Unexpected(nav.error());
         d.navdata_ = std::move(*nav);
         d.has_navdata_ = true;
     }
-    if (fs::exists(dir / "labels.json", ec)) {
-        auto text = read_text_file(dir / "labels.json", "labels.json", lim.max_json_bytes);
+    auto labels_json_path = resolve_fixed(dir, "labels.json");
+    if (!labels_json_path) return Unexpected(labels_json_path.error());
+    if (fs::exists(*labels_json_path, ec)) {
+        auto text = read_text_file(*labels_json_path, "labels.json", lim.max_json_bytes);
         if (!text) return Unexpected(text.error());
         auto l = parse_labels_json(*text);
         if (!l) return Unexpected(l.error());
         d.labels_ = std::move(*l);
     }
-    if (fs::exists(dir / "labels.csv", ec)) {
-        auto text = read_text_file(dir / "labels.csv", "labels.csv", lim.max_csv_bytes);
+    auto labels_csv_path = resolve_fixed(dir, "labels.csv");
+    if (!labels_csv_path) return Unexpected(labels_csv_path.error());
+    if (fs::exists(*labels_csv_path, ec)) {
+        auto text = read_text_file(*labels_csv_path, "labels.csv", lim.max_csv_bytes);
         if (!text) return Unexpected(text.error());
         auto l = parse_labels_csv(std::move(*text));
         if (!l) return Unexpected(l.error());
         d.label_rows_ = std::move(*l);
     }
+    auto raw_path = resolve_fixed(dir, "raw");
+    if (!raw_path) return Unexpected(raw_path.error());
+    d.has_raw_ = fs::is_directory(*raw_path, ec);
     return d;
 }
 

@@ -2,8 +2,9 @@
 // Reading a flight dataset (the format of DATASET.md, version 1): flight.json, frames.csv,
 // navdata.csv, labels.*, and where the frames are (video.h264 and/or frames/). Opening validates
 // everything that is cheap to validate and reports the first problem as a DatasetError naming the
-// file, line and column. Paths from flight.json never leave the dataset directory. Pixels are
-// not read here: see frame_store.hpp.
+// file, line and column. No file is read outside the dataset directory: neither the paths named
+// in flight.json nor the fixed names (navdata.csv, labels.*, raw/ ...) may lead out of it through
+// ".." or symlinks. Pixels are not read here: see frame_store.hpp.
 
 #include "drone/calibration.hpp"
 #include "drone/dataset/annexb.hpp"
@@ -107,10 +108,14 @@ public:
     // Things a reader should mention once (unknown keys, extra images, scaled calibration).
     const std::vector<std::string>& warnings() const { return warnings_; }
 
-    // Assembles a dataset in memory (thesis import, tests); no file is read.
+    // Assembles a dataset in memory (thesis import, tests); no file is read. The calibration
+    // counts as the camera default unless info.calibration is set.
     static Dataset from_parts(std::filesystem::path dir, DatasetInfo info, CameraCalibration calib,
                               std::vector<FrameRow> frames,
-                              std::vector<std::filesystem::path> images);
+                              std::vector<std::filesystem::path> images,
+                              std::optional<FlightLabels> labels = std::nullopt,
+                              std::optional<std::vector<LabelRow>> label_rows = std::nullopt,
+                              std::vector<std::string> warnings = {});
 
 private:
     std::filesystem::path dir_;
@@ -125,6 +130,7 @@ private:
     std::vector<std::filesystem::path> image_files_;
     std::optional<FlightLabels> labels_;
     std::optional<std::vector<LabelRow>> label_rows_;
+    bool has_raw_ = false;
     std::vector<std::string> warnings_;
 };
 
@@ -142,6 +148,12 @@ Expected<std::vector<LabelRow>, DatasetError> parse_labels_csv(std::string text)
 Expected<std::filesystem::path, DatasetError> resolve_inside(const std::filesystem::path& dir,
                                                              const std::string& relative,
                                                              const std::string& what);
+
+// A file or folder with a fixed name (navdata.csv, raw, raw/at.log ...) under `dir`, or
+// UnsafePath naming it when it exists and (through symlinks) lands outside `dir`: a reader opens
+// nothing outside the dataset directory. An absent file is returned as is (the caller decides).
+Expected<std::filesystem::path, DatasetError> resolve_fixed(const std::filesystem::path& dir,
+                                                            const std::string& name);
 
 // Reads a whole file, refusing more than `max_bytes`. `name` is what errors call it.
 Expected<std::string, DatasetError> read_text_file(const std::filesystem::path& path,

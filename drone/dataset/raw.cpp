@@ -166,23 +166,35 @@ Expected<std::vector<AtRecord>, DatasetError> parse_at_log(std::string_view text
     return out;
 }
 
+Expected<std::filesystem::path, DatasetError> raw_file_path(const std::filesystem::path& raw_dir,
+                                                            const std::string& name) {
+    const std::filesystem::path dataset = raw_dir.parent_path();
+    return resolve_fixed(dataset, (raw_dir.filename() / name).generic_string());
+}
+
 Expected<RawReadResult, DatasetError> read_navdata_bin(const std::filesystem::path& raw_dir,
                                                        std::uintmax_t max_bytes) {
-    auto b = read_binary(raw_dir / "navdata.bin", "raw/navdata.bin", max_bytes);
+    auto p = raw_file_path(raw_dir, "navdata.bin");
+    if (!p) return Unexpected(p.error());
+    auto b = read_binary(*p, "raw/navdata.bin", max_bytes);
     if (!b) return Unexpected(b.error());
     return parse_navdata_bin(*b);
 }
 
 Expected<std::vector<AtRecord>, DatasetError> read_at_log(const std::filesystem::path& raw_dir,
                                                           std::uintmax_t max_bytes) {
-    auto t = read_text_file(raw_dir / "at.log", "raw/at.log", max_bytes);
+    auto p = raw_file_path(raw_dir, "at.log");
+    if (!p) return Unexpected(p.error());
+    auto t = read_text_file(*p, "raw/at.log", max_bytes);
     if (!t) return Unexpected(t.error());
     return parse_at_log(*t);
 }
 
 Expected<std::vector<RawChunk>, DatasetError> read_video_chunks(
     const std::filesystem::path& raw_dir, std::uintmax_t max_bytes) {
-    auto b = read_binary(raw_dir / "video_chunks.bin", "raw/video_chunks.bin", max_bytes);
+    auto p = raw_file_path(raw_dir, "video_chunks.bin");
+    if (!p) return Unexpected(p.error());
+    auto b = read_binary(*p, "raw/video_chunks.bin", max_bytes);
     if (!b) return Unexpected(b.error());
     return parse_video_chunks(*b);
 }

@@ -58,6 +58,11 @@ Expected<std::vector<AtRecord>, DatasetError> parse_at_log(std::string_view text
                                                            const std::string& name = "raw/at.log");
 
 // File readers (bounded by `max_bytes`).
+// `name` inside `raw_dir` (a dataset's raw/), or UnsafePath when it, or raw/ itself, leads out of
+// the dataset directory (raw_dir's parent) through symlinks.
+Expected<std::filesystem::path, DatasetError> raw_file_path(const std::filesystem::path& raw_dir,
+                                                            const std::string& name);
+
 Expected<RawReadResult, DatasetError> read_navdata_bin(const std::filesystem::path& raw_dir,
                                                        std::uintmax_t max_bytes = 2ull << 30);
 Expected<std::vector<AtRecord>, DatasetError> read_at_log(const std::filesystem::path& raw_dir,

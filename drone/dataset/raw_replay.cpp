@@ -19,7 +19,9 @@ Expected<std::vector<FrameRow>, DatasetError> replay_raw(const std::filesystem::
         auto c = read_video_chunks(raw_dir);
         if (!c) return Unexpected(c.error());
         chunks = std::move(*c);
-        pave.open(raw_dir / "video.pave", std::ios::binary);
+        auto pave_path = raw_file_path(raw_dir, "video.pave");
+        if (!pave_path) return Unexpected(pave_path.error());
+        pave.open(*pave_path, std::ios::binary);
         if (!pave)
             return Unexpected(
                 DatasetError{DatasetErrorCode::Missing, "raw/video.pave", 0, 0, "file not found"});

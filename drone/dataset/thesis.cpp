@@ -3,6 +3,7 @@
 #include "drone/dataset/csv.hpp"
 #include "drone/dataset/writer.hpp"
 
+#include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
 #include <algorithm>
@@ -103,6 +104,142 @@ Expected<std::vector<ImuLine>, DatasetError> parse_imu(const std::string& text,
     return out;
 }
 
+// imu_meta.json: flight.json's fps, camera and calibration, each optional.
+struct ThesisMeta {
+    std::optional<double> fps;
+    std::optional<CameraId> camera;
+    std::optional<CameraCalibration> calibration;
+};
+
+Expected<ThesisMeta, DatasetError> parse_thesis_meta(const std::string& text,
+                                                     const DatasetLimits& limits,
+                                                     std::vector<std::string>& warnings) {
+    const std::string file = kThesisMetaFile;
+    nlohmann::json j;
+    try {
+        j = nlohmann::json::parse(text);
+    } catch (const nlohmann::json::parse_error& e) {
+        auto [l, c] = text_line_col(text, e.byte > 0 ? e.byte - 1 : 0);
+        return Unexpected(derr(DatasetErrorCode::Malformed, file, "invalid JSON", l, c));
+    }
+    if (!j.is_object())
+        return Unexpected(derr(DatasetErrorCode::Malformed, file, "expected a JSON object", 1, 1));
+    auto at = [&](DatasetErrorCode code, const std::string& key, const std::string& msg) {
+        auto [l, c] = locate_json_key(text, key);
+        return derr(code, file, "'" + key + "': " + msg, l, c);
+    };
+    ThesisMeta m;
+    for (const auto& [key, v] : j.items()) {
+        if (key == "fps") {
+            if (!v.is_number())
+                return Unexpected(at(DatasetErrorCode::Malformed, key, "expected a number"));
+            const double fps = v.get<double>();
+            if (!(fps > 0) || fps > limits.max_fps)
+                return Unexpected(at(
+                    DatasetErrorCode::OutOfRange, key,
+                    v.dump() + " is out of range (0, " + csv::format_number(limits.max_fps) + "]"));
+            m.fps = fps;
+        } else if (key == "camera") {
+            if (v == "front") {
+                m.camera = CameraId::Front;
+            } else if (v == "bottom") {
+                m.camera = CameraId::Bottom;
+            } else {
+                return Unexpected(
+                    at(DatasetErrorCode::Malformed, key, "expected \"front\" or \"bottom\""));
+            }
+        } else if (key == "calibration") {
+            if (!v.is_object())
+                return Unexpected(at(DatasetErrorCode::Malformed, key, "expected an object"));
+            auto c = calibration_from_json(v);
+            if (!c) {
+                const std::string k = c.error().key.empty() ? key : c.error().key;
+                return Unexpected(at(c.error().code, k, "calibration: " + c.error().message));
+            }
+            m.calibration = *c;
+        } else {
+            warnings.push_back(file + ": unknown key '" + key + "' ignored");
+        }
+    }
+    return m;
+}
+
+// imu_extra.csv: per image, what the IMU line cannot hold (frames.csv's columns).
+struct ThesisExtra {
+    bool has_time = false;
+    std::vector<FrameRow> rows;  // t_ns, vz_mps, altitude_m, gt_* (roll ... vy unused)
+};
+
+Expected<ThesisExtra, DatasetError> parse_thesis_extra(std::string text, std::size_t images) {
+    auto tr = csv::Table::parse(std::move(text), kThesisExtraFile);
+    if (!tr) return Unexpected(tr.error());
+    const csv::Table& t = *tr;
+    const auto fc = t.column("frame");
+    if (!fc)
+        return Unexpected(derr(DatasetErrorCode::Missing, kThesisExtraFile,
+                               "missing required column 'frame'", 1));
+    if (t.rows() != images)
+        return Unexpected(derr(DatasetErrorCode::Inconsistent, kThesisExtraFile,
+                               std::to_string(t.rows()) + " rows but the folder holds " +
+                                   std::to_string(images) + " images"));
+    const auto tc = t.column("t_ms");
+    ThesisExtra x;
+    x.has_time = tc.has_value();
+    x.rows.resize(images);
+    for (std::size_t r = 0; r < t.rows(); ++r) {
+        FrameRow& row = x.rows[r];
+        auto fi = t.integer(r, *fc);
+        if (!fi) return Unexpected(fi.error());
+        if (*fi != static_cast<std::int64_t>(r)) {
+            auto e =
+                t.error_at(r, *fc,
+                           "expected frame " + std::to_string(r) + ", got " + std::to_string(*fi) +
+                               " (rows are images 0, 1, 2 ... in order)");
+            e.code = DatasetErrorCode::Inconsistent;
+            return Unexpected(e);
+        }
+        row.frame = *fi;
+        if (tc) {
+            auto tv = t.number(r, *tc);
+            if (!tv) return Unexpected(tv.error());
+            if (!std::isfinite(*tv))
+                return Unexpected(t.error_at(r, *tc, "expected a time, got an empty field"));
+            row.nav.t_ns = csv::ms_to_ns_rounded(*tv);
+            if (r > 0 && row.nav.t_ns < x.rows[r - 1].nav.t_ns) {
+                auto e = t.error_at(r, *tc, "time goes backwards");
+                e.code = DatasetErrorCode::Inconsistent;
+                return Unexpected(e);
+            }
+        }
+        for (auto [name, dst] : {std::pair{"vz_mps", &row.nav.vz_mps},
+                                 {"altitude_m", &row.nav.altitude_m},
+                                 {"gt_x_m", &row.gt.x_m},
+                                 {"gt_y_m", &row.gt.y_m},
+                                 {"gt_z_m", &row.gt.z_m},
+                                 {"gt_yaw_deg", &row.gt.yaw_deg}}) {
+            const auto col = t.column(name);
+            if (!col) continue;
+            auto v = t.number(r, *col);
+            if (!v) return Unexpected(v.error());
+            *dst = *v;
+        }
+    }
+    return x;
+}
+
+std::string thesis_labels_csv(const std::vector<LabelRow>& rows) {
+    std::string out = "frame,distance_m,lateral_m\n";
+    for (const LabelRow& r : rows)
+        out += std::to_string(r.frame) + ',' + csv::format_number(r.distance_m) + ',' +
+               csv::format_number(r.lateral_m) + '\n';
+    return out;
+}
+
+std::string thesis_labels_json(const FlightLabels& l) {
+    if (!l.json.empty()) return l.json;
+    return "{\n  \"scenario\": \"" + to_string(l.scenario) + "\"\n}\n";
+}
+
 }  // namespace
 
 Expected<Dataset, DatasetError> open_thesis_folder(const fs::path& dir,
@@ -111,8 +248,11 @@ Expected<Dataset, DatasetError> open_thesis_folder(const fs::path& dir,
     std::error_code ec;
     if (!fs::is_directory(dir, ec))
         return Unexpected(derr(DatasetErrorCode::Missing, dir.string(), "not a directory"));
-    if (!(opts.fps > 0) || opts.fps > open_opts.limits.max_fps)
-        return Unexpected(derr(DatasetErrorCode::OutOfRange, dir.string(), "fps out of range"));
+    const DatasetLimits& lim = open_opts.limits;
+    if (opts.fps && (!(*opts.fps > 0) || *opts.fps > lim.max_fps))
+        return Unexpected(derr(DatasetErrorCode::OutOfRange, dir.string(),
+                               "fps " + csv::format_number(*opts.fps) + " is out of range (0, " +
+                                   csv::format_number(lim.max_fps) + "]"));
     std::vector<std::string> images, texts;
     for (auto it = fs::directory_iterator(dir, ec); !ec && it != fs::directory_iterator();
          it.increment(ec)) {
@@ -137,7 +277,9 @@ Expected<Dataset, DatasetError> open_thesis_folder(const fs::path& dir,
     if (fs::path(imu).has_parent_path())
         return Unexpected(
             derr(DatasetErrorCode::UnsafePath, imu, "IMU file must be in the folder"));
-    auto text = read_text_file(dir / imu, imu, open_opts.limits.max_csv_bytes);
+    auto imu_path = resolve_fixed(dir, imu);
+    if (!imu_path) return Unexpected(imu_path.error());
+    auto text = read_text_file(*imu_path, imu, lim.max_csv_bytes);
     if (!text) return Unexpected(text.error());
     auto lines = parse_imu(*text, imu);
     if (!lines) return Unexpected(lines.error());
@@ -147,33 +289,98 @@ Expected<Dataset, DatasetError> open_thesis_folder(const fs::path& dir,
         return Unexpected(derr(DatasetErrorCode::Inconsistent, imu,
                                std::to_string(lines->size()) + " lines but the folder holds " +
                                    std::to_string(images.size()) + " images"));
-    if (static_cast<std::int64_t>(images.size()) > open_opts.limits.max_frames)
+    if (static_cast<std::int64_t>(images.size()) > lim.max_frames)
         return Unexpected(derr(DatasetErrorCode::OutOfRange, dir.string(), "too many images"));
     std::sort(images.begin(), images.end(), natural_less);
+    std::vector<fs::path> paths;
+    paths.reserve(images.size());
+    for (const auto& name : images) {
+        auto p = resolve_fixed(dir, name);
+        if (!p) return Unexpected(p.error());
+        paths.push_back(std::move(*p));
+    }
 
-    cv::Mat first = cv::imread((dir / images.front()).string(), cv::IMREAD_COLOR);
+    // The side files, when present.
+    std::vector<std::string> warnings;
+    ThesisMeta meta;
+    auto meta_path = resolve_fixed(dir, kThesisMetaFile);
+    if (!meta_path) return Unexpected(meta_path.error());
+    if (fs::exists(*meta_path, ec)) {
+        auto t = read_text_file(*meta_path, kThesisMetaFile, lim.max_json_bytes);
+        if (!t) return Unexpected(t.error());
+        auto m = parse_thesis_meta(*t, lim, warnings);
+        if (!m) return Unexpected(m.error());
+        meta = std::move(*m);
+    }
+    std::optional<ThesisExtra> extra;
+    auto extra_path = resolve_fixed(dir, kThesisExtraFile);
+    if (!extra_path) return Unexpected(extra_path.error());
+    if (fs::exists(*extra_path, ec)) {
+        auto t = read_text_file(*extra_path, kThesisExtraFile, lim.max_csv_bytes);
+        if (!t) return Unexpected(t.error());
+        auto x = parse_thesis_extra(std::move(*t), images.size());
+        if (!x) return Unexpected(x.error());
+        extra = std::move(*x);
+    }
+    std::optional<FlightLabels> labels;
+    std::optional<std::vector<LabelRow>> label_rows;
+    auto labels_path = resolve_fixed(dir, "labels.json");
+    if (!labels_path) return Unexpected(labels_path.error());
+    if (fs::exists(*labels_path, ec)) {
+        auto t = read_text_file(*labels_path, "labels.json", lim.max_json_bytes);
+        if (!t) return Unexpected(t.error());
+        auto l = parse_labels_json(*t);
+        if (!l) return Unexpected(l.error());
+        labels = std::move(*l);
+    }
+    auto label_rows_path = resolve_fixed(dir, "labels.csv");
+    if (!label_rows_path) return Unexpected(label_rows_path.error());
+    if (fs::exists(*label_rows_path, ec)) {
+        auto t = read_text_file(*label_rows_path, "labels.csv", lim.max_csv_bytes);
+        if (!t) return Unexpected(t.error());
+        auto l = parse_labels_csv(std::move(*t));
+        if (!l) return Unexpected(l.error());
+        label_rows = std::move(*l);
+    }
+
+    cv::Mat first = cv::imread(paths.front().string(), cv::IMREAD_COLOR);
     if (first.empty())
         return Unexpected(
             derr(DatasetErrorCode::Malformed, images.front(), "not a decodable image"));
     DatasetInfo info;
-    info.camera = opts.camera;
+    info.camera = opts.camera.value_or(meta.camera.value_or(CameraId::Front));
     info.width = first.cols;
     info.height = first.rows;
-    if (info.width > open_opts.limits.max_dimension || info.height > open_opts.limits.max_dimension)
+    if (info.width > lim.max_dimension || info.height > lim.max_dimension)
         return Unexpected(derr(DatasetErrorCode::OutOfRange, images.front(), "image too large"));
-    info.fps = opts.fps;
+    info.fps = opts.fps.value_or(meta.fps.value_or(kThesisDefaultFps));
     info.frames = static_cast<std::int64_t>(images.size());
     info.images = ".";
     info.source = "imported";
-    auto cal = default_calibration(opts.camera, open_opts.assets_dir);
-    if (!cal) return Unexpected(cal.error());
+    CameraCalibration calib;
+    if (meta.calibration) {
+        info.calibration = meta.calibration;
+        calib = *meta.calibration;
+        calib.width = info.width;
+        calib.height = info.height;
+    } else {
+        auto cal = default_calibration(info.camera, open_opts.assets_dir);
+        if (!cal) return Unexpected(cal.error());
+        calib = scaled_to(*cal, info.width, info.height);
+    }
+    const bool extra_times = extra && extra->has_time;
+    if (extra_times && opts.fps)
+        warnings.push_back(std::string(kThesisExtraFile) +
+                           ": t_ms ignored, the frames are timed by the frame rate given (" +
+                           csv::format_number(*opts.fps) + " fps)");
     std::vector<FrameRow> rows;
-    std::vector<fs::path> paths;
     rows.reserve(images.size());
     for (std::size_t i = 0; i < images.size(); ++i) {
         FrameRow r;
+        if (extra) r = extra->rows[i];
         r.frame = static_cast<std::int64_t>(i);
-        r.nav.t_ns = std::llround(static_cast<double>(i) * 1e9 / opts.fps);
+        if (!extra_times || opts.fps)
+            r.nav.t_ns = std::llround(static_cast<double>(i) * 1e9 / info.fps);
         const ImuLine& l = (*lines)[i];
         r.nav.roll_deg = l.roll;
         r.nav.pitch_deg = l.pitch;
@@ -181,10 +388,9 @@ Expected<Dataset, DatasetError> open_thesis_folder(const fs::path& dir,
         r.nav.vx_mps = l.vx;
         r.nav.vy_mps = l.vy;
         rows.push_back(r);
-        paths.push_back(dir / images[i]);
     }
-    return Dataset::from_parts(dir, info, scaled_to(*cal, info.width, info.height), std::move(rows),
-                               std::move(paths));
+    return Dataset::from_parts(dir, info, calib, std::move(rows), std::move(paths),
+                               std::move(labels), std::move(label_rows), std::move(warnings));
 }
 
 Expected<Dataset, DatasetError> import_thesis(const fs::path& src, const fs::path& dst,
@@ -223,6 +429,16 @@ Expected<Dataset, DatasetError> import_thesis(const fs::path& src, const fs::pat
     DatasetInfo info = d->info();
     info.images = "frames";
     if (auto e = write_file_atomic(dst / "frames.csv", frames, "frames.csv")) return Unexpected(*e);
+    if (d->labels()) {
+        if (auto e = write_file_atomic(dst / "labels.json", thesis_labels_json(*d->labels()),
+                                       "labels.json"))
+            return Unexpected(*e);
+    }
+    if (d->label_rows()) {
+        if (auto e = write_file_atomic(dst / "labels.csv", thesis_labels_csv(*d->label_rows()),
+                                       "labels.csv"))
+            return Unexpected(*e);
+    }
     if (auto e = write_file_atomic(dst / "flight.json", flight_json_text(info), "flight.json"))
         return Unexpected(*e);
     return Dataset::open(dst, open_opts);
@@ -236,6 +452,7 @@ std::optional<DatasetError> export_thesis(const Dataset& d, FrameStore& frames,
     fs::create_directories(dst, ec);
     if (ec) return derr(DatasetErrorCode::Io, dst.string(), ec.message());
     std::string imu;
+    std::string extra = "frame,t_ms,vz_mps,altitude_m,gt_x_m,gt_y_m,gt_z_m,gt_yaw_deg\n";
     cv::Mat img;
     auto num = [](double v) { return std::isnan(v) ? std::string("nan") : csv::format_number(v); };
     for (std::int64_t i = 0; i < d.frame_count(); ++i) {
@@ -244,9 +461,33 @@ std::optional<DatasetError> export_thesis(const Dataset& d, FrameStore& frames,
         std::snprintf(name, sizeof name, "%06lld.png", static_cast<long long>(i));
         if (!cv::imwrite((dst / name).string(), img))
             return derr(DatasetErrorCode::Io, name, "cannot write image");
-        const NavState& s = d.frames()[static_cast<std::size_t>(i)].nav;
+        const FrameRow& row = d.frames()[static_cast<std::size_t>(i)];
+        const NavState& s = row.nav;
         imu += num(s.roll_deg) + ' ' + num(s.pitch_deg) + ' ' + num(s.yaw_deg) + ' ' +
                num(s.vx_mps) + ' ' + num(s.vy_mps) + '\n';
+        extra += std::to_string(i) + ',' + csv::format_ms(s.t_ns);
+        for (double v :
+             {s.vz_mps, s.altitude_m, row.gt.x_m, row.gt.y_m, row.gt.z_m, row.gt.yaw_deg})
+            extra += ',' + csv::format_number(v);
+        extra += '\n';
+    }
+    nlohmann::ordered_json meta;
+    meta["fps"] = d.info().fps;
+    meta["camera"] = to_string(d.info().camera);
+    if (!d.calibration_is_default())
+        meta["calibration"] = calibration_to_json(d.calibration(), false);
+    if (auto e = write_file_atomic(dst / kThesisMetaFile, meta.dump(2) + "\n", kThesisMetaFile))
+        return e;
+    if (auto e = write_file_atomic(dst / kThesisExtraFile, extra, kThesisExtraFile)) return e;
+    if (d.labels()) {
+        if (auto e = write_file_atomic(dst / "labels.json", thesis_labels_json(*d.labels()),
+                                       "labels.json"))
+            return e;
+    }
+    if (d.label_rows()) {
+        if (auto e = write_file_atomic(dst / "labels.csv", thesis_labels_csv(*d.label_rows()),
+                                       "labels.csv"))
+            return e;
     }
     return write_file_atomic(dst / "imu.txt", imu, "imu.txt");
 }

@@ -47,10 +47,15 @@ public:
             au.display_width = width_;
             au.display_height = height_;
             auto r = decoder_.decode(au, out);
+            // The decoder has taken this unit whatever came out: the next frame in order goes on
+            // from here, so one damaged unit costs its own frame, not the rest of its GOP. A
+            // damaged unit before the one asked for is concealed by the decoder.
+            last_ = i;
+            if (i < index) continue;
             if (!r)
                 return err(DatasetErrorCode::Malformed,
                            "access unit " + std::to_string(i) + ": " + to_string(r.error()));
-            if (i == index && *r != DecodeStatus::Frame)
+            if (*r != DecodeStatus::Frame)
                 return err(DatasetErrorCode::Malformed,
                            "access unit " + std::to_string(i) + " produced no picture");
         }

@@ -2,6 +2,7 @@
 // bad input built in /tmp: success writes flight.json's calibration shape; failures exit non-zero
 // with a reason and write no file.
 #include "cli_test_util.hpp"
+#include "drone/h264_encoder.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -79,6 +80,10 @@ TEST(CalibrateCli, DatasetFramesWithStep) {
     }
     std::ofstream(ds / "flight.json") << R"({"format":"ardrone-dataset","version":1,
         "camera":"front","width":640,"height":360,"fps":30,"images":"frames"})";
+    std::ofstream csv(ds / "frames.csv");
+    csv << "frame,t_ms,roll_deg\n";
+    for (int i = 0; i < 11; ++i) csv << i << ',' << i * 100 << ",0\n";
+    csv.close();
     const fs::path out = ds / "cal.json";
     const CmdResult r = gs::test::run_cli(
         "calibrate " + ds.string() + " --step 2 --board 9x6 --square 0.05 --out " + out.string());
@@ -91,8 +96,47 @@ TEST(CalibrateCli, DatasetFramesWithStep) {
     EXPECT_NEAR(j["fx"].get<double>(), 568.0, 15.0);
 }
 
-TEST(CalibrateCli, VideoOnlyDatasetIsNotSupportedYet) {
+TEST(CalibrateCli, VideoOnlyDatasetIsDecodedThroughTheDatasetReader) {
+    // A recorded dataset holding only video.h264 (as `record` writes): the 11 real frames encoded
+    // as H.264, read back through the dataset reader and decoded; --step 2 takes 6 of them.
     const fs::path ds = scratch("video_only");
+    gs::H264EncoderConfig ec;
+    ec.bitrate_bps = 8'000'000;  // the corners must survive the encoding
+    auto enc = gs::H264Encoder::create(ec);
+    ASSERT_TRUE(enc.has_value()) << gs::to_string(enc.error());
+    std::ofstream video(ds / "video.h264", std::ios::binary);
+    std::ofstream csv(ds / "frames.csv");
+    csv << "frame,t_ms,roll_deg\n";
+    std::vector<std::uint8_t> au;
+    for (int i = 0; i < 11; ++i) {
+        bool idr = false;
+        const cv::Mat img = cv::imread(frame(i), cv::IMREAD_COLOR);
+        ASSERT_EQ(img.size(), cv::Size(640, 360));
+        ASSERT_TRUE((*enc)->encode(img, au, idr).has_value());
+        video.write(reinterpret_cast<const char*>(au.data()),
+                    static_cast<std::streamsize>(au.size()));
+        csv << i << ',' << i * 100 << ",0\n";
+    }
+    video.close();
+    csv.close();
+    std::ofstream(ds / "flight.json") << R"({"format":"ardrone-dataset","version":1,
+        "camera":"front","width":640,"height":360,"fps":30})";
+    const fs::path out = ds / "cal.json";
+    const CmdResult r = gs::test::run_cli(
+        "calibrate " + ds.string() + " --step 2 --board 9x6 --square 0.05 --out " + out.string());
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    EXPECT_NE(r.out.find("from 6 image(s)"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("video.h264 frame 10"), std::string::npos) << r.out;
+    const auto j = nlohmann::json::parse(std::ifstream(out));
+    EXPECT_EQ(j["views"], 6);
+    EXPECT_EQ(j["camera"], "front");
+    EXPECT_NEAR(j["fx"].get<double>(), 568.0, 15.0);
+}
+
+TEST(CalibrateCli, DatasetOutsideTheRulesIsRefused) {
+    // The dataset reader's rules apply: without frames.csv (DATASET.md requires it) the dataset
+    // is refused, naming the file.
+    const fs::path ds = scratch("bad_dataset");
     std::ofstream(ds / "flight.json") << R"({"format":"ardrone-dataset","version":1,
         "camera":"front","width":640,"height":360,"fps":30})";
     std::ofstream(ds / "video.h264") << "x";
@@ -100,7 +144,63 @@ TEST(CalibrateCli, VideoOnlyDatasetIsNotSupportedYet) {
     const CmdResult r = gs::test::run_cli("calibrate " + ds.string() +
                                           " --board 9x6 --square 0.05 --out " + out.string());
     EXPECT_NE(r.exit_code, 0);
-    EXPECT_NE(r.out.find("not supported yet"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("frames.csv"), std::string::npos) << r.out;
+    EXPECT_FALSE(fs::exists(out));
+}
+
+TEST(CalibrateCli, BlurryAndPartialBoardsGetTheirOwnMessage) {
+    // Four good frames, one blurred past the sharpness limit and one with half the board covered:
+    // each bad image gets a line saying why it was skipped, the calibration uses the good ones.
+    const fs::path dir = scratch("blurry_partial");
+    for (int i = 0; i < 4; ++i) {
+        char name[16];
+        std::snprintf(name, sizeof name, "good%d.jpg", i);
+        fs::copy_file(frame(i), dir / name);
+    }
+    const cv::Mat img = cv::imread(frame(4), cv::IMREAD_COLOR);
+    cv::Mat blurred;
+    cv::GaussianBlur(img, blurred, {0, 0}, 2.5);
+    cv::imwrite((dir / "x_blurred.png").string(), blurred);
+    cv::Mat partial = img.clone();
+    partial(cv::Rect(320, 0, 320, 360)).setTo(cv::Scalar::all(128));
+    cv::imwrite((dir / "y_partial.png").string(), partial);
+    const fs::path out = dir / "cal.json";
+    const CmdResult r = gs::test::run_cli("calibrate " + dir.string() +
+                                          " --board 9x6 --square 0.05 --out " + out.string());
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    // The progress line of one image: "[ 5/6] x_blurred.png   board blurry ...".
+    auto line_of = [&](const char* name) {
+        std::string key("] ");
+        key.append(name);
+        const auto at = r.out.find(key);
+        if (at == std::string::npos) return std::string();
+        const auto end = r.out.find('\n', at);
+        return r.out.substr(at, end == std::string::npos ? std::string::npos : end - at);
+    };
+    EXPECT_NE(line_of("x_blurred.png").find("board blurry"), std::string::npos) << r.out;
+    EXPECT_NE(line_of("y_partial.png").find("board not found"), std::string::npos) << r.out;
+    EXPECT_NE(line_of("y_partial.png").find("whole 9x6 board"), std::string::npos) << r.out;
+    EXPECT_NE(line_of("good3.jpg").find("board found"), std::string::npos) << r.out;
+    const auto j = nlohmann::json::parse(std::ifstream(out));
+    EXPECT_EQ(j["views"], 4);
+}
+
+TEST(CalibrateCli, OnlyBlurryBoardsSayBlurry) {
+    const fs::path dir = scratch("only_blurry");
+    for (int i = 0; i < 2; ++i) {
+        cv::Mat blurred;
+        cv::GaussianBlur(cv::imread(frame(i), cv::IMREAD_COLOR), blurred, {0, 0}, 2.5);
+        char name[16];
+        std::snprintf(name, sizeof name, "b%d.png", i);
+        cv::imwrite((dir / name).string(), blurred);
+    }
+    const fs::path out = dir / "cal.json";
+    const CmdResult r = gs::test::run_cli("calibrate " + dir.string() +
+                                          " --board 9x6 --square 0.05 --out " + out.string());
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_NE(r.out.find("2 blurry, 0 without the board"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("hold it still"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("No calibration written"), std::string::npos);
     EXPECT_FALSE(fs::exists(out));
 }
 

@@ -3,6 +3,8 @@
 #include "drone/dataset/annexb.hpp"
 #include "drone/dataset/dataset.hpp"
 #include "drone/dataset/frame_store.hpp"
+#include "drone/dataset/raw.hpp"
+#include "drone/dataset/thesis.hpp"
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
@@ -186,6 +188,67 @@ TEST(DatasetReader, PathsInMetadataStayInsideTheDataset) {
                test::flight_json(64, 48, 25, cal + ", \"images\": \"escape\""));
     EXPECT_EQ(open_error(dir),
               "flight.json: 'images' (escape) resolves outside the dataset directory");
+}
+
+TEST(DatasetReader, FixedNameFilesThatLinkOutsideAreRefused) {
+    // flight.json, frames.csv, navdata.csv, labels.*, video.h264 and raw/ have fixed names; a
+    // symlink in their place that leads out of the dataset is refused, naming the file.
+    TempDir t;
+    test::make_png_dataset(t / "outside", 2);
+    write_file(t / "outside/secret.csv", "frame,t_ms,roll_deg\n0,0,0\n1,40,0\n");
+    fs::create_directories(t / "outside/rawdir");
+    for (const std::string name : {"flight.json", "frames.csv", "navdata.csv", "labels.json",
+                                   "labels.csv", "video.h264", "raw"}) {
+        SCOPED_TRACE(name);
+        const fs::path dir = t / ("d_" + name);
+        test::make_png_dataset(dir, 2);
+        fs::remove(dir / name);
+        if (name == "raw")
+            fs::create_directory_symlink(t / "outside/rawdir", dir / name);
+        else if (name == "flight.json")
+            fs::create_symlink(t / "outside/flight.json", dir / name);
+        else
+            fs::create_symlink(t / "outside/secret.csv", dir / name);
+        const std::string e = open_error(dir);
+        EXPECT_NE(e.find(name), std::string::npos) << e;
+        EXPECT_NE(e.find("resolves outside the dataset directory"), std::string::npos) << e;
+    }
+    // A link that stays inside is fine.
+    const fs::path ok = t / "inside";
+    test::make_png_dataset(ok, 2);
+    write_file(ok / "meta/labels.json", R"({"scenario": "left"})");
+    fs::create_symlink("meta/labels.json", ok / "labels.json");
+    auto d = Dataset::open(ok);
+    ASSERT_TRUE(d) << to_string(d.error());
+    ASSERT_TRUE(d->labels());
+    EXPECT_EQ(d->labels()->scenario, Scenario::Left);
+}
+
+TEST(DatasetReader, RawFilesThatLinkOutsideAreRefused) {
+    TempDir t;
+    write_file(t / "outside/at.log", "0 AT*REF=1,290717696\r\n");
+    const fs::path dir = t / "d";
+    test::make_png_dataset(dir, 2);
+    fs::create_directories(dir / "raw");
+    fs::create_symlink(t / "outside/at.log", dir / "raw/at.log");
+    auto d = Dataset::open(dir);
+    ASSERT_TRUE(d) << to_string(d.error());
+    ASSERT_TRUE(d->raw_dir());
+    auto at = read_at_log(*d->raw_dir());
+    ASSERT_FALSE(at);
+    EXPECT_EQ(at.error().code, DatasetErrorCode::UnsafePath);
+    EXPECT_NE(to_string(at.error()).find("raw/at.log"), std::string::npos) << to_string(at.error());
+    // The thesis layout's IMU file too.
+    const fs::path thesis = t / "thesis";
+    write_file(t / "outside/imu.txt", "0 0 0 0 0\n");
+    fs::create_directories(thesis);
+    cv::imwrite((thesis / "a.png").string(), test::test_image(0, 64, 48));
+    fs::create_symlink(t / "outside/imu.txt", thesis / "imu.txt");
+    auto th = open_thesis_folder(thesis);
+    ASSERT_FALSE(th);
+    EXPECT_NE(to_string(th.error()).find("imu.txt: resolves outside the dataset directory"),
+              std::string::npos)
+        << to_string(th.error());
 }
 
 TEST(DatasetReader, AbsurdValuesAreRefused) {

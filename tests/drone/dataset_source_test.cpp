@@ -162,8 +162,12 @@ TEST(Thesis, ExportThenImportRoundTrip) {
         EXPECT_EQ(b.pitch_deg, a.pitch_deg);
         EXPECT_EQ(b.yaw_deg, a.yaw_deg);
         EXPECT_TRUE(std::isnan(b.vx_mps));
-        EXPECT_TRUE(std::isnan(b.altitude_m));  // not in the thesis layout
+        EXPECT_EQ(b.altitude_m, a.altitude_m);  // imu_extra.csv carries it
     }
+    // The dataset's own calibration travels in imu_meta.json.
+    EXPECT_FALSE(back->calibration_is_default());
+    EXPECT_EQ(back->calibration().fx, d->calibration().fx);
+    EXPECT_EQ(back->calibration().dist, d->calibration().dist);
     auto bf = open_image_frames(*back);
     ASSERT_TRUE(bf);
     cv::Mat img;

@@ -1,0 +1,57 @@
+#pragma once
+// Options several subcommands share, declared, checked and applied in one place so they mean the
+// same everywhere:
+//   --calibration FILE   replay, eval, odometry, record: a calibration JSON instead of the
+//                        dataset's (flight.json's or the camera default); checked when parsed
+//                        (a missing or malformed file is refused before any work)
+//   --fps N              replay, eval, odometry, dataset info/import-thesis: the frame rate of a
+//                        thesis-style image folder (which has no timestamps)
+//   --classifier, --set  replay, eval: the obstacle classifier and its parameter overrides
+
+#include "drone/calibration.hpp"
+#include "drone/dataset/dataset.hpp"
+#include "drone/expected.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace gs::app {
+
+// --calibration FILE: a camera calibration JSON (flight.json's calibration object, or what
+// `ardrone-gs calibrate` writes), used instead of `instead_of`. The file is loaded when the option
+// is parsed: a missing or malformed one is an option error naming the file and the problem.
+CLI::Option* add_calibration_option(CLI::App& sub, std::string& file,
+                                    const std::string& instead_of);
+
+// --fps N: the frame rate of a thesis-style image folder (DATASET.md says 25 unless told).
+// Checked as a number in (0, 1000]; 0 in `fps` means not given.
+CLI::Option* add_thesis_fps_option(CLI::App& sub, double& fps);
+// The value to pass on: nullopt when --fps was not given.
+inline std::optional<double> given_fps(double fps) {
+    return fps > 0 ? std::optional<double>(fps) : std::nullopt;
+}
+
+// What a headless run over a dataset is told about its input: --calibration and --fps.
+struct DatasetInputOptions {
+    std::string calibration;  // empty: the dataset's own
+    double fps = 0;           // 0: not given
+};
+// Adds --calibration and --fps (above) to `sub`.
+void add_dataset_input_options(CLI::App& sub, DatasetInputOptions& o,
+                               const std::string& calibration_instead_of);
+// A dataset directory or thesis-style folder, opened as the options say; the error names the
+// path and the problem.
+[[nodiscard]] Expected<Dataset, std::string> open_input_dataset(const std::string& path,
+                                                                const DatasetInputOptions& o);
+// The calibration the run uses for `d`'s frames: --calibration's file scaled to the frame size,
+// else the dataset's.
+[[nodiscard]] Expected<CameraCalibration, std::string> input_calibration(
+    const Dataset& d, const DatasetInputOptions& o);
+
+// --classifier NAME (thesis or flow) and --set key=value (repeatable).
+void add_classifier_options(CLI::App& sub, std::string& classifier, std::vector<std::string>& set);
+
+}  // namespace gs::app
