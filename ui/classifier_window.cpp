@@ -1,9 +1,89 @@
 #include "ui/windows.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <string>
 
 namespace gs::ui {
+
+namespace {
+
+// "+0.42 cm" style numbers (`decimals` after the point, a sign when `sign`); "-" when unknown.
+std::string signed_num(double v, double scale, int decimals, const char* unit, bool sign = true) {
+    if (!known(v)) return "-";
+    char b[48];
+    std::snprintf(b, sizeof b, sign ? "%+.*f %s" : "%.*f %s", decimals, v * scale, unit);
+    return b;
+}
+
+// The bottom camera's visual odometry: this sample's estimate and how it was found, then the
+// integrated pose against the navdata's over the same samples.
+void odometry_readout(const OdometryView& o, const GuiSnapshot& s) {
+    ImGui::TextColored(colors::v4(colors::kInfo), "Visual odometry (bottom camera)");
+    if (!o.active) {
+        ImGui::TextColored(colors::v4(colors::kDim),
+                           s.video.bgr.empty() ? "waiting for video" : "waiting for a frame");
+        return;
+    }
+    ImGui::SameLine();
+    ImGui::TextColored(colors::v4(colors::kDim), "sample %lld, %s ms",
+                       static_cast<long long>(o.sample), format_sig(o.ms, 2).c_str());
+    const ImGuiTableFlags tf = ImGuiTableFlags_SizingFixedFit | ImGuiTableFlags_RowBg;
+    if (!ImGui::BeginTable("odometry", 2, tf)) return;
+    ImGui::TableSetupColumn("what", ImGuiTableColumnFlags_WidthFixed);
+    ImGui::TableSetupColumn("value", ImGuiTableColumnFlags_WidthStretch);
+    auto row = [](const char* label) {
+        ImGui::TableNextRow();
+        ImGui::TableSetColumnIndex(0);
+        ImGui::TextColored(colors::v4(colors::kDim), "%s", label);
+        ImGui::TableSetColumnIndex(1);
+    };
+    row("status");
+    const bool first = o.sample == 0;
+    ImGui::TextColored(colors::v4(o.valid ? colors::kGood
+                                  : first ? colors::kDim
+                                          : colors::kWarn),
+                       "%s", o.status.c_str());
+    ImGui::SameLine();
+    ImGui::TextColored(colors::v4(colors::kDim), "inliers %d / tracked %d / corners %d", o.inliers,
+                       o.tracked, o.corners);
+    row("per sample");
+    ImGui::Text("dx %s  dy %s  dyaw %s", signed_num(o.dx_m, 100, 2, "cm").c_str(),
+                signed_num(o.dy_m, 100, 2, "cm").c_str(),
+                signed_num(o.dyaw_deg, 1, 2, "deg").c_str());
+    if (o.spike_zeroed || o.rotation_gated) {
+        ImGui::SameLine();
+        ImGui::TextColored(colors::v4(colors::kWarn), "%s",
+                           o.spike_zeroed ? "(spike: zeroed)" : "(rotating: translation gated)");
+    }
+    row("navdata");
+    ImGui::TextColored(colors::v4(colors::kDim), "dyaw %s, floor %s",
+                       signed_num(o.dyaw_navdata_deg, 1, 2, "deg").c_str(),
+                       signed_num(o.distance_m, 1, 2, "m", false).c_str());
+    row("path");
+    ImGui::Text("x %s  y %s  yaw %s", signed_num(o.x_m, 1, 2, "m").c_str(),
+                signed_num(o.y_m, 1, 2, "m").c_str(),
+                signed_num(o.yaw_deg, 1, 1, "deg", false).c_str());
+    if (known(o.nav_x_m) && known(o.x_m)) {
+        row("vs navdata");
+        ImGui::TextColored(
+            colors::v4(colors::kDim), "x %s  y %s  apart %s",
+            signed_num(o.nav_x_m, 1, 2, "m").c_str(), signed_num(o.nav_y_m, 1, 2, "m").c_str(),
+            signed_num(std::hypot(o.x_m - o.nav_x_m, o.y_m - o.nav_y_m), 100, 1, "cm", false)
+                .c_str());
+    }
+    row("samples");
+    ImGui::TextColored(colors::v4(o.invalid > 0 ? colors::kWarn : colors::kDim),
+                       "%lld: %lld without estimate, %lld spike-zeroed, %lld gated; mean %s ms",
+                       static_cast<long long>(o.samples), static_cast<long long>(o.invalid),
+                       static_cast<long long>(o.spike_samples),
+                       static_cast<long long>(o.gated_samples), format_sig(o.ms_mean, 2).c_str());
+    ImGui::EndTable();
+}
+
+}  // namespace
 
 void ClassifierWindow::draw(const GuiSnapshot& s, ViewState& v, Actions& a) {
     if (!ImGui::Begin("Classifier", &v.open.classifier)) {
@@ -11,6 +91,10 @@ void ClassifierWindow::draw(const GuiSnapshot& s, ViewState& v, Actions& a) {
         return;
     }
     const ClassifierOutput& c = s.classifier;
+    if (s.odometry.active || s.video.camera == "bottom") {
+        odometry_readout(s.odometry, s);
+        ImGui::Separator();
+    }
     // Picker.
     ImGui::SetNextItemWidth(-FLT_MIN);
     if (ImGui::BeginCombo("##classifier", c.active.empty() ? "(none)" : c.active.c_str())) {
@@ -23,6 +107,12 @@ void ClassifierWindow::draw(const GuiSnapshot& s, ViewState& v, Actions& a) {
         }
         ImGui::EndCombo();
     }
+    if (!c.not_running.empty()) {
+        ImGui::PushTextWrapPos(0.0f);
+        ImGui::TextColored(colors::v4(colors::kWarn), "Obstacle classifier %s.",
+                           c.not_running.c_str());
+        ImGui::PopTextWrapPos();
+    }
     // Decisions.
     for (const auto& d : c.decisions) {
         const std::uint32_t col = d.flagged ? colors::kBad : colors::kGood;
@@ -30,28 +120,37 @@ void ClassifierWindow::draw(const GuiSnapshot& s, ViewState& v, Actions& a) {
                            d.flagged ? "UNSAFE" : "clear");
         ImGui::SameLine();
         if (known(d.score))
-            ImGui::TextColored(colors::v4(colors::kDim), "score %.3f / thr %.3f", d.score,
-                               d.threshold);
+            ImGui::TextColored(colors::v4(colors::kDim), "score %s / thr %s",
+                               format_sig(d.score).c_str(), format_sig(d.threshold).c_str());
         else
             ImGui::TextColored(colors::v4(colors::kDim), "score -");
     }
     ImGui::Separator();
 
     // Parameters, drawn from the generic list; drag to tune live, right-click to reset one.
+    // The name column is as wide as the longest name, as long as the sliders keep room to be
+    // dragged; a name cut short shows in full (with its description) when hovered.
+    float name_w = 0;
+    for (const auto& p : c.params) name_w = std::max(name_w, ImGui::CalcTextSize(p.name.c_str()).x);
+    const float min_slider = ImGui::GetFontSize() * 7;
+    const float avail = ImGui::GetContentRegionAvail().x;
+    name_w = std::clamp(name_w, ImGui::GetFontSize() * 4, std::max(avail - min_slider, 1.0f));
     bool any_changed = false;
-    if (ImGui::BeginTable("params", 2, ImGuiTableFlags_SizingStretchProp | ImGuiTableFlags_RowBg)) {
-        ImGui::TableSetupColumn("name", ImGuiTableColumnFlags_WidthStretch, 0.45f);
-        ImGui::TableSetupColumn("value", ImGuiTableColumnFlags_WidthStretch, 0.55f);
+    if (ImGui::BeginTable("params", 2, ImGuiTableFlags_SizingFixedFit | ImGuiTableFlags_RowBg)) {
+        ImGui::TableSetupColumn("name", ImGuiTableColumnFlags_WidthFixed, name_w);
+        ImGui::TableSetupColumn("value", ImGuiTableColumnFlags_WidthStretch);
         for (const auto& p : c.params) {
             ImGui::TableNextRow();
             ImGui::TableSetColumnIndex(0);
             const bool modified = p.value != p.default_value;
             ImGui::TextColored(colors::v4(modified ? colors::kWarn : colors::kText), "%s",
                                p.name.c_str());
-            if (ImGui::IsItemHovered() && !p.description.empty()) {
+            if (ImGui::IsItemHovered()) {
                 ImGui::BeginTooltip();
                 ImGui::PushTextWrapPos(ImGui::GetFontSize() * 24);
-                ImGui::TextUnformatted(p.description.c_str());
+                ImGui::TextUnformatted(p.name.c_str());
+                if (!p.description.empty())
+                    ImGui::TextColored(colors::v4(colors::kDim), "%s", p.description.c_str());
                 ImGui::TextColored(colors::v4(colors::kDim), "default %g, range [%g, %g]",
                                    p.default_value, p.min, p.max);
                 ImGui::PopTextWrapPos();

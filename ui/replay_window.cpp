@@ -55,13 +55,16 @@ void ReplayWindow::draw(const GuiSnapshot& s, ViewState& v, Actions& a) {
     ImGui::SameLine();
     bool loop = r.loop;
     if (ImGui::Checkbox("Loop", &loop)) a.replay_loop = loop;
-    ImGui::SameLine();
-    // Speed as powers of two, 0.25x .. 8x.
+    // Speed as powers of two, 0.25x .. 8x: on the same line when the slider has room to show
+    // its label and be dragged, else on a line of its own.
     static const double speeds[] = {0.25, 0.5, 1, 2, 4, 8};
     static const char* labels[] = {"0.25x", "0.5x", "1x", "2x", "4x", "8x"};
     int si = 2;
     for (int i = 0; i < 6; ++i)
         if (std::fabs(speeds[i] - r.speed) < 1e-6) si = i;
+    const float speed_w = ImGui::CalcTextSize("0.25x").x + ImGui::GetFontSize() * 4;
+    ImGui::SameLine();
+    if (ImGui::GetContentRegionAvail().x < speed_w) ImGui::NewLine();
     ImGui::SetNextItemWidth(-FLT_MIN);
     if (ImGui::SliderInt("##speed", &si, 0, 5, labels[si])) a.replay_speed = speeds[si];
 

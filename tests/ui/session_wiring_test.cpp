@@ -226,5 +226,65 @@ TEST_F(Wiring, RKeyRecordsTheVirtualDroneAsADatasetThatOpensForReplay) {
     std::filesystem::remove_all(root);
 }
 
+// The bottom camera on the virtual drone flying its scripted flight: the session runs the visual
+// odometry (not the classifier) on its frames, the window gets per-sample estimates and a path,
+// and the flight-path map draws it beside the navdata path on equal scales.
+TEST_F(Wiring, BottomCameraRunsVisualOdometryBesideTheNavdataPath) {
+    const std::filesystem::path root =
+        std::filesystem::temp_directory_path() / ("gs_wiring_bottom_" + std::to_string(::getpid()));
+    std::filesystem::remove_all(root);
+    SessionOptions so;
+    so.record_root = root;
+    session = std::make_unique<Session>(so);
+    adapter = std::make_unique<GuiAdapter>(*session);
+    adapter->set_start_camera(1);  // what `--camera bottom` does
+    ASSERT_TRUE(session->request(app::StartSim{"thesis_pillar_center", true}));
+    ASSERT_TRUE(run_until(
+        [&] {
+            return snap.odometry.active && snap.odometry.samples >= 20 &&
+                   snap.odometry.path_x.size() >= 10;
+        },
+        25s))
+        << "camera " << snap.video.camera << ", samples " << snap.odometry.samples << "; "
+        << (snap.messages.empty() ? "" : snap.messages.back());
+    step();
+    const OdometryView& o = snap.odometry;
+    EXPECT_EQ(snap.video.camera, "bottom");
+    EXPECT_FALSE(snap.classifier.not_running.empty()) << "the classifier is for the front camera";
+    EXPECT_TRUE(snap.classifier.decisions.empty());
+    EXPECT_GT(o.samples - o.invalid, o.samples / 2) << "most samples give an estimate";
+    EXPECT_EQ(o.path_x.size(), o.path_y.size());
+    EXPECT_TRUE(std::isfinite(o.distance_m) && o.distance_m > 0) << "altitude from navdata";
+    EXPECT_TRUE(std::isfinite(o.x_m) && std::isfinite(o.y_m));
+    EXPECT_TRUE(std::isfinite(o.nav_x_m) && std::isfinite(o.nav_y_m));
+    // The newest path point is the current pose (x right = eq. 6.2 y, y forward = eq. 6.2 x).
+    EXPECT_DOUBLE_EQ(o.path_x.back(), o.y_m);
+    EXPECT_DOUBLE_EQ(o.path_y.back(), o.x_m);
+
+    const LayoutReport::FlightPath& fp = gui.view().layout.flight_path;
+    ASSERT_TRUE(fp.drawn);
+    ASSERT_EQ(fp.series.size(), 2u);
+    EXPECT_EQ(fp.series[0], "navdata");
+    EXPECT_EQ(fp.series[1], "visual odometry");
+    EXPECT_TRUE(fp.legend);
+    EXPECT_EQ(fp.odometry_points, o.path_x.size());
+    ASSERT_GT(fp.x_per_px, 0);
+    EXPECT_NEAR(fp.y_per_px / fp.x_per_px, 1.0, 1e-6) << "equal scale on both axes";
+    EXPECT_TRUE(std::isfinite(fp.odometry_x0) && std::isfinite(fp.odometry_y0));
+
+    // Recorded now, the dataset is a bottom-camera one (flight.json "camera": "bottom").
+    ASSERT_TRUE(step(key(PilotKey::Record)).record_start);
+    ASSERT_TRUE(run_until([&] { return snap.recording.active && snap.recording.frames >= 5; }, 8s))
+        << snap.recording.error;
+    step();
+    ASSERT_TRUE(step(key(PilotKey::Record)).record_stop);
+    ASSERT_TRUE(run_until([&] { return !snap.recording.active; }, 8s));
+    auto ds = Dataset::open(snap.recording.path);
+    ASSERT_TRUE(ds) << to_string(ds.error());
+    EXPECT_EQ(ds->info().camera, CameraId::Bottom);
+    EXPECT_GE(ds->frame_count(), 5);
+    std::filesystem::remove_all(root);
+}
+
 }  // namespace
 }  // namespace gs::ui::test
