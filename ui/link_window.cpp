@@ -39,7 +39,14 @@ void LinkWindow::draw(const GuiSnapshot& s, ViewState& v) {
         };
         auto cnt = [](std::uint64_t x) { return std::to_string(x); };
         rowf(
-            "rate", [&](const StreamHealth& h) { return fmt(1, h.rate_hz, "/s"); },
+            "rate",
+            [&](const StreamHealth& h) {
+                // Navdata packets, video frames, AT datagrams.
+                return fmt(1, h.rate_hz,
+                           &h == &s.link.video ? "frames/s"
+                           : &h == &s.link.at  ? "dgrams/s"
+                                               : "pkts/s");
+            },
             [](const StreamHealth&) { return false; });
         rowf(
             "age", [&](const StreamHealth& h) { return fmt(0, h.age_ms, "ms"); },

@@ -466,8 +466,10 @@ PlotResult draw_plot(const char* id, const PlotSpec& spec, ImVec2 size) {
             if (storage->GetBool(hidden_id(s.name), false) || s.size() == 0) continue;
             std::size_t best = 0;
             double bd = std::numeric_limits<double>::infinity();
+            // Nearest in x (a time series), or nearest on the map (equal aspect: a path).
             for (std::size_t i = 0; i < s.size(); ++i) {
-                const double d = std::fabs(s.px(i) - mx);
+                const double d = spec.equal_aspect ? std::hypot(s.px(i) - mx, s.py(i) - my)
+                                                   : std::fabs(s.px(i) - mx);
                 if (std::isfinite(d) && d < bd) {
                     bd = d;
                     best = i;
@@ -478,7 +480,12 @@ PlotResult draw_plot(const char* id, const PlotSpec& spec, ImVec2 size) {
             const ImVec2 hp = to_px(s.px(best), s.py(best));
             if (hp.x >= a0.x && hp.x <= a1.x && hp.y >= a0.y && hp.y <= a1.y)
                 dl->AddCircle(hp, 4.0f, col, 0, 1.5f);
-            ImGui::TextColored(ImColor(col), "%s: %.4g", std::string(s.name).c_str(), s.py(best));
+            if (spec.equal_aspect)
+                ImGui::TextColored(ImColor(col), "%s: (%.4g, %.4g)", std::string(s.name).c_str(),
+                                   s.px(best), s.py(best));
+            else
+                ImGui::TextColored(ImColor(col), "%s: %.4g", std::string(s.name).c_str(),
+                                   s.py(best));
         }
         for (const auto& t : spec.thresholds)
             ImGui::TextColored(ImColor(t.rgba ? t.rgba : kThreshold), "%s: %.4g",

@@ -88,6 +88,9 @@ std::string format_duration(double seconds);
 // "-" for NaN. Scores and thresholds of any magnitude stay readable.
 std::string format_sig(double v, int digits = 3);
 
+// The replay speeds the window offers (the session's pacing accepts the same range).
+inline constexpr double kReplayMinSpeed = 0.25, kReplayMaxSpeed = 8.0;
+
 struct ReplayWindow {
     void draw(const GuiSnapshot& s, ViewState& v, Actions& a);
 };

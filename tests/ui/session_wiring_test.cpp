@@ -197,6 +197,29 @@ TEST_F(Wiring, HudBatteryGaugeShowsTheNavdataBatteryOfTheVirtualDrone) {
             demo_battery || (f.group == "demo" && f.name.rfind("vbat_flying_percentage", 0) == 0 &&
                              std::stod(f.value) == nav_pct);
     EXPECT_TRUE(demo_battery);
+
+    // Link health: packet rate and throughput for all three streams. Navdata bytes are the rate
+    // times the datagram size (header + options + checksum, at least the demo option's 148
+    // bytes); AT ones an estimate of a REF + PCMD datagram every 30 ms (each "AT*..." is over 20
+    // bytes).
+    ASSERT_TRUE(run_until(
+        [&] {
+            // Rates are measured over one-second windows: 0 until the first has passed.
+            return snap.link.navdata.rate_hz > 0 && snap.link.at.rate_hz > 0 &&
+                   snap.link.video.rate_hz > 0 && snap.link.video.bytes_per_s > 0;
+        },
+        5s));
+    const StreamHealth& n = snap.link.navdata;
+    const StreamHealth& at = snap.link.at;
+    ASSERT_GT(n.rate_hz, 5.0);
+    EXPECT_GE(n.bytes_per_s / n.rate_hz, 148.0);
+    EXPECT_LE(n.bytes_per_s / n.rate_hz, 4096.0);
+    ASSERT_GT(at.rate_hz, 15.0);
+    EXPECT_TRUE(at.bytes_estimated);
+    EXPECT_GE(at.bytes_per_s / at.rate_hz, 40.0);
+    EXPECT_LE(at.bytes_per_s / at.rate_hz, 200.0);
+    EXPECT_GT(snap.link.video.rate_hz, 5.0);
+    EXPECT_GT(snap.link.video.bytes_per_s, 1000.0);
 }
 
 TEST_F(Wiring, RKeyRecordsTheVirtualDroneAsADatasetThatOpensForReplay) {
