@@ -4,6 +4,12 @@
 
 namespace gs::app {
 
+vision::OdometryParams LiveOdometry::live_params() {
+    vision::OdometryParams p;
+    p.spike_translation_m = 0.25;
+    return p;
+}
+
 LiveOdometry::LiveOdometry(const CameraCalibration& bottom, const vision::OdometryParams& params)
     : calib_(bottom), params_(params) {
     path_.reserve(kMaxPathPoints);

@@ -27,59 +27,53 @@ void odometry_readout(const OdometryView& o, const GuiSnapshot& s) {
                            s.video.bgr.empty() ? "waiting for video" : "waiting for a frame");
         return;
     }
-    ImGui::SameLine();
-    ImGui::TextColored(colors::v4(colors::kDim), "sample %lld, %s ms",
-                       static_cast<long long>(o.sample), format_sig(o.ms, 2).c_str());
     const ImGuiTableFlags tf = ImGuiTableFlags_SizingFixedFit | ImGuiTableFlags_RowBg;
     if (!ImGui::BeginTable("odometry", 2, tf)) return;
     ImGui::TableSetupColumn("what", ImGuiTableColumnFlags_WidthFixed);
     ImGui::TableSetupColumn("value", ImGuiTableColumnFlags_WidthStretch);
-    auto row = [](const char* label) {
+    // One row: a label, then the value wrapped inside its cell (the window may be narrow).
+    auto row = [](const char* label, std::uint32_t col, const std::string& text) {
         ImGui::TableNextRow();
         ImGui::TableSetColumnIndex(0);
         ImGui::TextColored(colors::v4(colors::kDim), "%s", label);
         ImGui::TableSetColumnIndex(1);
+        ImGui::PushStyleColor(ImGuiCol_Text, colors::v4(col));
+        ImGui::PushTextWrapPos(0.0f);
+        ImGui::TextUnformatted(text.c_str());
+        ImGui::PopTextWrapPos();
+        ImGui::PopStyleColor();
     };
-    row("status");
     const bool first = o.sample == 0;
-    ImGui::TextColored(colors::v4(o.valid ? colors::kGood
-                                  : first ? colors::kDim
-                                          : colors::kWarn),
-                       "%s", o.status.c_str());
-    ImGui::SameLine();
-    ImGui::TextColored(colors::v4(colors::kDim), "inliers %d / tracked %d / corners %d", o.inliers,
-                       o.tracked, o.corners);
-    row("per sample");
-    ImGui::Text("dx %s  dy %s  dyaw %s", signed_num(o.dx_m, 100, 2, "cm").c_str(),
-                signed_num(o.dy_m, 100, 2, "cm").c_str(),
-                signed_num(o.dyaw_deg, 1, 2, "deg").c_str());
-    if (o.spike_zeroed || o.rotation_gated) {
-        ImGui::SameLine();
-        ImGui::TextColored(colors::v4(colors::kWarn), "%s",
-                           o.spike_zeroed ? "(spike: zeroed)" : "(rotating: translation gated)");
-    }
-    row("navdata");
-    ImGui::TextColored(colors::v4(colors::kDim), "dyaw %s, floor %s",
-                       signed_num(o.dyaw_navdata_deg, 1, 2, "deg").c_str(),
-                       signed_num(o.distance_m, 1, 2, "m", false).c_str());
-    row("path");
-    ImGui::Text("x %s  y %s  yaw %s", signed_num(o.x_m, 1, 2, "m").c_str(),
-                signed_num(o.y_m, 1, 2, "m").c_str(),
-                signed_num(o.yaw_deg, 1, 1, "deg", false).c_str());
-    if (known(o.nav_x_m) && known(o.x_m)) {
-        row("vs navdata");
-        ImGui::TextColored(
-            colors::v4(colors::kDim), "x %s  y %s  apart %s",
-            signed_num(o.nav_x_m, 1, 2, "m").c_str(), signed_num(o.nav_y_m, 1, 2, "m").c_str(),
-            signed_num(std::hypot(o.x_m - o.nav_x_m, o.y_m - o.nav_y_m), 100, 1, "cm", false)
-                .c_str());
-    }
-    row("samples");
-    ImGui::TextColored(colors::v4(o.invalid > 0 ? colors::kWarn : colors::kDim),
-                       "%lld: %lld without estimate, %lld spike-zeroed, %lld gated; mean %s ms",
-                       static_cast<long long>(o.samples), static_cast<long long>(o.invalid),
-                       static_cast<long long>(o.spike_samples),
-                       static_cast<long long>(o.gated_samples), format_sig(o.ms_mean, 2).c_str());
+    row("sample", colors::kDim,
+        std::to_string(o.sample) + ", " + format_sig(o.ms, 2) + " ms (mean " +
+            format_sig(o.ms_mean, 2) + " ms)");
+    row("status",
+        o.valid ? colors::kGood
+        : first ? colors::kDim
+                : colors::kWarn,
+        o.status + " (" + std::to_string(o.inliers) + " inliers / " + std::to_string(o.tracked) +
+            " tracked / " + std::to_string(o.corners) + " corners)");
+    std::string per = "dx " + signed_num(o.dx_m, 100, 2, "cm") + "  dy " +
+                      signed_num(o.dy_m, 100, 2, "cm") + "  dyaw " +
+                      signed_num(o.dyaw_deg, 1, 2, "deg");
+    if (o.spike_zeroed) per += "  (spike: zeroed)";
+    if (o.rotation_gated) per += "  (rotating: translation gated)";
+    row("per sample", o.spike_zeroed || o.rotation_gated ? colors::kWarn : colors::kText, per);
+    row("navdata", colors::kDim,
+        "dyaw " + signed_num(o.dyaw_navdata_deg, 1, 2, "deg") + ", floor " +
+            signed_num(o.distance_m, 1, 2, "m", false));
+    row("path", colors::kText,
+        "x " + signed_num(o.x_m, 1, 2, "m") + "  y " + signed_num(o.y_m, 1, 2, "m") + "  yaw " +
+            signed_num(o.yaw_deg, 1, 1, "deg", false));
+    if (known(o.nav_x_m) && known(o.x_m))
+        row("navdata path", colors::kDim,
+            "x " + signed_num(o.nav_x_m, 1, 2, "m") + "  y " + signed_num(o.nav_y_m, 1, 2, "m") +
+                "  apart " +
+                signed_num(std::hypot(o.x_m - o.nav_x_m, o.y_m - o.nav_y_m), 100, 1, "cm", false));
+    row("samples", o.invalid > 0 ? colors::kWarn : colors::kDim,
+        std::to_string(o.samples) + ": " + std::to_string(o.invalid) + " without estimate, " +
+            std::to_string(o.spike_samples) + " spike-zeroed, " + std::to_string(o.gated_samples) +
+            " gated");
     ImGui::EndTable();
 }
 

@@ -329,7 +329,11 @@ PlotResult draw_plot(const char* id, const PlotSpec& spec, ImVec2 size) {
         dl->AddText({a0.x - 4.0f - ts.x, y - ts.y * 0.5f}, kDimText, ylabels[i].c_str());
     }
     const float area_w = a1.x - a0.x;
-    const float xlabel_w = ImGui::CalcTextSize("-0000.00").x + 8.0f;
+    // As many x ticks as their labels fit (the widest label at a fine step, plus a gap).
+    const double fine = nice_step(xr.hi - xr.lo, 12);
+    const float xlabel_w = std::max(ImGui::CalcTextSize(format_tick(xr.lo, fine).c_str()).x,
+                                    ImGui::CalcTextSize(format_tick(xr.hi, fine).c_str()).x) +
+                           fh * 1.2f;
     const int max_xticks = std::clamp(static_cast<int>(area_w / xlabel_w) + 1, 2, 12);
     const double xstep = nice_step(xr.hi - xr.lo, max_xticks);
     for (double t : nice_ticks(xr.lo, xr.hi, max_xticks)) {

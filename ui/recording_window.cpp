@@ -17,7 +17,9 @@ std::string format_bytes(double b) {
         ++u;
     }
     char buf[32];
-    std::snprintf(buf, sizeof buf, u == 0 ? "%.0f %s" : "%.1f %s", b, units[u]);
+    // Three significant digits at most ("7.7 kB", "122 kB"): narrow columns stay readable.
+    std::snprintf(buf, sizeof buf, u == 0 || std::fabs(b) >= 99.95 ? "%.0f %s" : "%.1f %s", b,
+                  units[u]);
     return buf;
 }
 

@@ -280,6 +280,15 @@ TEST_F(Wiring, BottomCameraRunsVisualOdometryBesideTheNavdataPath) {
     EXPECT_TRUE(std::isfinite(o.distance_m) && o.distance_m > 0) << "altitude from navdata";
     EXPECT_TRUE(std::isfinite(o.x_m) && std::isfinite(o.y_m));
     EXPECT_TRUE(std::isfinite(o.nav_x_m) && std::isfinite(o.nav_y_m));
+    // Flying forward at 1 m/s the samples are not thrown away as spikes, and the visual path
+    // follows the navdata one.
+    EXPECT_LT(o.spike_samples, o.samples / 4) << "spike-zeroed samples";
+    const double travelled = std::hypot(o.nav_x_m, o.nav_y_m);
+    if (travelled > 0.3) {
+        EXPECT_LT(std::hypot(o.x_m - o.nav_x_m, o.y_m - o.nav_y_m), 0.25 * travelled + 0.1)
+            << "visual (" << o.x_m << ", " << o.y_m << ") navdata (" << o.nav_x_m << ", "
+            << o.nav_y_m << ")";
+    }
     // The newest path point is the current pose (x right = eq. 6.2 y, y forward = eq. 6.2 x).
     EXPECT_DOUBLE_EQ(o.path_x.back(), o.y_m);
     EXPECT_DOUBLE_EQ(o.path_y.back(), o.x_m);
