@@ -28,6 +28,7 @@ struct GuiOpts {
     std::string replay;
     bool autopilot = false;
     std::string classifier;
+    std::string camera;
     int frames = 0;
     int screenshot_every = 0;
     std::string out;
@@ -47,8 +48,9 @@ CommandRegistration reg(-1000, [](CLI::App& root) {
     root.add_flag("--offscreen", o.offscreen,
                   "Render the window into an invisible framebuffer and write PNG screenshots "
                   "(needs an X display: use xvfb-run -a on a headless machine)");
-    root.add_flag("--demo", o.demo, "Show canned demo data instead of a drone (testing)")
-        ->group("");
+    root.add_flag("--demo", o.demo,
+                  "Show the window with canned demo data: no drone, virtual drone or dataset "
+                  "needed (a quick look, e.g. offscreen on a machine without a display)");
     root.add_option("--sim", o.sim,
                     "Fly the built-in virtual drone in this scenario (the default, with "
                     "'warehouse', when neither --sim nor --replay is given)");
@@ -57,6 +59,10 @@ CommandRegistration reg(-1000, [](CLI::App& root) {
                   "Virtual drone: fly the scenario's scripted flight (manual keys still land "
                   "and emergency-stop it)");
     root.add_option("--classifier", o.classifier, "Obstacle classifier (thesis, flow)");
+    root.add_option("--camera", o.camera,
+                    "Drone or virtual drone: the camera to show once connected (bottom: visual "
+                    "odometry instead of the obstacle classifier; C switches in the window)")
+        ->check(CLI::IsMember({"front", "bottom"}));
     root.add_option("--frames", o.frames, "Stop after N frames (offscreen: required)")
         ->check(CLI::PositiveNumber);
     root.add_option("--screenshot-every", o.screenshot_every,
@@ -141,6 +147,7 @@ int run_gui() {
     Session session(so);
     GuiAdapter adapter(session);
     adapter.set_sim_autopilot(o.autopilot);
+    if (o.camera == "bottom") adapter.set_start_camera(1);
     if (!o.demo) {
         if (!o.replay.empty())
             session.request(OpenReplay{o.replay});

@@ -2,6 +2,7 @@
 
 #include "app/gui_adapter.hpp"
 
+#include "drone/at.hpp"
 #include "drone/navdata_layout.hpp"
 #include "drone/sim/scenarios.hpp"
 
@@ -142,6 +143,49 @@ void undistort_overlay(ui::Overlay& ov, const vision::CameraCalibration& cal) {
     for (auto& l : ov.boundaries) {
         l.a = next();
         l.b = next();
+    }
+}
+
+// The odometry's sample and path as the window shows them (reusing the view's vectors).
+void odometry_view(const OdometryOutput& o, ui::OdometryView& v) {
+    v.active = o.active;
+    if (!o.active) {
+        v.path_x.clear();
+        v.path_y.clear();
+        return;
+    }
+    const vision::OdometrySample& s = o.sample;
+    v.run = o.run;
+    v.sample = s.index;
+    v.valid = s.valid;
+    v.status = vision::to_string(s.bottom.status);
+    v.corners = s.bottom.corners;
+    v.tracked = s.bottom.tracked;
+    v.inliers = s.bottom.inliers;
+    v.distance_m = o.distance_m;
+    v.dx_m = s.out.forward_m;
+    v.dy_m = s.out.right_m;
+    v.dyaw_deg = s.out.yaw_deg;
+    v.dyaw_navdata_deg = s.yaw_navdata_deg;
+    v.spike_zeroed = s.out.spike_zeroed;
+    v.rotation_gated = s.out.rotation_gated;
+    v.ms = s.total_ms;
+    v.ms_mean = o.ms_mean;
+    v.samples = o.samples;
+    v.invalid = o.invalid;
+    v.spike_samples = o.spike_zeroed;
+    v.gated_samples = o.rotation_gated;
+    v.x_m = s.pose.x_m;
+    v.y_m = s.pose.y_m;
+    v.yaw_deg = s.pose.yaw_deg;
+    v.nav_x_m = s.nav_path_valid ? s.nav_pose.x_m : kUnknown;
+    v.nav_y_m = s.nav_path_valid ? s.nav_pose.y_m : kUnknown;
+    v.start_t_s = static_cast<double>(o.start_t_ns) * 1e-9;
+    v.path_x.resize(o.path.size());
+    v.path_y.resize(o.path.size());
+    for (std::size_t i = 0; i < o.path.size(); ++i) {
+        v.path_x[i] = o.path[i].y_m;  // right
+        v.path_y[i] = o.path[i].x_m;  // forward
     }
 }
 
@@ -307,7 +351,10 @@ void GuiAdapter::on_source_change() {
     manual_ = false;
     last_pilot_ = {};
     camera_channel_ = 0;
-    at_rate_ = video_bytes_rate_ = nav_rate_ = Rate{};
+    shown_camera_ = CameraId::Front;
+    start_camera_sent_ = false;
+    at_rate_ = video_bytes_rate_ = Rate{};
+    at_cycle_bytes_ = 0;
     shown_source_id_ = source_.id;
 }
 
@@ -315,6 +362,12 @@ void GuiAdapter::fill_link(ui::GuiSnapshot& s, TimeNs now) {
     const link::LinkStatus st = source_.link->status();
     s.connection.state = to_ui(st.state);
     s.connection.reason = st.reason;
+    if (start_channel_ >= 0 && !start_camera_sent_ &&
+        st.state == link::ConnectionState::Connected) {
+        start_camera_sent_ = true;
+        camera_channel_ = start_channel_;
+        command(link::SwitchCamera{start_channel_});
+    }
 
     ui::StreamHealth& n = s.link.navdata;
     n = ui::StreamHealth{};
@@ -326,6 +379,15 @@ void GuiAdapter::fill_link(ui::GuiSnapshot& s, TimeNs now) {
     n.drops = st.machine.out_of_order + st.navdata.foreign_dropped + st.navdata.oversize;
     n.checksum_failures = st.navdata.checksum_failures;
     n.decode_errors = st.navdata.parse_errors;
+    // The link counts datagrams, not bytes: the rate times the size of the newest datagram
+    // (the drone sends one size per navdata mode, so this is exact while the mode holds).
+    if (nav_valid_) {
+        std::size_t bytes = 0;
+        for (const auto& o : nav_.data.options)
+            bytes = std::max<std::size_t>(bytes, std::size_t{o.offset} + o.size);
+        bytes += nav_.data.trailing_bytes;
+        if (bytes > 0) n.bytes_per_s = n.rate_hz * static_cast<double>(bytes);
+    }
 
     ui::StreamHealth& v = s.link.video;
     v = ui::StreamHealth{};
@@ -348,6 +410,29 @@ void GuiAdapter::fill_link(ui::GuiSnapshot& s, TimeNs now) {
     a.rate_hz = at_rate_.hz;
     a.age_ms = st.at.period_ms_last;
     a.packets = st.at.counters.datagrams;
+    // Bytes are not counted by the link either: each 30 ms datagram is a REF and a PCMD (the
+    // current Move, or hover), sized here as the scheduler encodes them at the current
+    // sequence number; the rare one-shots (configuration, LED ...) are left out: an estimate.
+    if (known(a.rate_hz)) {
+        // Re-encoded only when the command changes or every 1000 commands (the sequence
+        // number's digits), not every window frame.
+        const std::uint64_t block = st.at.counters.commands / 1000;
+        if (at_cycle_bytes_ == 0 || block != at_cycle_block_ || manual_ != at_cycle_manual_ ||
+            !(last_pilot_ == at_cycle_pilot_)) {
+            const auto seq = static_cast<at::Seq>(st.at.counters.commands + 1);
+            at_cycle_bytes_ =
+                at::ref(seq, at::ref_input(true, false)).size() +
+                (manual_ ? at::pcmd(seq + 1, at::kPcmdProgressive, last_pilot_.roll,
+                                    last_pilot_.pitch, last_pilot_.gaz, last_pilot_.yaw)
+                         : at::hover(seq + 1))
+                    .size();
+            at_cycle_block_ = block;
+            at_cycle_manual_ = manual_;
+            at_cycle_pilot_ = last_pilot_;
+        }
+        a.bytes_per_s = a.rate_hz * static_cast<double>(at_cycle_bytes_);
+        a.bytes_estimated = true;
+    }
     a.drops = st.at.counters.stale_moves_dropped;
     a.decode_errors = st.at.send_errors + st.at.counters.encode_errors;
 }
@@ -426,6 +511,10 @@ void GuiAdapter::fill_output(ui::GuiSnapshot& s) {
         c.overlay = ui::Overlay{};
         c.plots.clear();
         c.cycle_ms = kUnknown;
+        c.not_running.clear();
+        s.odometry.active = false;
+        s.odometry.path_x.clear();
+        s.odometry.path_y.clear();
         return;
     }
     // Redone when a new frame arrives, the preview is switched, or the calibration changes.
@@ -440,13 +529,27 @@ void GuiAdapter::fill_output(ui::GuiSnapshot& s) {
     v.t_ns = out_->frame.t_ns;
     v.fps = out_->fps;
     v.latency_ms = out_->latency_ms;
-    v.camera = camera_channel_ == 1 ? "bottom" : "front";
+    v.camera = to_string(out_->camera);
+    // The C key asks for the other camera than the one the video comes from.
+    if (out_->camera != shown_camera_) {
+        shown_camera_ = out_->camera;
+        camera_channel_ = out_->camera == CameraId::Bottom ? 1 : 0;
+    }
     v.undistorted = false;
     v.undistort_note.clear();
     double fit_window = 30;
     for (const auto& p : cls_.params)
         if (p.info.name == "fit_window") fit_window = p.info.value;
     classifier_output(*out_, c, fit_window);
+    c.not_running.clear();
+    if (out_->camera == CameraId::Bottom) {
+        // No region is "clear" when none was looked at.
+        c.not_running =
+            "not run: the video is from the bottom camera (the obstacle classifier is for the "
+            "front camera)";
+        c.decisions.clear();
+    }
+    odometry_view(out_->odometry, s.odometry);
     if (!undistort_ || v.bgr.empty()) return;
     if (!calib_.camera.valid()) {
         v.undistort_note = "no calibration to undistort with";

@@ -33,6 +33,9 @@ public:
 
     // A virtual drone started from the window's Connect button flies its scripted flight.
     void set_sim_autopilot(bool on) { sim_autopilot_ = on; }
+    // Switches a drone or virtual drone to this camera channel (0 front, 1 bottom) once it is
+    // connected, for every source opened from now on; -1: leave it as it is.
+    void set_start_camera(int channel) { start_channel_ = channel; }
     // Adds a line to the window's message log.
     void note(std::string m);
 
@@ -76,14 +79,23 @@ private:
     ReplayInfo replay_;
     NavState replay_nav_;
     bool replay_nav_valid_ = false;
-    Rate at_rate_, video_bytes_rate_, nav_rate_;
+    Rate at_rate_, video_bytes_rate_;
+    // Size of one AT cycle's datagram (REF + PCMD) for the throughput estimate, and what it was
+    // computed for.
+    std::size_t at_cycle_bytes_ = 0;
+    std::uint64_t at_cycle_block_ = 0;
+    bool at_cycle_manual_ = false;
+    ui::PilotInput at_cycle_pilot_;
 
     // Piloting: manual input is sent as Move while it lasts, then one Hover.
     bool manual_ = false;
     ui::PilotInput last_pilot_;
     std::uint64_t moves_sent_ = 0, hovers_sent_ = 0;
-    int camera_channel_ = 0;
+    int camera_channel_ = 0;                   // the channel the C key asked for last
+    CameraId shown_camera_ = CameraId::Front;  // the camera of the frames shown
     bool sim_autopilot_ = false;
+    int start_channel_ = -1;
+    bool start_camera_sent_ = false;
 
     // Calibration in use and the undistortion preview (remapped here, on the UI thread, only
     // when a new frame arrives while the preview is on: one cv::remap, ~1 ms at 640x360).

@@ -55,6 +55,17 @@ CameraCalibration front_calibration() {
     return d;
 }
 
+// The bottom camera's default (assets/calibration/ardrone2_bottom.json, else the same numbers
+// compiled in).
+CameraCalibration bottom_calibration() {
+    auto c = default_calibration(CameraId::Bottom, GS_ASSETS_DIR);
+    return c ? *c : builtin_calibration(CameraId::Bottom);
+}
+
+// Frames already queued or on the wire when a camera switch is seen may still be of the other
+// camera: this many are shown but given to neither the classifier nor the odometry.
+constexpr int kCameraSettleFrames = 3;
+
 // vision's camera model back as drone/'s calibration record.
 CameraCalibration from_vision(const vision::CameraCalibration& v, std::string source) {
     CameraCalibration c;
@@ -88,6 +99,10 @@ struct Session::Current {
     std::unique_ptr<DatasetSource> replay;
     ReplayInfo rinfo;
     std::vector<cv::Mat> pool;
+    // The video's camera: the dataset's (replay) or the drone's configuration (live).
+    CameraId camera = CameraId::Front;
+    std::uint64_t config_gen = 0;
+    int settle = 0;  // frames still to skip after a camera switch
     // Pipeline rate.
     TimeNs rate_t0 = 0;
     std::uint64_t rate_n = 0;
@@ -98,7 +113,8 @@ Session::Session(SessionOptions options, Clock& clock)
     : opts_(std::move(options)),
       clock_(clock),
       cur_(std::make_unique<Current>()),
-      pipeline_(opts_.classifier, front_calibration()) {
+      pipeline_(opts_.classifier, front_calibration()),
+      odometry_(bottom_calibration()) {
     if (!pipeline_.ok()) (void)pipeline_.select(std::string(vision::kDefaultClassifier));
     use_calibration(front_calibration(), "assets default (front)");
     publish_source();
@@ -164,12 +180,59 @@ void Session::publish_classifier(std::string error) {
 
 void Session::use_calibration(const CameraCalibration& c, std::string origin) {
     calib_in_use_ = c;
+    calib_origin_ = std::move(origin);
     pipeline_.set_calibration(c);
+    publish_calibration();
+}
+
+void Session::publish_calibration() {
     CalibrationInUse u;
-    u.camera = c;
-    u.origin = std::move(origin);
+    u.which = cur_->camera;
+    if (cur_->camera == CameraId::Bottom) {
+        u.camera = odometry_.calibration();
+        u.origin =
+            cur_->kind == SessionSource::Replay ? calib_origin_ : "assets default (bottom camera)";
+    } else {
+        u.camera = calib_in_use_;
+        u.origin = calib_origin_;
+    }
     u.source_id = cur_->id;
     calibration_.publish(std::move(u));
+}
+
+// Both vision stages forget their history (new source, seek, new calibration, camera switch).
+void Session::reset_vision() {
+    pipeline_.reset();
+    odometry_.restart();
+}
+
+void Session::set_camera(CameraId camera, const char* why) {
+    Current& c = *cur_;
+    if (camera == c.camera) return;
+    c.camera = camera;
+    c.settle = kCameraSettleFrames;
+    reset_vision();
+    publish_calibration();
+    message(std::string("video: ") + to_string(camera) + " camera (" + why + ")" +
+            (camera == CameraId::Bottom
+                 ? ": visual odometry runs; the obstacle classifier waits for the front camera"
+                 : ": the obstacle classifier runs"));
+    if (recorder_ && recorder_->recording())
+        message(
+            "the recording in progress keeps the camera it started with in flight.json: "
+            "stop and record again for a dataset of one camera");
+}
+
+// Live: the camera the drone's configuration reports (read back after every switch).
+void Session::update_camera() {
+    Current& c = *cur_;
+    if (!c.link || c.link->config().generation() == c.config_gen) return;
+    ConfigMap cfg;
+    if (!c.link->config().read_if_newer(c.config_gen, cfg)) return;
+    const auto v = cfg.get("video:video_channel");
+    const auto ch = v ? config_int(*v) : std::nullopt;
+    if (!ch) return;
+    set_camera(*ch == 1 ? CameraId::Bottom : CameraId::Front, "drone configuration");
 }
 
 // A real drone: the calibration the calibration mode saved, when there is one.
@@ -222,9 +285,12 @@ void Session::close_current() {
     c.rinfo = ReplayInfo{};
     c.fps = kUnknown;
     c.rate_n = 0;
+    c.camera = CameraId::Front;
+    c.config_gen = 0;
+    c.settle = 0;
     if (had) {
         c.id = next_id_++;
-        pipeline_.reset();
+        reset_vision();
     }
 }
 
@@ -246,8 +312,9 @@ void Session::open_drone(const std::string& address) {
     c.frames = c.link->subscribe_frames(opts_.frame_queue);
     std::string origin;
     const CameraCalibration cal = drone_calibration(origin);
+    odometry_.set_calibration(bottom_calibration());
     use_calibration(cal, origin);
-    pipeline_.reset();
+    reset_vision();
     publish_source();
     publish_replay();
     message("connecting to the drone at " + c.address + " (calibration: " + origin + ")");
@@ -298,8 +365,9 @@ void Session::open_sim(const StartSim& s) {
     c.drone = std::move(drone);
     c.link = std::move(l);
     c.frames = c.link->subscribe_frames(opts_.frame_queue);
+    odometry_.set_calibration(bottom_calibration());
     use_calibration(front_calibration(), "virtual drone camera (assets default)");
-    pipeline_.reset();
+    reset_vision();
     publish_source();
     publish_replay();
     message("virtual drone '" + c.scenario + "' on " + c.address +
@@ -322,6 +390,7 @@ void Session::open_replay(const std::string& path) {
     }
     for (const auto& w : ds->warnings()) message("replay: " + w);
     const CameraCalibration calib = ds->calibration();
+    const CameraId camera = ds->info().camera;
     const double fps = ds->info().fps;
     const std::int64_t n = ds->frame_count();
     Current& c = *cur_;
@@ -339,11 +408,17 @@ void Session::open_replay(const std::string& path) {
     c.rinfo.frame_count = n;
     c.rinfo.fps = fps;
     c.rinfo.playing = play;
+    c.camera = camera;
+    // The dataset's calibration is its camera's: the odometry's for a bottom-camera flight.
+    odometry_.set_calibration(camera == CameraId::Bottom ? calib : bottom_calibration());
     use_calibration(calib, "dataset " + path);
-    pipeline_.reset();
+    reset_vision();
     publish_source();
     publish_replay();
-    message("replay: " + path + " (" + std::to_string(n) + " frames)");
+    message("replay: " + path + " (" + std::to_string(n) + " frames, " + to_string(camera) +
+            " camera" +
+            (camera == CameraId::Bottom ? ": visual odometry runs, not the obstacle classifier)"
+                                        : ")"));
 }
 
 void Session::handle(SessionRequest& r) {
@@ -373,7 +448,7 @@ void Session::handle(SessionRequest& r) {
                     return;
                 }
                 use_calibration(q.camera, q.origin);
-                pipeline_.reset();  // the tracks were undistorted with the old model
+                reset_vision();  // the tracks were undistorted with the old model
                 char b[160];
                 std::snprintf(b, sizeof b, "calibration applied: fx %.1f fy %.1f cx %.1f cy %.1f",
                               q.camera.fx, q.camera.fy, q.camera.cx, q.camera.cy);
@@ -419,7 +494,7 @@ void Session::handle(SessionRequest& r) {
                 if constexpr (std::is_same_v<T, ReplayPlay>) {
                     if (q.play && c.rinfo.ended) {
                         (void)c.replay->seek(0);
-                        pipeline_.reset();
+                        reset_vision();
                         c.rinfo.ended = false;
                     }
                     c.replay->set_paused(!q.play);
@@ -431,7 +506,7 @@ void Session::handle(SessionRequest& r) {
                 } else if constexpr (std::is_same_v<T, ReplaySeek>) {
                     const auto f = std::clamp<std::int64_t>(q.frame, 0, c.rinfo.frame_count - 1);
                     if (c.replay->seek(f)) {
-                        pipeline_.reset();  // the classifier's history is of other frames
+                        reset_vision();  // the classifier's history is of other frames
                         c.rinfo.ended = false;
                         if (!c.rinfo.playing) (void)replay_step(0);
                     }
@@ -459,7 +534,7 @@ bool Session::replay_step(int delta) {
     }
     if (delta <= 0 && target != src.position()) {
         if (!src.seek(target)) return false;
-        pipeline_.reset();
+        reset_vision();
     }
     FrameSample f;
     const SourceStatus st = src.step(f);
@@ -497,7 +572,7 @@ bool Session::replay_tick(TimeNs& wait_ns) {
         case SourceStatus::End:
             if (c.rinfo.loop && c.rinfo.frame_count > 0) {
                 (void)src.seek(0);
-                pipeline_.reset();
+                reset_vision();
                 return false;
             }
             if (!c.rinfo.ended) {
@@ -526,6 +601,7 @@ bool Session::replay_tick(TimeNs& wait_ns) {
 
 void Session::process(FrameSample& f, TimeNs recv_ns) {
     Current& c = *cur_;
+    update_camera();
     if (c.kind == SessionSource::Replay && !f.image.empty()) {
         cv::Mat& buf = free_buffer(c.pool);
         f.image.copyTo(buf);
@@ -546,10 +622,18 @@ void Session::process(FrameSample& f, TimeNs recv_ns) {
     }
     out->source_id = c.id;
     out->classifier = pipeline_.classifier_name();
-    if (pipeline_.ok() && !f.image.empty())
+    out->camera = c.camera;
+    out->result = {};
+    out->odometry.active = false;
+    if (c.settle > 0) {
+        --c.settle;  // may still be of the camera before the switch
+    } else if (c.camera == CameraId::Bottom) {
+        // The obstacle classifier is for the front camera: the floor seen from above is for
+        // the odometry.
+        odometry_.process(f, out->odometry);
+    } else if (pipeline_.ok() && !f.image.empty()) {
         out->result = pipeline_.process(f);
-    else
-        out->result = {};
+    }
     const TimeNs now = clock_.now_ns();
     out->latency_ms = recv_ns > 0 ? ns_to_ms(now - recv_ns) : kUnknown;
     if (c.rate_n == 0) c.rate_t0 = now;
@@ -596,7 +680,11 @@ void Session::record_start(const std::string& dir) {
     std::filesystem::create_directories(path.parent_path(), ec);
     recorder_ = std::make_unique<record::Recorder>(*c.link, c.drone.get());
     record::RecorderOptions ro;
-    ro.writer.calibration = calib_in_use_;
+    // The camera the video comes from now, with its calibration: a bottom-camera flight replays
+    // through the odometry (`ardrone-gs odometry`, the window).
+    update_camera();
+    ro.camera = c.camera;
+    ro.writer.calibration = c.camera == CameraId::Bottom ? odometry_.calibration() : calib_in_use_;
     ro.writer.source = c.kind == SessionSource::Sim ? "simulated (virtual drone)" : "recorded";
     if (auto st = recorder_->start(path, ro); !st) {
         message("recording failed: " + st.error());
@@ -609,7 +697,7 @@ void Session::record_start(const std::string& dir) {
     }
     last_record_path_ = path.string();
     last_space_check_ = 0;
-    message("recording to " + last_record_path_);
+    message("recording to " + last_record_path_ + " (" + to_string(c.camera) + " camera)");
     publish_recording(clock_.now_ns());
 }
 

@@ -3,6 +3,11 @@
 // virtual drone on loopback with a DroneLink to it, or a recorded dataset replayed through a
 // DatasetSource) and the pipeline thread that runs frames through the ObstaclePipeline.
 //
+// The video's camera decides what runs on a frame: the obstacle classifier on the front camera,
+// visual odometry (app/live_odometry.hpp) on the bottom camera. Live, the camera is the one the
+// drone's configuration reports (video:video_channel in its last configuration dump, read back
+// after every camera switch); a replayed dataset names it in flight.json.
+//
 // Threads: the caller (the UI thread) only posts requests to a bounded queue and reads
 // latest-value slots; the session thread opens and closes sources (binding sockets, loading a
 // scene and its textures, opening a dataset: all slow or failing), pulls frames (live: a bounded
@@ -10,6 +15,7 @@
 // and publishes the results. Flight commands go straight to the link (DroneLink::submit never
 // blocks), so the UI never waits on the network, the disk or the classifier.
 
+#include "app/live_odometry.hpp"
 #include "app/pipeline.hpp"
 #include "drone/clock.hpp"
 #include "drone/dataset/dataset_source.hpp"
@@ -151,21 +157,26 @@ struct ClassifierInfo {
     std::string error;  // last rejected selection / parameter, empty if none
 };
 
-// One classified frame: the frame itself (image shared, never rewritten afterwards) and a copy
-// of the classifier's result.
+// One processed frame: the frame itself (image shared, never rewritten afterwards) and a copy
+// of what ran on it: the classifier's result (front camera; empty on bottom-camera frames) or
+// the visual odometry's sample and paths (bottom camera; `odometry.active` false otherwise).
 struct PipelineOutput {
     std::uint64_t source_id = 0;
     FrameSample frame;
+    CameraId camera = CameraId::Front;  // the camera the frame came from
     vision::FrameResult result;
-    std::string classifier;
+    std::string classifier;  // the classifier selected (it ran only when camera is Front)
+    OdometryOutput odometry;
     double fps = kUnknown;             // frames classified per second
     double latency_ms = kUnknown;      // receive (live) to classified
     std::uint64_t frames_dropped = 0;  // frames the pipeline did not keep up with (live)
 };
 
-// The camera model the pipeline uses now (changes with the source and on ApplyCalibration).
+// The camera model in use for the video shown now (changes with the source, the camera and on
+// ApplyCalibration): the classifier's on the front camera, the odometry's on the bottom one.
 struct CalibrationInUse {
     CameraCalibration camera;
+    CameraId which = CameraId::Front;
     std::string origin;  // "dataset", "assets default", a file path ...
     std::uint64_t source_id = 0;
 };
@@ -245,6 +256,10 @@ private:
     void record_stop();
     void publish_recording(TimeNs now);
     void use_calibration(const CameraCalibration& c, std::string origin);
+    void publish_calibration();
+    void reset_vision();
+    void update_camera();
+    void set_camera(CameraId camera, const char* why);
     CameraCalibration drone_calibration(std::string& origin) const;
     vision::CalibrationMode& calibration_worker();
 
@@ -265,7 +280,10 @@ private:
     LatestValue<RecordingInfo> recording_;
     LatestValue<CalibrationInUse> calibration_;
     LatestValue<vision::CalibrationModeState> calibration_mode_;
-    CameraCalibration calib_in_use_;  // session thread only
+    // The front camera's model (the classifier's) and where it came from; session thread only.
+    CameraCalibration calib_in_use_;
+    std::string calib_origin_;
+    LiveOdometry odometry_;  // session thread only
     // Created on the first CalibrationStart; session thread only (its worker publishes above).
     std::unique_ptr<vision::CalibrationMode> calibrator_;
     std::unique_ptr<record::Recorder> recorder_;  // session thread only; before the link dies

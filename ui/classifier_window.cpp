@@ -1,9 +1,83 @@
 #include "ui/windows.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <string>
 
 namespace gs::ui {
+
+namespace {
+
+// "+0.42 cm" style numbers (`decimals` after the point, a sign when `sign`); "-" when unknown.
+std::string signed_num(double v, double scale, int decimals, const char* unit, bool sign = true) {
+    if (!known(v)) return "-";
+    char b[48];
+    std::snprintf(b, sizeof b, sign ? "%+.*f %s" : "%.*f %s", decimals, v * scale, unit);
+    return b;
+}
+
+// The bottom camera's visual odometry: this sample's estimate and how it was found, then the
+// integrated pose against the navdata's over the same samples.
+void odometry_readout(const OdometryView& o, const GuiSnapshot& s) {
+    ImGui::TextColored(colors::v4(colors::kInfo), "Visual odometry (bottom camera)");
+    if (!o.active) {
+        ImGui::TextColored(colors::v4(colors::kDim),
+                           s.video.bgr.empty() ? "waiting for video" : "waiting for a frame");
+        return;
+    }
+    const ImGuiTableFlags tf = ImGuiTableFlags_SizingFixedFit | ImGuiTableFlags_RowBg;
+    if (!ImGui::BeginTable("odometry", 2, tf)) return;
+    ImGui::TableSetupColumn("what", ImGuiTableColumnFlags_WidthFixed);
+    ImGui::TableSetupColumn("value", ImGuiTableColumnFlags_WidthStretch);
+    // One row: a label, then the value wrapped inside its cell (the window may be narrow).
+    auto row = [](const char* label, std::uint32_t col, const std::string& text) {
+        ImGui::TableNextRow();
+        ImGui::TableSetColumnIndex(0);
+        ImGui::TextColored(colors::v4(colors::kDim), "%s", label);
+        ImGui::TableSetColumnIndex(1);
+        ImGui::PushStyleColor(ImGuiCol_Text, colors::v4(col));
+        ImGui::PushTextWrapPos(0.0f);
+        ImGui::TextUnformatted(text.c_str());
+        ImGui::PopTextWrapPos();
+        ImGui::PopStyleColor();
+    };
+    const bool first = o.sample == 0;
+    row("sample", colors::kDim,
+        std::to_string(o.sample) + ", " + format_sig(o.ms, 2) + " ms (mean " +
+            format_sig(o.ms_mean, 2) + " ms)");
+    row("status",
+        o.valid ? colors::kGood
+        : first ? colors::kDim
+                : colors::kWarn,
+        o.status + " (" + std::to_string(o.inliers) + " inliers / " + std::to_string(o.tracked) +
+            " tracked / " + std::to_string(o.corners) + " corners)");
+    std::string per = "dx " + signed_num(o.dx_m, 100, 2, "cm") + "  dy " +
+                      signed_num(o.dy_m, 100, 2, "cm") + "  dyaw " +
+                      signed_num(o.dyaw_deg, 1, 2, "deg");
+    if (o.spike_zeroed) per += "  (spike: zeroed)";
+    if (o.rotation_gated) per += "  (rotating: translation gated)";
+    row("per sample", o.spike_zeroed || o.rotation_gated ? colors::kWarn : colors::kText, per);
+    row("navdata", colors::kDim,
+        "dyaw " + signed_num(o.dyaw_navdata_deg, 1, 2, "deg") + ", floor " +
+            signed_num(o.distance_m, 1, 2, "m", false));
+    row("path", colors::kText,
+        "x " + signed_num(o.x_m, 1, 2, "m") + "  y " + signed_num(o.y_m, 1, 2, "m") + "  yaw " +
+            signed_num(o.yaw_deg, 1, 1, "deg", false));
+    if (known(o.nav_x_m) && known(o.x_m))
+        row("navdata path", colors::kDim,
+            "x " + signed_num(o.nav_x_m, 1, 2, "m") + "  y " + signed_num(o.nav_y_m, 1, 2, "m") +
+                "  apart " +
+                signed_num(std::hypot(o.x_m - o.nav_x_m, o.y_m - o.nav_y_m), 100, 1, "cm", false));
+    row("samples", o.invalid > 0 ? colors::kWarn : colors::kDim,
+        std::to_string(o.samples) + ": " + std::to_string(o.invalid) + " without estimate, " +
+            std::to_string(o.spike_samples) + " spike-zeroed, " + std::to_string(o.gated_samples) +
+            " gated");
+    ImGui::EndTable();
+}
+
+}  // namespace
 
 void ClassifierWindow::draw(const GuiSnapshot& s, ViewState& v, Actions& a) {
     if (!ImGui::Begin("Classifier", &v.open.classifier)) {
@@ -11,6 +85,10 @@ void ClassifierWindow::draw(const GuiSnapshot& s, ViewState& v, Actions& a) {
         return;
     }
     const ClassifierOutput& c = s.classifier;
+    if (s.odometry.active || s.video.camera == "bottom") {
+        odometry_readout(s.odometry, s);
+        ImGui::Separator();
+    }
     // Picker.
     ImGui::SetNextItemWidth(-FLT_MIN);
     if (ImGui::BeginCombo("##classifier", c.active.empty() ? "(none)" : c.active.c_str())) {
@@ -23,6 +101,12 @@ void ClassifierWindow::draw(const GuiSnapshot& s, ViewState& v, Actions& a) {
         }
         ImGui::EndCombo();
     }
+    if (!c.not_running.empty()) {
+        ImGui::PushTextWrapPos(0.0f);
+        ImGui::TextColored(colors::v4(colors::kWarn), "Obstacle classifier %s.",
+                           c.not_running.c_str());
+        ImGui::PopTextWrapPos();
+    }
     // Decisions.
     for (const auto& d : c.decisions) {
         const std::uint32_t col = d.flagged ? colors::kBad : colors::kGood;
@@ -30,28 +114,37 @@ void ClassifierWindow::draw(const GuiSnapshot& s, ViewState& v, Actions& a) {
                            d.flagged ? "UNSAFE" : "clear");
         ImGui::SameLine();
         if (known(d.score))
-            ImGui::TextColored(colors::v4(colors::kDim), "score %.3f / thr %.3f", d.score,
-                               d.threshold);
+            ImGui::TextColored(colors::v4(colors::kDim), "score %s / thr %s",
+                               format_sig(d.score).c_str(), format_sig(d.threshold).c_str());
         else
             ImGui::TextColored(colors::v4(colors::kDim), "score -");
     }
     ImGui::Separator();
 
     // Parameters, drawn from the generic list; drag to tune live, right-click to reset one.
+    // The name column is as wide as the longest name, as long as the sliders keep room to be
+    // dragged; a name cut short shows in full (with its description) when hovered.
+    float name_w = 0;
+    for (const auto& p : c.params) name_w = std::max(name_w, ImGui::CalcTextSize(p.name.c_str()).x);
+    const float min_slider = ImGui::GetFontSize() * 7;
+    const float avail = ImGui::GetContentRegionAvail().x;
+    name_w = std::clamp(name_w, ImGui::GetFontSize() * 4, std::max(avail - min_slider, 1.0f));
     bool any_changed = false;
-    if (ImGui::BeginTable("params", 2, ImGuiTableFlags_SizingStretchProp | ImGuiTableFlags_RowBg)) {
-        ImGui::TableSetupColumn("name", ImGuiTableColumnFlags_WidthStretch, 0.45f);
-        ImGui::TableSetupColumn("value", ImGuiTableColumnFlags_WidthStretch, 0.55f);
+    if (ImGui::BeginTable("params", 2, ImGuiTableFlags_SizingFixedFit | ImGuiTableFlags_RowBg)) {
+        ImGui::TableSetupColumn("name", ImGuiTableColumnFlags_WidthFixed, name_w);
+        ImGui::TableSetupColumn("value", ImGuiTableColumnFlags_WidthStretch);
         for (const auto& p : c.params) {
             ImGui::TableNextRow();
             ImGui::TableSetColumnIndex(0);
             const bool modified = p.value != p.default_value;
             ImGui::TextColored(colors::v4(modified ? colors::kWarn : colors::kText), "%s",
                                p.name.c_str());
-            if (ImGui::IsItemHovered() && !p.description.empty()) {
+            if (ImGui::IsItemHovered()) {
                 ImGui::BeginTooltip();
                 ImGui::PushTextWrapPos(ImGui::GetFontSize() * 24);
-                ImGui::TextUnformatted(p.description.c_str());
+                ImGui::TextUnformatted(p.name.c_str());
+                if (!p.description.empty())
+                    ImGui::TextColored(colors::v4(colors::kDim), "%s", p.description.c_str());
                 ImGui::TextColored(colors::v4(colors::kDim), "default %g, range [%g, %g]",
                                    p.default_value, p.min, p.max);
                 ImGui::PopTextWrapPos();

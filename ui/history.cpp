@@ -24,6 +24,25 @@ void TelemetryHistory::clear() {
     gaps_ = 0;
 }
 
+bool TelemetryHistory::path_at(double t_s, double& x, double& y) const {
+    // path and altitude_m are pushed together (same capacity): altitude_m's x is the time of
+    // each path point, increasing (a jump back in time clears both).
+    const std::size_t n = path.size();
+    if (n == 0) return false;
+    std::size_t lo = 0, hi = n;  // first index with time > t_s
+    while (lo < hi) {
+        const std::size_t mid = (lo + hi) / 2;
+        if (altitude_m.x(mid) <= t_s)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    const std::size_t i = lo == 0 ? 0 : lo - 1;
+    x = path.x(i);
+    y = path.y(i);
+    return true;
+}
+
 void TelemetryHistory::add(const NavState& nav) {
     const double t = static_cast<double>(nav.t_ns) * 1e-9;
     if (have_last_) {

@@ -23,6 +23,10 @@ public:
     RingSeries altitude_m, battery_pct, roll_deg, pitch_deg, yaw_deg, vz_mps, ground_speed_mps;
     RingSeries path;  // x = right (y of eq. 6.2), y = forward (x of eq. 6.2): a map, north-up
 
+    // Where the path was at flight time t_s (plot coordinates: x right, y forward): the point
+    // of the last sample at or before t_s (the first one when all are later). False when empty.
+    bool path_at(double t_s, double& x, double& y) const;
+
     double path_x_m() const { return px_; }
     double path_y_m() const { return py_; }
     std::uint64_t path_gaps() const { return gaps_; }

@@ -14,7 +14,7 @@ void LinkWindow::draw(const GuiSnapshot& s, ViewState& v) {
     const StreamHealth* streams[] = {&s.link.navdata, &s.link.video, &s.link.at};
     const char* names[] = {"navdata", "video", "AT"};
     if (ImGui::BeginTable("health", 4, tf)) {
-        ImGui::TableSetupColumn("");
+        ImGui::TableSetupColumn("", ImGuiTableColumnFlags_WidthFixed);  // labels in full
         for (const char* n : names) ImGui::TableSetupColumn(n);
         ImGui::TableHeadersRow();
         auto rowf = [&](const char* label, auto get, auto bad) {
@@ -39,13 +39,17 @@ void LinkWindow::draw(const GuiSnapshot& s, ViewState& v) {
         };
         auto cnt = [](std::uint64_t x) { return std::to_string(x); };
         rowf(
-            "rate", [&](const StreamHealth& h) { return fmt(1, h.rate_hz, "/s"); },
+            "rate /s", [&](const StreamHealth& h) { return fmt(1, h.rate_hz, ""); },
             [](const StreamHealth&) { return false; });
         rowf(
             "age", [&](const StreamHealth& h) { return fmt(0, h.age_ms, "ms"); },
             [](const StreamHealth& h) { return known(h.age_ms) && h.age_ms > 500; });
         rowf(
-            "throughput", [&](const StreamHealth& h) { return format_bytes(h.bytes_per_s) + "/s"; },
+            "bytes /s",
+            [&](const StreamHealth& h) {
+                return (h.bytes_estimated && known(h.bytes_per_s) ? "~" : "") +
+                       format_bytes(h.bytes_per_s);
+            },
             [](const StreamHealth&) { return false; });
         rowf(
             "packets", [&](const StreamHealth& h) { return cnt(h.packets); },
@@ -57,7 +61,7 @@ void LinkWindow::draw(const GuiSnapshot& s, ViewState& v) {
             "drops", [&](const StreamHealth& h) { return cnt(h.drops); },
             [](const StreamHealth& h) { return h.drops > 0; });
         rowf(
-            "checksum fail", [&](const StreamHealth& h) { return cnt(h.checksum_failures); },
+            "bad checksum", [&](const StreamHealth& h) { return cnt(h.checksum_failures); },
             [](const StreamHealth& h) { return h.checksum_failures > 0; });
         rowf(
             "decode errors", [&](const StreamHealth& h) { return cnt(h.decode_errors); },
@@ -66,6 +70,10 @@ void LinkWindow::draw(const GuiSnapshot& s, ViewState& v) {
             "IDR waits", [&](const StreamHealth& h) { return cnt(h.idr_waits); },
             [](const StreamHealth& h) { return h.idr_waits > 0; });
         ImGui::EndTable();
+        ImGui::PushTextWrapPos(0.0f);
+        ImGui::TextColored(colors::v4(colors::kDim),
+                           "rate: navdata packets, video frames, AT datagrams; ~: estimated");
+        ImGui::PopTextWrapPos();
     }
     ImGui::TextColored(
         colors::v4(colors::kDim), "UI %.1f ms/frame (%.0f fps), classifier %s",

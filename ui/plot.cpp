@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <string>
 
 namespace gs::ui {
 
@@ -95,7 +96,115 @@ void dashed_hline(ImDrawList* dl, float x0, float x1, float y, std::uint32_t col
         dl->AddLine({x, y}, {std::min(x + dash, x1), y}, col, thick);
 }
 
+float text_w(float font_size, std::string_view t) {
+    return ImGui::GetFont()
+        ->CalcTextSizeA(font_size, FLT_MAX, 0.0f, t.data(), t.data() + t.size())
+        .x;
+}
+
+// `t` shortened with ".." until it is at most `max_w` wide.
+std::string fit_text(std::string_view t, float font_size, float max_w) {
+    std::string out(t);
+    if (text_w(font_size, out) <= max_w) return out;
+    while (!out.empty() && text_w(font_size, out + "..") > max_w) out.pop_back();
+    return out.empty() ? std::string() : out + "..";
+}
+
+// Where the legend goes: on the title row, right-aligned, when it fits there; otherwise in rows
+// of its own under the title (at most a third of the plot's height; entries that do not fit are
+// summed up as "+N", listed when hovered). Either way outside the data area, in a smaller font.
+struct LegendEntry {
+    std::size_t series = 0;
+    ImVec2 pos;
+    float w = 0;
+};
+struct Legend {
+    float height = 0;  // of the rows under the title row (0: on the title row, or no legend)
+    float font = 0;
+    float swatch = 0, pad = 3.0f;
+    std::vector<LegendEntry> entries;
+    std::size_t more = 0;  // series left out (the last ones)
+    ImVec2 more_pos;
+};
+
+Legend layout_legend(const PlotSpec& spec, ImVec2 p0, ImVec2 size, float title_h, float bottom_h) {
+    Legend L;
+    if (!spec.show_legend || spec.series.empty()) return L;
+    const float fh = ImGui::GetFontSize();
+    L.font = std::round(fh * 0.86f);
+    L.swatch = L.font * 0.8f;
+    const float gap = 10.0f;
+    std::vector<float> widths;
+    float total = 0;
+    for (const auto& s : spec.series) {
+        widths.push_back(L.swatch + L.pad + text_w(L.font, s.name));
+        total += widths.back() + (widths.size() > 1 ? gap : 0.0f);
+    }
+    const float x_left = p0.x + 6.0f, x_right = p0.x + size.x - 6.0f;
+    float title_w = 0;
+    if (!spec.title.empty()) {
+        title_w = text_w(fh, spec.title);
+        if (!spec.y_label.empty()) title_w += 6.0f + text_w(fh, spec.y_label) + 2 * fh * 0.35f;
+    }
+    if (!spec.title.empty() && x_left + title_w + 16.0f + total <= x_right) {
+        float x = x_right - total;
+        for (std::size_t i = 0; i < widths.size(); ++i) {
+            L.entries.push_back({i, {x, p0.y + 3.0f + (fh - L.font) * 0.5f}, widths[i]});
+            x += widths[i] + gap;
+        }
+        return L;
+    }
+    const float row_h = L.font + 3.0f;
+    const float plot_h = size.y - title_h - bottom_h;
+    const int max_rows = std::clamp(static_cast<int>(plot_h / 3.0f / row_h), 1, 3);
+    float x = x_left;
+    int row = 0;
+    for (std::size_t i = 0; i < widths.size(); ++i) {
+        if (x > x_left && x + widths[i] > x_right) {
+            ++row;
+            x = x_left;
+        }
+        if (row >= max_rows) {
+            L.more = widths.size() - i;
+            break;
+        }
+        L.entries.push_back({i, {x, p0.y + title_h + static_cast<float>(row) * row_h}, widths[i]});
+        x += widths[i] + gap;
+    }
+    if (L.more > 0) {
+        const float more_w = text_w(L.font, "+99");
+        while (!L.entries.empty() &&
+               L.entries.back().pos.x + L.entries.back().w + gap + more_w > x_right &&
+               L.entries.back().pos.x > x_left) {
+            L.entries.pop_back();
+            ++L.more;
+        }
+        const LegendEntry& last = L.entries.back();
+        L.more_pos = {last.pos.x + last.w + gap, last.pos.y};
+    }
+    int rows = 0;
+    for (const auto& e : L.entries)
+        rows = std::max(rows, static_cast<int>((e.pos.y - p0.y - title_h) / row_h + 0.5f) + 1);
+    L.height = static_cast<float>(rows) * row_h + 2.0f;
+    return L;
+}
+
 }  // namespace
+
+Range axis_range(double data_min, double data_max, std::optional<double> lo,
+                 std::optional<double> hi, double pad) {
+    Range r = autoscale(data_min, data_max, pad);
+    if (lo) r.lo = *lo;
+    if (hi) r.hi = *hi;
+    // A fixed side: the free one still keeps its pad from the data, measured over the range
+    // actually shown (a fixed 0 under data at 1.0 would otherwise leave 1.0 on the border).
+    if (std::isfinite(data_min) && std::isfinite(data_max)) {
+        if (lo && !hi && data_max > r.lo) r.hi = std::max(r.hi, data_max + pad * (data_max - r.lo));
+        if (hi && !lo && data_min < r.hi) r.lo = std::min(r.lo, data_min - pad * (r.hi - data_min));
+    }
+    if (!(r.hi > r.lo)) r.hi = r.lo + 1;
+    return r;
+}
 
 PlotResult draw_plot(const char* id, const PlotSpec& spec, ImVec2 size) {
     PlotResult r;
@@ -134,50 +243,57 @@ PlotResult draw_plot(const char* id, const PlotSpec& spec, ImVec2 size) {
         ymin = std::min(ymin, t.y);
         ymax = std::max(ymax, t.y);
     }
-    Range xr = autoscale(xmin, xmax, 0.0);
-    Range yr = autoscale(ymin, ymax, 0.08);
-    if (spec.x_min) xr.lo = *spec.x_min;
-    if (spec.x_max) xr.hi = *spec.x_max;
-    if (spec.y_min) yr.lo = *spec.y_min;
-    if (spec.y_max) yr.hi = *spec.y_max;
-    if (xr.hi <= xr.lo) xr.hi = xr.lo + 1;
-    if (yr.hi <= yr.lo) yr.hi = yr.lo + 1;
+    const Range xr0 = axis_range(xmin, xmax, spec.x_min, spec.x_max, 0.0);
+    const Range yr0 = axis_range(ymin, ymax, spec.y_min, spec.y_max, 0.08);
+    Range xr = xr0, yr = yr0;
 
-    // Layout: title row, y tick labels on the left, x tick labels (+ label) below.
+    // Layout: title row (the legend on it when it fits, else in rows of its own below it), y tick
+    // labels on the left, x tick labels (+ label) below. The legend never covers the data area.
     const float fh = ImGui::GetFontSize();
     const float title_h = spec.title.empty() ? 4.0f : fh + 6.0f;
     const float bottom_h = fh + 6.0f + (spec.x_label.empty() ? 0.0f : fh + 2.0f);
     ImDrawList* dl = ImGui::GetWindowDrawList();
+    const Legend legend = layout_legend(spec, p0, size, title_h, bottom_h);
 
-    // y ticks first: their label width sets the left margin.
-    const float area_h_guess = std::max(size.y - title_h - bottom_h - 4.0f, 10.0f);
+    // y ticks first: their label width sets the left margin (and, with equal aspect, the area
+    // sets the ranges): the area is laid out with a guessed margin, then once more with the
+    // labels' width, and the ranges are made from the final area.
+    const float top_h = title_h + legend.height;
+    const float area_h_guess = std::max(size.y - top_h - bottom_h - 4.0f, 10.0f);
     const int max_yticks = std::clamp(static_cast<int>(area_h_guess / (fh * 2.2f)) + 1, 2, 10);
-    // Equal aspect needs the area size; do a first pass with a guessed margin.
     float left_w = fh * 3.0f;
     auto compute_area = [&]() {
-        r.area_min = {p0.x + left_w + 6.0f, p0.y + title_h};
+        r.area_min = {p0.x + left_w + 6.0f, p0.y + top_h};
         r.area_max = {p1.x - 8.0f, p1.y - bottom_h};
         if (r.area_max.x < r.area_min.x + 10) r.area_max.x = r.area_min.x + 10;
         if (r.area_max.y < r.area_min.y + 10) r.area_max.y = r.area_min.y + 10;
     };
-    compute_area();
-    if (spec.equal_aspect) {
-        const double w = r.area_max.x - r.area_min.x, h = r.area_max.y - r.area_min.y;
-        const double upp = std::max((xr.hi - xr.lo) / w, (yr.hi - yr.lo) / h);
-        const double xc = 0.5 * (xr.lo + xr.hi), yc = 0.5 * (yr.lo + yr.hi);
-        xr = {xc - upp * w * 0.5, xc + upp * w * 0.5};
-        yr = {yc - upp * h * 0.5, yc + upp * h * 0.5};
-    }
-    const std::vector<double> yticks = nice_ticks(yr.lo, yr.hi, max_yticks);
-    const double ystep = nice_step(yr.hi - yr.lo, max_yticks);
+    std::vector<double> yticks;
     std::vector<std::string> ylabels;
-    float max_label = 0;
-    for (double t : yticks) {
-        ylabels.push_back(format_tick(t, ystep));
-        max_label = std::max(max_label, ImGui::CalcTextSize(ylabels.back().c_str()).x);
+    double ystep = 1;
+    for (int pass = 0; pass < 2; ++pass) {
+        compute_area();
+        xr = xr0;
+        yr = yr0;
+        if (spec.equal_aspect) {
+            const double w = r.area_max.x - r.area_min.x, h = r.area_max.y - r.area_min.y;
+            const double upp = std::max((xr.hi - xr.lo) / w, (yr.hi - yr.lo) / h);
+            const double xc = 0.5 * (xr.lo + xr.hi), yc = 0.5 * (yr.lo + yr.hi);
+            xr = {xc - upp * w * 0.5, xc + upp * w * 0.5};
+            yr = {yc - upp * h * 0.5, yc + upp * h * 0.5};
+        }
+        yticks = nice_ticks(yr.lo, yr.hi, max_yticks);
+        ystep = nice_step(yr.hi - yr.lo, max_yticks);
+        ylabels.clear();
+        float max_label = 0;
+        for (double t : yticks) {
+            ylabels.push_back(format_tick(t, ystep));
+            max_label = std::max(max_label, ImGui::CalcTextSize(ylabels.back().c_str()).x);
+        }
+        const float want = std::max(max_label, fh * 1.5f);
+        if (want == left_w) break;
+        left_w = want;  // pass 1 lays out with it (its labels may differ by a digit: kept)
     }
-    left_w = std::max(max_label, fh * 1.5f) + (spec.y_label.empty() ? 0.0f : 0.0f);
-    compute_area();
     r.x_lo = xr.lo;
     r.x_hi = xr.hi;
     r.y_lo = yr.lo;
@@ -192,6 +308,7 @@ PlotResult draw_plot(const char* id, const PlotSpec& spec, ImVec2 size) {
 
     dl->AddRectFilled(p0, p1, kFrameBg, 3.0f);
     dl->AddRectFilled(a0, a1, kAreaBg);
+    dl->PushClipRect(p0, p1, true);
     if (!spec.title.empty()) {
         const std::string title(spec.title);
         dl->AddText({p0.x + 6.0f, p0.y + 3.0f}, kText, title.c_str());
@@ -212,7 +329,11 @@ PlotResult draw_plot(const char* id, const PlotSpec& spec, ImVec2 size) {
         dl->AddText({a0.x - 4.0f - ts.x, y - ts.y * 0.5f}, kDimText, ylabels[i].c_str());
     }
     const float area_w = a1.x - a0.x;
-    const float xlabel_w = ImGui::CalcTextSize("-0000.00").x + 8.0f;
+    // As many x ticks as their labels fit (the widest label at a fine step, plus a gap).
+    const double fine = nice_step(xr.hi - xr.lo, 12);
+    const float xlabel_w = std::max(ImGui::CalcTextSize(format_tick(xr.lo, fine).c_str()).x,
+                                    ImGui::CalcTextSize(format_tick(xr.hi, fine).c_str()).x) +
+                           fh * 1.2f;
     const int max_xticks = std::clamp(static_cast<int>(area_w / xlabel_w) + 1, 2, 12);
     const double xstep = nice_step(xr.hi - xr.lo, max_xticks);
     for (double t : nice_ticks(xr.lo, xr.hi, max_xticks)) {
@@ -242,9 +363,16 @@ PlotResult draw_plot(const char* id, const PlotSpec& spec, ImVec2 size) {
         const std::uint32_t col = t.rgba ? t.rgba : kThreshold;
         dashed_hline(dl, a0.x, a1.x, y, col, 1.5f);
         if (!t.name.empty()) {
-            const std::string n(t.name);
-            const ImVec2 ts = ImGui::CalcTextSize(n.c_str());
-            dl->AddText({a1.x - ts.x - 4.0f, y - ts.y - 1.0f}, col, n.c_str());
+            // Inside the area: right-aligned above the line, below it when the line is at the
+            // top, shortened when the area is narrower than the name.
+            const float lfs = std::round(fh * 0.86f);
+            const std::string n = fit_text(t.name, lfs, a1.x - a0.x - 8.0f);
+            const float tw = text_w(lfs, n);
+            float ty = y - lfs - 1.0f;
+            if (ty < a0.y + 1.0f) ty = y + 2.0f;
+            ty = std::clamp(ty, a0.y + 1.0f, std::max(a0.y + 1.0f, a1.y - lfs - 1.0f));
+            dl->AddText(ImGui::GetFont(), lfs, {std::max(a1.x - tw - 4.0f, a0.x + 4.0f), ty}, col,
+                        n.c_str());
         }
     }
     std::vector<ImVec2> pts;
@@ -279,57 +407,52 @@ PlotResult draw_plot(const char* id, const PlotSpec& spec, ImVec2 size) {
     }
     dl->PopClipRect();
 
-    // Legend: on the title row, right-aligned, when it fits (keeps the data area clear);
-    // otherwise a box in the top-left of the area. Click an entry to hide/show its series.
-    if (spec.show_legend && !spec.series.empty()) {
-        const float sw = fh * 0.8f, pad = 4.0f;
-        std::vector<float> widths;
-        float total = 0, widest = 0;
-        for (const auto& s : spec.series) {
-            const float w = sw + pad + ImGui::CalcTextSize(std::string(s.name).c_str()).x;
-            widths.push_back(w);
-            total += w + 10.0f;
-            widest = std::max(widest, w);
+    // Legend (laid out above): click an entry to hide/show its series.
+    if (!legend.entries.empty()) {
+        r.legend_min = {FLT_MAX, FLT_MAX};
+        r.legend_max = {-FLT_MAX, -FLT_MAX};
+        for (const LegendEntry& e : legend.entries) {
+            r.legend_min = {std::min(r.legend_min.x, e.pos.x), std::min(r.legend_min.y, e.pos.y)};
+            r.legend_max = {std::max(r.legend_max.x, e.pos.x + e.w),
+                            std::max(r.legend_max.y, e.pos.y + legend.font)};
         }
-        const float title_w =
-            spec.title.empty()
-                ? 0.0f
-                : ImGui::CalcTextSize(std::string(spec.title).c_str()).x +
-                      (spec.y_label.empty()
-                           ? 0.0f
-                           : ImGui::CalcTextSize(std::string(spec.y_label).c_str()).x + 20.0f);
-        const bool inline_row = !spec.title.empty() && title_w + total + 16.0f < size.x;
         const ImVec2 mouse = ImGui::GetIO().MousePos;
-        const float box_h = static_cast<float>(spec.series.size()) * (fh + 2.0f) + pad * 2;
-        if (!inline_row)
-            dl->AddRectFilled({a0.x + 6, a0.y + 6}, {a0.x + 6 + widest + pad * 2, a0.y + 6 + box_h},
-                              IM_COL32(10, 10, 12, 190), 3.0f);
-        float ex = p1.x - total;
-        for (std::size_t si = 0; si < spec.series.size(); ++si) {
-            const auto& s = spec.series[si];
+        const float lfs = legend.font;
+        for (const LegendEntry& e : legend.entries) {
+            const auto& s = spec.series[e.series];
             const ImGuiID hid = hidden_id(s.name);
             const bool hidden = storage->GetBool(hid, false);
-            const std::uint32_t col = s.rgba ? s.rgba : palette_color(si);
-            ImVec2 e0;
-            if (inline_row) {
-                e0 = {ex, p0.y + 3.0f};
-                ex += widths[si] + 10.0f;
-            } else {
-                e0 = {a0.x + 6 + pad, a0.y + 6 + pad + static_cast<float>(si) * (fh + 2.0f)};
-            }
-            const ImVec2 e1{e0.x + widths[si], e0.y + fh};
-            if (r.hovered && mouse.x >= e0.x && mouse.x < e1.x && mouse.y >= e0.y &&
+            const std::uint32_t col = s.rgba ? s.rgba : palette_color(e.series);
+            const ImVec2 e1{e.pos.x + e.w, e.pos.y + lfs};
+            if (r.hovered && mouse.x >= e.pos.x && mouse.x < e1.x && mouse.y >= e.pos.y &&
                 mouse.y < e1.y && ImGui::IsMouseClicked(ImGuiMouseButton_Left))
                 storage->SetBool(hid, !hidden);
-            const ImVec2 q0{e0.x, e0.y + fh * 0.2f}, q1{e0.x + sw, e0.y + fh * 0.8f};
+            const ImVec2 q0{e.pos.x, e.pos.y + lfs * 0.2f},
+                q1{e.pos.x + legend.swatch, e.pos.y + lfs * 0.8f};
             if (hidden)
                 dl->AddRect(q0, q1, col);
             else
                 dl->AddRectFilled(q0, q1, col);
-            dl->AddText({e0.x + sw + pad, e0.y}, hidden ? kDimText : kText,
-                        std::string(s.name).c_str());
+            const std::string name(s.name);
+            dl->AddText(ImGui::GetFont(), lfs, {e.pos.x + legend.swatch + legend.pad, e.pos.y},
+                        hidden ? kDimText : kText, name.c_str());
+        }
+        if (legend.more > 0) {
+            const std::string more = "+" + std::to_string(legend.more);
+            dl->AddText(ImGui::GetFont(), lfs, legend.more_pos, kDimText, more.c_str());
+            const ImVec2 mouse1{legend.more_pos.x + text_w(lfs, more), legend.more_pos.y + lfs};
+            if (r.hovered && mouse.x >= legend.more_pos.x && mouse.x < mouse1.x &&
+                mouse.y >= legend.more_pos.y && mouse.y < mouse1.y) {
+                ImGui::BeginTooltip();
+                for (std::size_t i = spec.series.size() - legend.more; i < spec.series.size(); ++i)
+                    ImGui::TextColored(
+                        ImColor(spec.series[i].rgba ? spec.series[i].rgba : palette_color(i)), "%s",
+                        std::string(spec.series[i].name).c_str());
+                ImGui::EndTooltip();
+            }
         }
     }
+    dl->PopClipRect();  // the frame's
 
     // Hover read-out: cursor line and the value of every series at the nearest x.
     const ImVec2 m = ImGui::GetIO().MousePos;
@@ -347,8 +470,10 @@ PlotResult draw_plot(const char* id, const PlotSpec& spec, ImVec2 size) {
             if (storage->GetBool(hidden_id(s.name), false) || s.size() == 0) continue;
             std::size_t best = 0;
             double bd = std::numeric_limits<double>::infinity();
+            // Nearest in x (a time series), or nearest on the map (equal aspect: a path).
             for (std::size_t i = 0; i < s.size(); ++i) {
-                const double d = std::fabs(s.px(i) - mx);
+                const double d = spec.equal_aspect ? std::hypot(s.px(i) - mx, s.py(i) - my)
+                                                   : std::fabs(s.px(i) - mx);
                 if (std::isfinite(d) && d < bd) {
                     bd = d;
                     best = i;
@@ -359,7 +484,12 @@ PlotResult draw_plot(const char* id, const PlotSpec& spec, ImVec2 size) {
             const ImVec2 hp = to_px(s.px(best), s.py(best));
             if (hp.x >= a0.x && hp.x <= a1.x && hp.y >= a0.y && hp.y <= a1.y)
                 dl->AddCircle(hp, 4.0f, col, 0, 1.5f);
-            ImGui::TextColored(ImColor(col), "%s: %.4g", std::string(s.name).c_str(), s.py(best));
+            if (spec.equal_aspect)
+                ImGui::TextColored(ImColor(col), "%s: (%.4g, %.4g)", std::string(s.name).c_str(),
+                                   s.px(best), s.py(best));
+            else
+                ImGui::TextColored(ImColor(col), "%s: %.4g", std::string(s.name).c_str(),
+                                   s.py(best));
         }
         for (const auto& t : spec.thresholds)
             ImGui::TextColored(ImColor(t.rgba ? t.rgba : kThreshold), "%s: %.4g",

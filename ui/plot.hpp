@@ -1,7 +1,8 @@
 #pragma once
 // A compact line-plot widget drawn with ImDrawList (Debian 12 has no ImPlot): several series,
-// axes with "nice" ticks, grid, legend (click an entry to hide the series), hover read-out,
-// autoscale, dashed horizontal threshold lines, optional equal aspect (a map seen from above).
+// axes with "nice" ticks, grid, legend outside the data area (click an entry to hide the
+// series), hover read-out, autoscale, dashed horizontal threshold lines, optional equal aspect
+// (a map seen from above).
 // Series are read in place from spans or from a RingSeries (fixed-capacity scrolling history).
 
 #include <imgui.h>
@@ -44,13 +45,14 @@ struct PlotSeriesView {
     std::span<const double> x, y;
     const RingSeries* ring = nullptr;
     float thickness = 1.5f;
-    bool markers = false;  // draw a dot on every point (sparse data)
+    bool markers = false;               // draw a dot on every point (sparse data)
+    double x_offset = 0, y_offset = 0;  // added to every point (a path placed on a map)
 
     std::size_t size() const { return ring ? ring->size() : y.size(); }
     double px(std::size_t i) const {
-        return ring ? ring->x(i) : (x.empty() ? static_cast<double>(i) : x[i]);
+        return x_offset + (ring ? ring->x(i) : (x.empty() ? static_cast<double>(i) : x[i]));
     }
-    double py(std::size_t i) const { return ring ? ring->y(i) : y[i]; }
+    double py(std::size_t i) const { return y_offset + (ring ? ring->y(i) : y[i]); }
 };
 
 struct PlotThresholdView {
@@ -73,6 +75,7 @@ struct PlotResult {
     ImVec2 frame_min, frame_max;  // the whole widget
     ImVec2 area_min, area_max;    // the data area
     double x_lo = 0, x_hi = 1, y_lo = 0, y_hi = 1;
+    ImVec2 legend_min, legend_max;  // the legend's bounds (empty when there is none)
     bool hovered = false;
 };
 
@@ -87,6 +90,10 @@ std::vector<double> nice_ticks(double lo, double hi, int max_ticks);
 // Autoscale: min/max of the finite values, padded by `pad` of the span; a flat or empty set gets
 // a unit-wide range around its value (or [0, 1]).
 Range autoscale(double data_min, double data_max, double pad = 0.05);
+// An axis: autoscale(), with a fixed limit replacing its side; the free side still stays `pad`
+// of the shown range away from the data (nothing sits on the border opposite a fixed limit).
+Range axis_range(double data_min, double data_max, std::optional<double> lo,
+                 std::optional<double> hi, double pad);
 // Colour of the i-th series when none is given (distinct on a dark background).
 std::uint32_t palette_color(std::size_t i);
 // Text for a tick value given the tick step (enough decimals to tell neighbours apart).

@@ -14,12 +14,12 @@ const PlotData* find_plot(const GuiSnapshot& s, std::string_view name) {
     return nullptr;
 }
 
-void draw_data(const char* id, const PlotData* p, std::string_view fallback_title, ImVec2 size) {
+void draw_data(const char* id, const PlotData* p, std::string_view fallback_title, ImVec2 size,
+               const char* msg = "no classifier data") {
     PlotSpec spec;
     if (!p) {
         spec.title = fallback_title;
         const PlotResult r = draw_plot(id, spec, size);
-        const char* msg = "no classifier data";
         const ImVec2 ts = ImGui::CalcTextSize(msg);
         ImGui::GetWindowDrawList()->AddText({0.5f * (r.area_min.x + r.area_max.x - ts.x),
                                              0.5f * (r.area_min.y + r.area_max.y - ts.y)},
@@ -67,28 +67,73 @@ void time_plot(const char* id, std::string_view title, std::string_view unit,
     draw_plot(id, spec, size);
 }
 
-void flight_path(const ViewState& v, ImVec2 size) {
+// Plot pixel of a point in the plot's data coordinates.
+ImVec2 to_screen(const PlotResult& r, double x, double y) {
+    return {r.area_min.x + static_cast<float>((x - r.x_lo) / (r.x_hi - r.x_lo)) *
+                               (r.area_max.x - r.area_min.x),
+            r.area_max.y - static_cast<float>((y - r.y_lo) / (r.y_hi - r.y_lo)) *
+                               (r.area_max.y - r.area_min.y)};
+}
+
+constexpr std::uint32_t kNavPathColor = IM_COL32(86, 180, 233, 255);
+constexpr std::uint32_t kOdoPathColor = IM_COL32(240, 130, 60, 255);
+
+// The navdata path (velocities x heading, eq. 6.2) and, while the bottom camera's odometry runs,
+// its visual path from where the navdata path was when the odometry started, on one map with
+// equal scales.
+void flight_path(const GuiSnapshot& s, ViewState& v, ImVec2 size) {
     PlotSpec spec;
     spec.title = "Flight path (top view, eq. 6.2)";
     spec.x_label = "right [m]";
     spec.y_label = "m";
     spec.equal_aspect = true;
-    spec.show_legend = false;
-    PlotSeriesView sv;
-    sv.name = "path";
-    sv.ring = &v.history.path;
-    sv.rgba = IM_COL32(86, 180, 233, 255);
-    spec.series.push_back(sv);
-    const PlotResult r = draw_plot("path", spec, size);
-    if (v.history.path.size() > 0) {
-        // Current position marker.
-        const double x = v.history.path.last_x(), y = v.history.path.last_y();
-        const float px = r.area_min.x + static_cast<float>((x - r.x_lo) / (r.x_hi - r.x_lo)) *
-                                            (r.area_max.x - r.area_min.x);
-        const float py = r.area_max.y - static_cast<float>((y - r.y_lo) / (r.y_hi - r.y_lo)) *
-                                            (r.area_max.y - r.area_min.y);
-        ImGui::GetWindowDrawList()->AddCircleFilled({px, py}, 4.0f, IM_COL32(255, 200, 40, 255));
+    PlotSeriesView nav;
+    nav.name = "navdata";
+    nav.ring = &v.history.path;
+    nav.rgba = kNavPathColor;
+    spec.series.push_back(nav);
+    const OdometryView& o = s.odometry;
+    const bool odo = o.active && !o.path_x.empty();
+    if (odo) {
+        PlotSeriesView vo;
+        vo.name = "visual odometry";
+        vo.x = o.path_x;
+        vo.y = o.path_y;
+        vo.rgba = kOdoPathColor;
+        double ax = 0, ay = 0;
+        if (known(o.start_t_s) && v.history.path_at(o.start_t_s, ax, ay)) {
+            vo.x_offset = ax;
+            vo.y_offset = ay;
+        }
+        spec.series.push_back(vo);
     }
+    spec.show_legend = odo;
+    const PlotResult r = draw_plot("path", spec, size);
+    LayoutReport::FlightPath& lf = v.layout.flight_path;
+    lf.drawn = true;
+    for (const auto& sv : spec.series) lf.series.emplace_back(sv.name);
+    lf.legend = r.legend_max.x > r.legend_min.x;
+    lf.area = {r.area_min.x, r.area_min.y, r.area_max.x, r.area_max.y};
+    lf.x_per_px = (r.x_hi - r.x_lo) / static_cast<double>(r.area_max.x - r.area_min.x);
+    lf.y_per_px = (r.y_hi - r.y_lo) / static_cast<double>(r.area_max.y - r.area_min.y);
+    if (odo) {
+        lf.odometry_x0 = spec.series.back().px(0);
+        lf.odometry_y0 = spec.series.back().py(0);
+        lf.odometry_points = spec.series.back().size();
+    }
+    ImDrawList* dl = ImGui::GetWindowDrawList();
+    dl->PushClipRect(r.area_min, r.area_max, true);
+    // Current positions.
+    if (v.history.path.size() > 0)
+        dl->AddCircleFilled(to_screen(r, v.history.path.last_x(), v.history.path.last_y()), 4.0f,
+                            IM_COL32(255, 200, 40, 255));
+    if (odo) {
+        const PlotSeriesView& vo = spec.series.back();
+        const std::size_t n = vo.size();
+        dl->AddCircleFilled(to_screen(r, vo.px(n - 1), vo.py(n - 1)), 4.0f, kOdoPathColor);
+        dl->AddCircle(to_screen(r, vo.px(0), vo.py(0)), 4.0f, kOdoPathColor, 0, 1.5f);
+    }
+    dl->PopClipRect();
 }
 
 }  // namespace
@@ -121,15 +166,18 @@ void PlotsWindow::draw(const GuiSnapshot& s, ViewState& v) {
                       (avail.y - ImGui::GetStyle().ItemSpacing.y * static_cast<float>(rows - 1)) /
                           static_cast<float>(rows)};
     };
+    // On the bottom camera the classifier does not run: say so instead of "no data".
+    const char* empty =
+        s.classifier.not_running.empty() ? "no classifier data" : "not run on the bottom camera";
     auto classifier_plots = [&](ImVec2 sz) {
-        draw_data("traj", find_plot(s, "trajectories_x"), "Trajectory x over frames", sz);
+        draw_data("traj", find_plot(s, "trajectories_x"), "Trajectory x over frames", sz, empty);
         ImGui::SameLine();
-        draw_data("scale", find_plot(s, "center_scale"), "Centre scale", sz);
+        draw_data("scale", find_plot(s, "center_scale"), "Centre scale", sz, empty);
         ImGui::SameLine();
-        draw_data("scores", find_plot(s, "scores"), "Region scores", sz);
+        draw_data("scores", find_plot(s, "scores"), "Region scores", sz, empty);
     };
     auto flight_plots = [&](ImVec2 sz) {
-        flight_path(v, sz);
+        flight_path(s, v, sz);
         ImGui::SameLine();
         time_plot("alt", "Altitude", "m", {{"altitude", &v.history.altitude_m}}, v, sz, 0.0);
         ImGui::SameLine();

@@ -2,6 +2,7 @@
 
 #include "ui/pilot_input.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -16,7 +17,21 @@ std::string format_bytes(double b) {
         ++u;
     }
     char buf[32];
-    std::snprintf(buf, sizeof buf, u == 0 ? "%.0f %s" : "%.1f %s", b, units[u]);
+    // Three significant digits at most ("7.7 kB", "122 kB"): narrow columns stay readable.
+    std::snprintf(buf, sizeof buf, u == 0 || std::fabs(b) >= 99.95 ? "%.0f %s" : "%.1f %s", b,
+                  units[u]);
+    return buf;
+}
+
+std::string format_sig(double v, int digits) {
+    if (std::isnan(v)) return "-";
+    if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+    digits = std::max(digits, 1);
+    char buf[48];
+    if (std::fabs(v) >= std::pow(10.0, digits))
+        std::snprintf(buf, sizeof buf, "%.0f", v);  // no exponent for large values
+    else
+        std::snprintf(buf, sizeof buf, "%.*g", digits, v);
     return buf;
 }
 

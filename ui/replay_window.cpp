@@ -55,15 +55,36 @@ void ReplayWindow::draw(const GuiSnapshot& s, ViewState& v, Actions& a) {
     ImGui::SameLine();
     bool loop = r.loop;
     if (ImGui::Checkbox("Loop", &loop)) a.replay_loop = loop;
-    ImGui::SameLine();
-    // Speed as powers of two, 0.25x .. 8x.
+    // Speed: a numeric field (any speed from 0.25x to 8x, typed and applied with Enter) and a
+    // slider over the presets (powers of two); on the same line when both have room, else on a
+    // line of their own.
     static const double speeds[] = {0.25, 0.5, 1, 2, 4, 8};
-    static const char* labels[] = {"0.25x", "0.5x", "1x", "2x", "4x", "8x"};
-    int si = 2;
+    int si = 2;  // the preset nearest the speed (on a log scale)
     for (int i = 0; i < 6; ++i)
-        if (std::fabs(speeds[i] - r.speed) < 1e-6) si = i;
+        if (std::fabs(std::log2(speeds[i] / r.speed)) < std::fabs(std::log2(speeds[si] / r.speed)))
+            si = i;
+    const float field_w = ImGui::CalcTextSize("0.25x").x + ImGui::GetFontSize() * 1.5f;
+    const float speed_w = field_w + ImGui::CalcTextSize("0.25x").x + ImGui::GetFontSize() * 4;
+    ImGui::SameLine();
+    if (ImGui::GetContentRegionAvail().x < speed_w) ImGui::NewLine();
+    ImGui::SetNextItemWidth(field_w);
+    double typed = r.speed > 0 ? r.speed : 1.0;
+    if (ImGui::InputDouble("##speed_value", &typed, 0.0, 0.0, "%.2fx",
+                           ImGuiInputTextFlags_EnterReturnsTrue) &&
+        std::isfinite(typed))
+        a.replay_speed = std::clamp(typed, kReplayMinSpeed, kReplayMaxSpeed);
+    {
+        const ImVec2 f0 = ImGui::GetItemRectMin(), f1 = ImGui::GetItemRectMax();
+        v.layout.buttons.emplace_back("replay_speed_value", Rect{f0.x, f0.y, f1.x, f1.y});
+    }
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("Replay speed, %.2gx to %.0fx: type a value and press Enter",
+                          kReplayMinSpeed, kReplayMaxSpeed);
+    ImGui::SameLine();
+    char speed_label[16];
+    std::snprintf(speed_label, sizeof speed_label, "%gx", r.speed);
     ImGui::SetNextItemWidth(-FLT_MIN);
-    if (ImGui::SliderInt("##speed", &si, 0, 5, labels[si])) a.replay_speed = speeds[si];
+    if (ImGui::SliderInt("##speed", &si, 0, 5, speed_label)) a.replay_speed = speeds[si];
 
     long long frame = r.frame;
     const long long last = std::max<long long>(0, r.frame_count - 1);

@@ -50,6 +50,7 @@ struct StreamHealth {
     double rate_hz = kUnknown;  // packets (navdata), frames (video), datagrams (AT) per s
     double age_ms = kUnknown;   // time since the last packet
     double bytes_per_s = kUnknown;
+    bool bytes_estimated = false;  // bytes_per_s is computed, not counted (shown as "~")
     std::uint64_t packets = 0;
     std::uint64_t gaps = 0;   // sequence gaps (missing sequence numbers)
     std::uint64_t drops = 0;  // dropped on our side (queue full, late, reordered)
@@ -199,6 +200,9 @@ struct PlotData {
 struct ClassifierOutput {
     std::vector<std::string> available;  // classifier names to pick from
     std::string active;
+    // Why the classifier did not run on the frame shown ("" when it ran), e.g. the video is from
+    // the bottom camera: the obstacle classifier is for the front camera.
+    std::string not_running;
     std::vector<RegionDecision> decisions;  // usually 3: left, center, right
     std::vector<ClassifierParam> params;
     Overlay overlay;
@@ -207,6 +211,34 @@ struct ClassifierOutput {
     // name is drawn too, in order.
     std::vector<PlotData> plots;
     double cycle_ms = kUnknown;  // classifier time per frame
+};
+
+// ---- Visual odometry (bottom camera) ------------------------------------------------------
+
+// The session's visual odometry on the bottom camera (thesis §3.1, single-camera mode: the
+// bottom camera with the navdata altitude as its distance to the floor). Per-sample values are
+// the estimate after the thesis' filters, in the body frame at the sample (forward, right),
+// yaw clockwise seen from above.
+struct OdometryView {
+    bool active = false;       // the video is from the bottom camera and the odometry runs on it
+    std::uint64_t run = 0;     // changes when the odometry restarted (source, seek, camera switch)
+    std::int64_t sample = -1;  // index of the newest sample in the run (0 only primes)
+    bool valid = false;        // the camera gave a motion this sample
+    std::string status;        // "ok", "too few inliers", "no distance" ...
+    int corners = 0, tracked = 0, inliers = 0;
+    double distance_m = kUnknown;  // to the floor (navdata altitude)
+    double dx_m = kUnknown, dy_m = kUnknown, dyaw_deg = kUnknown;  // this sample, filtered
+    double dyaw_navdata_deg = kUnknown;                            // navdata heading change
+    bool spike_zeroed = false, rotation_gated = false;
+    double ms = kUnknown, ms_mean = kUnknown;  // odometry time, this sample / mean
+    std::int64_t samples = 0, invalid = 0, spike_samples = 0, gated_samples = 0;
+    // Integrated (eq. 6.2) since the run started, in the navdata heading frame.
+    double x_m = kUnknown, y_m = kUnknown, yaw_deg = kUnknown;
+    double nav_x_m = kUnknown, nav_y_m = kUnknown;  // navdata velocities over the same samples
+    double start_t_s = kUnknown;  // flight time of the run's first frame (where its path starts)
+    // The path as drawn on the top view: x = right (eq. 6.2 y), y = forward (eq. 6.2 x), from
+    // the run's start at (0, 0); decimated on long flights.
+    std::vector<double> path_x, path_y;
 };
 
 // ---- Recording / replay ---------------------------------------------------------------------
@@ -289,6 +321,7 @@ struct GuiSnapshot {
     Telemetry telemetry;
     VideoFrame video;
     ClassifierOutput classifier;
+    OdometryView odometry;
     RecordingStatus recording;
     ReplayStatus replay;
     CalibrationView calibration;

@@ -120,8 +120,9 @@ void VideoWindow::draw(const GuiSnapshot& s, ViewState& v, Actions& a, TextureSo
             dl->AddRectFilled(b0, b1, col, 2.0f);
             char lbl[96];
             if (known(r.score))
-                std::snprintf(lbl, sizeof lbl, "%s %s  %.2f / %.2f", r.name.c_str(),
-                              r.flagged ? "UNSAFE" : "clear", r.score, r.threshold);
+                std::snprintf(lbl, sizeof lbl, "%s %s  %s / %s", r.name.c_str(),
+                              r.flagged ? "UNSAFE" : "clear", format_sig(r.score).c_str(),
+                              format_sig(r.threshold).c_str());
             else
                 std::snprintf(lbl, sizeof lbl, "%s %s", r.name.c_str(),
                               r.flagged ? "UNSAFE" : "clear");

@@ -55,6 +55,17 @@ struct LayoutReport {
         std::string status;
     } calibration;
     bool undistorted = false;  // the video window showed the undistorted image
+    // The flight-path top view as drawn.
+    struct FlightPath {
+        bool drawn = false;
+        std::vector<std::string> series;  // in legend order: "navdata", "visual odometry"
+        bool legend = false;
+        double x_per_px = 0, y_per_px = 0;  // metres per pixel of the two axes
+        Rect area;                          // the map's data area
+        // Where the odometry path starts on the map (the navdata path at the odometry's start).
+        double odometry_x0 = kUnknown, odometry_y0 = kUnknown;
+        std::size_t odometry_points = 0;
+    } flight_path;
 
     const Rect* button(std::string_view name) const {
         for (const auto& [n, r] : buttons)

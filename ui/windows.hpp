@@ -84,6 +84,12 @@ struct RecordingWindow {
 std::string format_bytes(double bytes);
 // "01:02:03" / "02:03.4"
 std::string format_duration(double seconds);
+// `digits` significant digits, no exponent for large values ("0.0013", "0.52", "12.3", "1235");
+// "-" for NaN. Scores and thresholds of any magnitude stay readable.
+std::string format_sig(double v, int digits = 3);
+
+// The replay speeds the window offers (the session's pacing accepts the same range).
+inline constexpr double kReplayMinSpeed = 0.25, kReplayMaxSpeed = 8.0;
 
 struct ReplayWindow {
     void draw(const GuiSnapshot& s, ViewState& v, Actions& a);

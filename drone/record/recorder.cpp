@@ -52,6 +52,14 @@ sim::Pose pose_at(const std::deque<sim::GroundTruth>& h, TimeNs t) {
     return p;
 }
 
+// The camera the link's last configuration dump names (front when there is none).
+CameraId reported_camera(const link::DroneLink& link) {
+    const auto cfg = link.config().latest();
+    const auto v = cfg ? cfg->get("video:video_channel") : std::nullopt;
+    const auto ch = v ? config_int(*v) : std::nullopt;
+    return ch && *ch == 1 ? CameraId::Bottom : CameraId::Front;
+}
+
 }  // namespace
 
 Scenario scenario_of(const std::string& name) {
@@ -111,6 +119,13 @@ Expected<bool, std::string> Recorder::start(const std::filesystem::path& dir,
     }
     auto s = std::make_unique<State>();
     opts.writer.write_raw = true;
+    const CameraId camera = opts.camera ? *opts.camera : reported_camera(link_);
+    if (camera != opts.writer.camera) {
+        // A calibration given with writer.camera is that camera's: when the drone reports the
+        // other one, its default is written instead.
+        if (!opts.camera) opts.writer.calibration.reset();
+        opts.writer.camera = camera;
+    }
     if (!opts.writer.calibration) {
         auto c = default_calibration(opts.writer.camera, GS_ASSETS_DIR);
         if (c) opts.writer.calibration = scaled_to(*c, opts.writer.width, opts.writer.height);

@@ -19,6 +19,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <thread>
 
@@ -30,8 +31,15 @@ struct Scene;
 namespace gs::record {
 
 struct RecorderOptions {
-    // camera, size, fps, calibration, source of flight.json; queue sizes. write_raw stays on.
+    // size, fps, calibration, source of flight.json; queue sizes. write_raw stays on; the
+    // camera comes from `camera` below.
     DatasetWriterOptions writer;
+    // flight.json's camera, writer.calibration being its calibration. Unset: the camera the
+    // drone's configuration reports (video:video_channel in the link's last configuration dump;
+    // front when the link has none); writer.calibration is then taken as writer.camera's and
+    // replaced by the reported camera's default when they differ. Without a writer.calibration,
+    // the camera's default calibration is written.
+    std::optional<CameraId> camera;
     std::size_t raw_queue = 8192;  // link raw events (navdata, video chunks, AT): ~10 s at 200 Hz
     std::size_t access_unit_queue = 256;  // ~8 s of frames
     // > 0: every recorded frame (dataset index, frames.csv time and attitude, decoded image) is

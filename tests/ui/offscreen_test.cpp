@@ -119,4 +119,15 @@ TEST(Offscreen, WithoutADisplayTheProgramSaysSoInsteadOfCrashing) {
     fs::remove_all(out);
 }
 
+// `ardrone-gs --help` lists the window's options, the demo mode among them.
+TEST(Offscreen, HelpListsTheWindowOptionsWithTheDemo) {
+    const fs::path out = temp_dir("gs_ui_help");
+    const Proc r = run(std::string(GS_BINARY) + " --help", out / "log.txt");
+    EXPECT_EQ(r.code, 0) << r.output;
+    for (const char* opt : {"--demo", "--offscreen", "--sim", "--replay", "--camera", "--frames",
+                            "--screenshot-every", "--out"})
+        EXPECT_NE(r.output.find(opt), std::string::npos) << opt << " missing from:\n" << r.output;
+    fs::remove_all(out);
+}
+
 }  // namespace

@@ -157,6 +157,29 @@ TEST_F(Wiring, HudBatteryGaugeShowsTheNavdataBatteryOfTheVirtualDrone) {
             demo_battery || (f.group == "demo" && f.name.rfind("vbat_flying_percentage", 0) == 0 &&
                              std::stod(f.value) == nav_pct);
     EXPECT_TRUE(demo_battery);
+
+    // Link health: packet rate and throughput for all three streams. Navdata bytes are the rate
+    // times the datagram size (header + options + checksum, at least the demo option's 148
+    // bytes); AT ones an estimate of a REF + PCMD datagram every 30 ms (each "AT*..." is over 20
+    // bytes).
+    ASSERT_TRUE(run_until(
+        [&] {
+            // Rates are measured over one-second windows: 0 until the first has passed.
+            return snap.link.navdata.rate_hz > 0 && snap.link.at.rate_hz > 0 &&
+                   snap.link.video.rate_hz > 0 && snap.link.video.bytes_per_s > 0;
+        },
+        5s));
+    const StreamHealth& n = snap.link.navdata;
+    const StreamHealth& at = snap.link.at;
+    ASSERT_GT(n.rate_hz, 5.0);
+    EXPECT_GE(n.bytes_per_s / n.rate_hz, 148.0);
+    EXPECT_LE(n.bytes_per_s / n.rate_hz, 4096.0);
+    ASSERT_GT(at.rate_hz, 15.0);
+    EXPECT_TRUE(at.bytes_estimated);
+    EXPECT_GE(at.bytes_per_s / at.rate_hz, 40.0);
+    EXPECT_LE(at.bytes_per_s / at.rate_hz, 200.0);
+    EXPECT_GT(snap.link.video.rate_hz, 5.0);
+    EXPECT_GT(snap.link.video.bytes_per_s, 1000.0);
 }
 
 TEST_F(Wiring, RKeyRecordsTheVirtualDroneAsADatasetThatOpensForReplay) {
@@ -183,6 +206,75 @@ TEST_F(Wiring, RKeyRecordsTheVirtualDroneAsADatasetThatOpensForReplay) {
     EXPECT_GE(ds->frame_count(), 15);
     EXPECT_EQ(static_cast<std::uint64_t>(ds->frame_count()), snap.recording.frames);
     EXPECT_TRUE(ds->has_navdata());
+    std::filesystem::remove_all(root);
+}
+
+// The bottom camera on the virtual drone flying its scripted flight: the session runs the visual
+// odometry (not the classifier) on its frames, the window gets per-sample estimates and a path,
+// and the flight-path map draws it beside the navdata path on equal scales.
+TEST_F(Wiring, BottomCameraRunsVisualOdometryBesideTheNavdataPath) {
+    const std::filesystem::path root =
+        std::filesystem::temp_directory_path() / ("gs_wiring_bottom_" + std::to_string(::getpid()));
+    std::filesystem::remove_all(root);
+    SessionOptions so;
+    so.record_root = root;
+    session = std::make_unique<Session>(so);
+    adapter = std::make_unique<GuiAdapter>(*session);
+    adapter->set_start_camera(1);  // what `--camera bottom` does
+    ASSERT_TRUE(session->request(app::StartSim{"thesis_pillar_center", true}));
+    ASSERT_TRUE(run_until(
+        [&] {
+            return snap.odometry.active && snap.odometry.samples >= 20 &&
+                   snap.odometry.path_x.size() >= 10;
+        },
+        25s))
+        << "camera " << snap.video.camera << ", samples " << snap.odometry.samples << "; "
+        << (snap.messages.empty() ? "" : snap.messages.back());
+    step();
+    const OdometryView& o = snap.odometry;
+    EXPECT_EQ(snap.video.camera, "bottom");
+    EXPECT_FALSE(snap.classifier.not_running.empty()) << "the classifier is for the front camera";
+    EXPECT_TRUE(snap.classifier.decisions.empty());
+    EXPECT_GT(o.samples - o.invalid, o.samples / 2) << "most samples give an estimate";
+    EXPECT_EQ(o.path_x.size(), o.path_y.size());
+    EXPECT_TRUE(std::isfinite(o.distance_m) && o.distance_m > 0) << "altitude from navdata";
+    EXPECT_TRUE(std::isfinite(o.x_m) && std::isfinite(o.y_m));
+    EXPECT_TRUE(std::isfinite(o.nav_x_m) && std::isfinite(o.nav_y_m));
+    // Flying forward at 1 m/s the samples are not thrown away as spikes, and the visual path
+    // follows the navdata one.
+    EXPECT_LT(o.spike_samples, o.samples / 4) << "spike-zeroed samples";
+    const double travelled = std::hypot(o.nav_x_m, o.nav_y_m);
+    if (travelled > 0.3) {
+        EXPECT_LT(std::hypot(o.x_m - o.nav_x_m, o.y_m - o.nav_y_m), 0.25 * travelled + 0.1)
+            << "visual (" << o.x_m << ", " << o.y_m << ") navdata (" << o.nav_x_m << ", "
+            << o.nav_y_m << ")";
+    }
+    // The newest path point is the current pose (x right = eq. 6.2 y, y forward = eq. 6.2 x).
+    EXPECT_DOUBLE_EQ(o.path_x.back(), o.y_m);
+    EXPECT_DOUBLE_EQ(o.path_y.back(), o.x_m);
+
+    const LayoutReport::FlightPath& fp = gui.view().layout.flight_path;
+    ASSERT_TRUE(fp.drawn);
+    ASSERT_EQ(fp.series.size(), 2u);
+    EXPECT_EQ(fp.series[0], "navdata");
+    EXPECT_EQ(fp.series[1], "visual odometry");
+    EXPECT_TRUE(fp.legend);
+    EXPECT_EQ(fp.odometry_points, o.path_x.size());
+    ASSERT_GT(fp.x_per_px, 0);
+    EXPECT_NEAR(fp.y_per_px / fp.x_per_px, 1.0, 1e-6) << "equal scale on both axes";
+    EXPECT_TRUE(std::isfinite(fp.odometry_x0) && std::isfinite(fp.odometry_y0));
+
+    // Recorded now, the dataset is a bottom-camera one (flight.json "camera": "bottom").
+    ASSERT_TRUE(step(key(PilotKey::Record)).record_start);
+    ASSERT_TRUE(run_until([&] { return snap.recording.active && snap.recording.frames >= 5; }, 8s))
+        << snap.recording.error;
+    step();
+    ASSERT_TRUE(step(key(PilotKey::Record)).record_stop);
+    ASSERT_TRUE(run_until([&] { return !snap.recording.active; }, 8s));
+    auto ds = Dataset::open(snap.recording.path);
+    ASSERT_TRUE(ds) << to_string(ds.error());
+    EXPECT_EQ(ds->info().camera, CameraId::Bottom);
+    EXPECT_GE(ds->frame_count(), 5);
     std::filesystem::remove_all(root);
 }
 
