@@ -1,5 +1,6 @@
 #pragma once
-// Subcommands register themselves here, one file per subcommand (app/cmd_*.cpp), so main stays thin.
+// Subcommands register themselves here, one file per subcommand (app/cmd_*.cpp), so main stays
+// thin.
 
 #include <CLI/CLI.hpp>
 

@@ -4,9 +4,9 @@
 #include "app/gui_entry.hpp"
 #endif
 
-#include <string>
 #include <iostream>
 #include <map>
+#include <string>
 
 namespace gs::app {
 namespace {
@@ -26,7 +26,8 @@ CommandRegistration::CommandRegistration(int order, CommandSetup setup) {
 
 CommandRegistration::CommandRegistration(int order, std::string parent,
                                          std::string parent_description, CommandSetup setup) {
-    registry().emplace(order, Entry{std::move(parent), std::move(parent_description), std::move(setup)});
+    registry().emplace(order,
+                       Entry{std::move(parent), std::move(parent_description), std::move(setup)});
 }
 
 void add_registered_commands(CLI::App& root) {

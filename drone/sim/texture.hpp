@@ -37,10 +37,10 @@ std::optional<TextureKind> texture_kind_from_string(std::string_view s);
 struct TextureSpec {
     TextureKind kind = TextureKind::Noise;
     std::uint64_t seed = 1;
-    double scale_m = 1.0;                 // physical size of one (square) repeat
-    cv::Vec3b color_rgb{160, 160, 160};   // main colour
-    cv::Vec3b color2_rgb{0, 0, 0};  // secondary colour, used when has_color2
-    bool has_color2 = false;        // else a kind-specific default
+    double scale_m = 1.0;                // physical size of one (square) repeat
+    cv::Vec3b color_rgb{160, 160, 160};  // main colour
+    cv::Vec3b color2_rgb{0, 0, 0};       // secondary colour, used when has_color2
+    bool has_color2 = false;             // else a kind-specific default
 
     bool operator==(const TextureSpec&) const = default;
 };

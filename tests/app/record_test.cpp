@@ -66,8 +66,8 @@ TEST_F(RecordCommand, FourSecondsOfTheVirtualDroneMakeADatasetWithLabels) {
     auto d = gs::Dataset::open(dir());
     ASSERT_TRUE(d) << gs::to_string(d.error());
     // 30 fps for 4 s; the virtual drone renders in real time and falls behind on a loaded machine
-    // (ctest -j2 beside the other programs), so only a few seconds of frames are required here. That no
-    // frame the link delivered was lost is the " 0 drops" above.
+    // (ctest -j2 beside the other programs), so only a few seconds of frames are required here.
+    // That no frame the link delivered was lost is the " 0 drops" above.
     EXPECT_GE(d->frame_count(), 45);
     EXPECT_LE(d->frame_count(), 120 + 15);
     EXPECT_EQ(d->info().frames, d->frame_count());
