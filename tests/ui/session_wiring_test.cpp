@@ -218,8 +218,8 @@ TEST_F(Wiring, BottomCameraRunsVisualOdometryBesideTheNavdataPath) {
     std::filesystem::remove_all(root);
     SessionOptions so;
     so.record_root = root;
-    session = std::make_unique<Session>(so);
-    adapter = std::make_unique<GuiAdapter>(*session);
+    session = std::make_unique<app::Session>(so);
+    adapter = std::make_unique<app::GuiAdapter>(*session);
     adapter->set_start_camera(1);  // what `--camera bottom` does
     ASSERT_TRUE(session->request(app::StartSim{"thesis_pillar_center", true}));
     ASSERT_TRUE(run_until(
