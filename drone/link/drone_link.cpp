@@ -1,5 +1,7 @@
 #include "drone/link/drone_link.hpp"
 
+#include "drone/capture_clock.hpp"
+
 #include "drone/h264_decoder.hpp"
 #include "drone/net.hpp"
 #include "drone/pave.hpp"
@@ -642,6 +644,7 @@ void DroneLink::video_loop() {
         return pool[0];
     };
 
+    CaptureClock capture_clock;  // kept across reconnects: the drone's clock goes on
     while (running_) {
         auto stream = net::TcpStream::connect(sockets_->video_to, net::Millis{500});
         if (!stream) {
@@ -702,7 +705,9 @@ void DroneLink::video_loop() {
                 FrameSample fs;
                 fs.index = index++;
                 fs.recv_ns = now;
-                fs.t_ns = now - start_ns_;
+                // Capture time (DATASET.md's t_ms): the drone's frame clock mapped onto ours,
+                // free of the network's and this thread's jitter (drone/capture_clock.hpp).
+                fs.t_ns = capture_clock.map(frame->header.timestamp, now) - start_ns_;
                 fs.frame_number = frame->header.frame_number;
                 fs.pave_timestamp_ms = frame->header.timestamp;
                 fs.image = out;  // shares the pooled buffer; the pool skips it while held

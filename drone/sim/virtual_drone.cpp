@@ -243,7 +243,8 @@ void VirtualDrone::video_loop() {
             h.display_width = 640;
             h.display_height = 360;
             h.frame_number = frame_number;
-            h.timestamp = static_cast<std::uint32_t>((r0 - t0) / 1'000'000);
+            // The capture time is the pose's: the physics step the image was rendered from.
+            h.timestamp = static_cast<std::uint32_t>((std::max(cam->t_ns, t0) - t0) / 1'000'000);
             h.frame_type = idr ? PaveFrameType::Idr : PaveFrameType::P;
             h.stream_byte_position_lw = static_cast<std::uint32_t>(byte_pos);
             h.stream_byte_position_uw = static_cast<std::uint32_t>(byte_pos >> 32);
