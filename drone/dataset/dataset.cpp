@@ -186,6 +186,30 @@ Expected<std::string, DatasetError> read_text_file(const fs::path& path, const s
     return text;
 }
 
+Expected<DatasetLabels, DatasetError> read_labels(const fs::path& dir, const DatasetLimits& lim) {
+    DatasetLabels out;
+    std::error_code ec;
+    auto json_path = resolve_fixed(dir, "labels.json");
+    if (!json_path) return Unexpected(json_path.error());
+    if (fs::exists(*json_path, ec)) {
+        auto text = read_text_file(*json_path, "labels.json", lim.max_json_bytes);
+        if (!text) return Unexpected(text.error());
+        auto l = parse_labels_json(*text);
+        if (!l) return Unexpected(l.error());
+        out.flight = std::move(*l);
+    }
+    auto csv_path = resolve_fixed(dir, "labels.csv");
+    if (!csv_path) return Unexpected(csv_path.error());
+    if (fs::exists(*csv_path, ec)) {
+        auto text = read_text_file(*csv_path, "labels.csv", lim.max_csv_bytes);
+        if (!text) return Unexpected(text.error());
+        auto l = parse_labels_csv(std::move(*text));
+        if (!l) return Unexpected(l.error());
+        out.rows = std::move(*l);
+    }
+    return out;
+}
+
 Expected<DatasetInfo, DatasetError> parse_flight_json(const std::string& text,
                                                       const DatasetLimits& limits,
                                                       std::vector<std::string>* warnings) {
@@ -679,24 +703,10 @@ Expected<Dataset, DatasetError> Dataset::open(const fs::path& dir, const Dataset
         d.navdata_ = std::move(*nav);
         d.has_navdata_ = true;
     }
-    auto labels_json_path = resolve_fixed(dir, "labels.json");
-    if (!labels_json_path) return Unexpected(labels_json_path.error());
-    if (fs::exists(*labels_json_path, ec)) {
-        auto text = read_text_file(*labels_json_path, "labels.json", lim.max_json_bytes);
-        if (!text) return Unexpected(text.error());
-        auto l = parse_labels_json(*text);
-        if (!l) return Unexpected(l.error());
-        d.labels_ = std::move(*l);
-    }
-    auto labels_csv_path = resolve_fixed(dir, "labels.csv");
-    if (!labels_csv_path) return Unexpected(labels_csv_path.error());
-    if (fs::exists(*labels_csv_path, ec)) {
-        auto text = read_text_file(*labels_csv_path, "labels.csv", lim.max_csv_bytes);
-        if (!text) return Unexpected(text.error());
-        auto l = parse_labels_csv(std::move(*text));
-        if (!l) return Unexpected(l.error());
-        d.label_rows_ = std::move(*l);
-    }
+    auto labels = read_labels(dir, lim);
+    if (!labels) return Unexpected(labels.error());
+    d.labels_ = std::move(labels->flight);
+    d.label_rows_ = std::move(labels->rows);
     auto raw_path = resolve_fixed(dir, "raw");
     if (!raw_path) return Unexpected(raw_path.error());
     d.has_raw_ = fs::is_directory(*raw_path, ec);

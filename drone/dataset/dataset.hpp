@@ -160,4 +160,13 @@ Expected<std::string, DatasetError> read_text_file(const std::filesystem::path& 
                                                    const std::string& name,
                                                    std::uintmax_t max_bytes);
 
+// labels.json and labels.csv of a dataset directory (DATASET.md), each unset when its file is
+// absent; a file that is there but unsafe, too large or malformed is an error.
+struct DatasetLabels {
+    std::optional<FlightLabels> flight;
+    std::optional<std::vector<LabelRow>> rows;
+};
+Expected<DatasetLabels, DatasetError> read_labels(const std::filesystem::path& dir,
+                                                  const DatasetLimits& limits);
+
 }  // namespace gs

@@ -240,6 +240,19 @@ std::string thesis_labels_json(const FlightLabels& l) {
     return "{\n  \"scenario\": \"" + to_string(l.scenario) + "\"\n}\n";
 }
 
+// A dataset's labels, those it has, beside the images or frames written into `dst`.
+std::optional<DatasetError> write_labels(const Dataset& d, const fs::path& dst) {
+    if (d.labels()) {
+        if (auto e = write_file_atomic(dst / "labels.json", thesis_labels_json(*d.labels()),
+                                       "labels.json"))
+            return e;
+    }
+    if (d.label_rows())
+        return write_file_atomic(dst / "labels.csv", thesis_labels_csv(*d.label_rows()),
+                                 "labels.csv");
+    return std::nullopt;
+}
+
 }  // namespace
 
 Expected<Dataset, DatasetError> open_thesis_folder(const fs::path& dir,
@@ -322,26 +335,8 @@ Expected<Dataset, DatasetError> open_thesis_folder(const fs::path& dir,
         if (!x) return Unexpected(x.error());
         extra = std::move(*x);
     }
-    std::optional<FlightLabels> labels;
-    std::optional<std::vector<LabelRow>> label_rows;
-    auto labels_path = resolve_fixed(dir, "labels.json");
-    if (!labels_path) return Unexpected(labels_path.error());
-    if (fs::exists(*labels_path, ec)) {
-        auto t = read_text_file(*labels_path, "labels.json", lim.max_json_bytes);
-        if (!t) return Unexpected(t.error());
-        auto l = parse_labels_json(*t);
-        if (!l) return Unexpected(l.error());
-        labels = std::move(*l);
-    }
-    auto label_rows_path = resolve_fixed(dir, "labels.csv");
-    if (!label_rows_path) return Unexpected(label_rows_path.error());
-    if (fs::exists(*label_rows_path, ec)) {
-        auto t = read_text_file(*label_rows_path, "labels.csv", lim.max_csv_bytes);
-        if (!t) return Unexpected(t.error());
-        auto l = parse_labels_csv(std::move(*t));
-        if (!l) return Unexpected(l.error());
-        label_rows = std::move(*l);
-    }
+    auto labels = read_labels(dir, lim);
+    if (!labels) return Unexpected(labels.error());
 
     cv::Mat first = cv::imread(paths.front().string(), cv::IMREAD_COLOR);
     if (first.empty())
@@ -390,7 +385,8 @@ Expected<Dataset, DatasetError> open_thesis_folder(const fs::path& dir,
         rows.push_back(r);
     }
     return Dataset::from_parts(dir, info, calib, std::move(rows), std::move(paths),
-                               std::move(labels), std::move(label_rows), std::move(warnings));
+                               std::move(labels->flight), std::move(labels->rows),
+                               std::move(warnings));
 }
 
 Expected<Dataset, DatasetError> import_thesis(const fs::path& src, const fs::path& dst,
@@ -429,16 +425,7 @@ Expected<Dataset, DatasetError> import_thesis(const fs::path& src, const fs::pat
     DatasetInfo info = d->info();
     info.images = "frames";
     if (auto e = write_file_atomic(dst / "frames.csv", frames, "frames.csv")) return Unexpected(*e);
-    if (d->labels()) {
-        if (auto e = write_file_atomic(dst / "labels.json", thesis_labels_json(*d->labels()),
-                                       "labels.json"))
-            return Unexpected(*e);
-    }
-    if (d->label_rows()) {
-        if (auto e = write_file_atomic(dst / "labels.csv", thesis_labels_csv(*d->label_rows()),
-                                       "labels.csv"))
-            return Unexpected(*e);
-    }
+    if (auto e = write_labels(*d, dst)) return Unexpected(*e);
     if (auto e = write_file_atomic(dst / "flight.json", flight_json_text(info), "flight.json"))
         return Unexpected(*e);
     return Dataset::open(dst, open_opts);
@@ -479,16 +466,7 @@ std::optional<DatasetError> export_thesis(const Dataset& d, FrameStore& frames,
     if (auto e = write_file_atomic(dst / kThesisMetaFile, meta.dump(2) + "\n", kThesisMetaFile))
         return e;
     if (auto e = write_file_atomic(dst / kThesisExtraFile, extra, kThesisExtraFile)) return e;
-    if (d.labels()) {
-        if (auto e = write_file_atomic(dst / "labels.json", thesis_labels_json(*d.labels()),
-                                       "labels.json"))
-            return e;
-    }
-    if (d.label_rows()) {
-        if (auto e = write_file_atomic(dst / "labels.csv", thesis_labels_csv(*d.label_rows()),
-                                       "labels.csv"))
-            return e;
-    }
+    if (auto e = write_labels(d, dst)) return e;
     return write_file_atomic(dst / "imu.txt", imu, "imu.txt");
 }
 
