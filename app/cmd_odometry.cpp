@@ -6,6 +6,7 @@
 // `--generate TEST` first renders one of the thesis' four test flights into DATASET.
 #include "app/cli_options.hpp"
 #include "app/command.hpp"
+#include "app/pipeline.hpp"
 #include "app/replay_run.hpp"
 #include "drone/dataset/dataset.hpp"
 #include "drone/dataset/frame_store.hpp"
@@ -193,10 +194,7 @@ int run(const Opts& o) {
         const FrameRow& r = rows[i];
         if (auto e = (*store)->read(static_cast<std::int64_t>(i), bottom))
             throw fail(to_string(*e));
-        vision::OdometryInput in;
-        in.t_ns = r.nav.t_ns;
-        in.bottom = bottom;
-        in.bottom_distance_m = r.nav.altitude_m;
+        vision::OdometryInput in = to_odometry_input(r.nav, r.nav.t_ns, bottom);
         if (!extras->bottom_m.empty() && known(extras->bottom_m[i]))
             in.bottom_distance_m = extras->bottom_m[i];
         if (two) {
@@ -205,11 +203,6 @@ int run(const Opts& o) {
             in.top = top;
             in.top_distance_m = extras->top_m.empty() ? kUnknown : extras->top_m[i];
         }
-        in.roll_deg = r.nav.roll_deg;
-        in.pitch_deg = r.nav.pitch_deg;
-        in.yaw_deg = r.nav.yaw_deg;
-        in.vx_mps = r.nav.vx_mps;
-        in.vy_mps = r.nav.vy_mps;
         const vision::OdometrySample& s = vo.update(in);
         samples.push_back(s);
         if (i > 0) ms.push_back(s.total_ms);

@@ -69,16 +69,7 @@ void LiveOdometry::process(const FrameSample& f, OdometryOutput& out) {
         start_t_ns_ = f.t_ns;
     }
 
-    vision::OdometryInput in;
-    in.t_ns = f.t_ns;
-    in.bottom = f.image;
-    in.bottom_distance_m = f.nav.altitude_m;  // the ultrasonic altimeter: distance to the floor
-    in.roll_deg = f.nav.roll_deg;
-    in.pitch_deg = f.nav.pitch_deg;
-    in.yaw_deg = f.nav.yaw_deg;
-    in.vx_mps = f.nav.vx_mps;
-    in.vy_mps = f.nav.vy_mps;
-    const vision::OdometrySample& s = vo_->update(in);
+    const vision::OdometrySample& s = vo_->update(to_odometry_input(f.nav, f.t_ns, f.image));
     if (s.index > 0) {
         ++samples_;
         invalid_ += s.valid ? 0 : 1;

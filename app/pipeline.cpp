@@ -28,6 +28,19 @@ vision::FrameInput to_frame_input(const FrameSample& s) {
     return in;
 }
 
+vision::OdometryInput to_odometry_input(const NavState& nav, TimeNs t_ns, const cv::Mat& bottom) {
+    vision::OdometryInput in;
+    in.t_ns = t_ns;
+    in.bottom = bottom;
+    in.bottom_distance_m = nav.altitude_m;  // the ultrasonic altimeter: distance to the floor
+    in.roll_deg = nav.roll_deg;
+    in.pitch_deg = nav.pitch_deg;
+    in.yaw_deg = nav.yaw_deg;
+    in.vx_mps = nav.vx_mps;
+    in.vy_mps = nav.vy_mps;
+    return in;
+}
+
 ObstaclePipeline::ObstaclePipeline(std::string classifier, const CameraCalibration& calibration)
     : name_(std::move(classifier)), calib_(to_vision(calibration)) {
     classifier_ = vision::make_classifier(name_, calib_);

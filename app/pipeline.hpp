@@ -6,6 +6,7 @@
 #include "drone/dataset/dataset.hpp"
 #include "drone/sample.hpp"
 #include "vision/classifier.hpp"
+#include "vision/odometry.hpp"
 
 #include <memory>
 #include <string>
@@ -17,6 +18,9 @@ vision::CameraCalibration to_vision(const CameraCalibration& c);
 // The classifier's input for one frame: the image header (no copy), capture time and the
 // attitude and velocities at capture time.
 vision::FrameInput to_frame_input(const FrameSample& s);
+// The odometry's input for one bottom-camera frame captured at `t_ns` with `nav` (NavState at
+// capture time): the altimeter as the distance to the floor, attitude and velocities.
+vision::OdometryInput to_odometry_input(const NavState& nav, TimeNs t_ns, const cv::Mat& bottom);
 
 class ObstaclePipeline {
 public:
