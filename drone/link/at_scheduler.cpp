@@ -1,14 +1,13 @@
 #include "drone/link/at_scheduler.hpp"
 
+#include "drone/navdata.hpp"
+
 #include <algorithm>
 #include <cmath>
 
 namespace gs::link {
 namespace {
-constexpr std::uint32_t kStateFly = 1u << 0;
-constexpr std::uint32_t kStateBootstrap = 1u << 11;
-constexpr std::uint32_t kStateComWatchdog = 1u << 30;
-constexpr std::uint32_t kEmergencyBit = 1u << 31;
+using navdata::DroneState;
 float clamp1(float v) {
     return std::isfinite(v) ? std::clamp(v, -1.0f, 1.0f) : 0.0f;
 }
@@ -44,24 +43,35 @@ void AtScheduler::set_fly(bool fly) {
     fly_since_.reset();
 }
 
-void AtScheduler::drop_takeoff_intent() {
+void AtScheduler::land_intent() {
     intent_ = FlyIntent::Land;
     seen_flying_ = false;
     fly_since_.reset();
+}
+
+void AtScheduler::drop_takeoff_intent() {
+    land_intent();
     ++counters_.takeoff_intents_dropped;
 }
 
-void AtScheduler::update_intent(TimeNs now, std::uint32_t drone_state) {
+void AtScheduler::check_takeoff_timeout(TimeNs now) {
     if (!fly_since_) fly_since_ = now;
-    if (drone_state & kEmergencyBit) {
+    if (now - *fly_since_ <= takeoff_timeout_ns_) return;
+    ++counters_.takeoff_timeouts;  // refused: a later change must not make it take off
+    drop_takeoff_intent();
+}
+
+void AtScheduler::update_intent(TimeNs now, std::optional<std::uint32_t> drone_state) {
+    if (!fly_since_) fly_since_ = now;
+    const DroneState st{drone_state.value_or(0)};
+    if (drone_state && st.emergency()) {
         drop_takeoff_intent();  // motors cut by the drone: never restart them by ourselves
-    } else if (drone_state & kStateFly) {
+    } else if (drone_state && st.fly()) {
         seen_flying_ = true;
-    } else if (seen_flying_) {
+    } else if (drone_state && seen_flying_) {
         drop_takeoff_intent();  // it flew and landed on its own (battery, com loss, ...)
-    } else if (now - *fly_since_ > takeoff_timeout_ns_) {
-        ++counters_.takeoff_timeouts;  // refused: a later change must not make it take off
-        drop_takeoff_intent();
+    } else {
+        check_takeoff_timeout(now);
     }
 }
 
@@ -78,9 +88,7 @@ void AtScheduler::hover() {
 void AtScheduler::request_emergency(bool drone_emergency_now, TimeNs now) {
     emergency_ = EmergencyRequest{drone_emergency_now, now};
     ++counters_.emergency_requests;
-    intent_ = FlyIntent::Land;
-    seen_flying_ = false;
-    fly_since_.reset();
+    land_intent();
 }
 
 void AtScheduler::on_link_lost() {
@@ -99,7 +107,8 @@ void AtScheduler::on_link_restored() {
 void AtScheduler::on_connected(std::uint32_t drone_state) {
     lost_ = false;
     if (intent_ != FlyIntent::Unknown) return;  // the pilot decided meanwhile
-    const bool flying = (drone_state & kStateFly) && !(drone_state & kEmergencyBit);
+    const DroneState st{drone_state};
+    const bool flying = st.fly() && !st.emergency();
     intent_ = flying ? FlyIntent::Fly : FlyIntent::Land;
     seen_flying_ = flying;
     fly_since_.reset();
@@ -112,9 +121,7 @@ void AtScheduler::on_drone_restart() {
     hover();
     emergency_.reset();
     if (intent_ == FlyIntent::Fly) ++counters_.takeoff_intents_dropped;
-    intent_ = FlyIntent::Land;
-    seen_flying_ = false;
-    fly_since_.reset();
+    land_intent();
 }
 
 void AtScheduler::build(TimeNs now, std::optional<std::uint32_t> drone_state,
@@ -123,21 +130,11 @@ void AtScheduler::build(TimeNs now, std::optional<std::uint32_t> drone_state,
     commands_.clear();
     ++counters_.cycles;
 
-    if (intent_ == FlyIntent::Fly && !lost_) {
-        if (drone_state) {
-            update_intent(now, *drone_state);
-        } else {
-            if (!fly_since_) fly_since_ = now;
-            if (now - *fly_since_ > takeoff_timeout_ns_) {
-                ++counters_.takeoff_timeouts;
-                drop_takeoff_intent();
-            }
-        }
-    }
+    if (intent_ == FlyIntent::Fly && !lost_) update_intent(now, drone_state);
 
     bool emergency_bit = false;
     if (emergency_) {
-        const bool drone_now = drone_state && (*drone_state & kEmergencyBit);
+        const bool drone_now = drone_state && DroneState{*drone_state}.emergency();
         if (drone_state && drone_now != emergency_->from) {
             emergency_.reset();  // the drone toggled: release the bit
         } else if (now - emergency_->since > emergency_timeout_ns_) {
@@ -165,8 +162,8 @@ void AtScheduler::build(TimeNs now, std::optional<std::uint32_t> drone_state,
     // The watchdog bit is answered every cycle while the drone reports it (an answer may be
     // lost); with no flight command to send, AT*COMWDG is the keep-alive. Not while the link
     // is lost: the drone state we hold is stale.
-    const bool watchdog =
-        drone_state && (*drone_state & kStateComWatchdog) && !(*drone_state & kStateBootstrap);
+    const bool watchdog = drone_state && DroneState{*drone_state}.com_watchdog() &&
+                          !DroneState{*drone_state}.navdata_bootstrap();
     if (!lost_ && (watchdog || !flight)) {
         commands_.push_back(at::comwdg(seq_.next()));
         ++counters_.comwdg_sent;

@@ -101,8 +101,12 @@ public:
     at::Seq next_seq() const { return seq_.peek(); }
 
 private:
-    void drop_takeoff_intent();
-    void update_intent(TimeNs now, std::uint32_t drone_state);
+    void land_intent();          // Land, and forget the take-off being watched
+    void drop_takeoff_intent();  // the same, counted: a take-off the drone did not carry out
+    // A take-off not shown by the drone within the timeout is dropped (counted).
+    void check_takeoff_timeout(TimeNs now);
+    // Watches a Fly intent against what the drone reports (nothing yet: only the timeout).
+    void update_intent(TimeNs now, std::optional<std::uint32_t> drone_state);
 
     NavdataIds ids_;
     TimeNs emergency_timeout_ns_;
