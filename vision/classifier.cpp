@@ -21,6 +21,26 @@ const char* to_string(Region r) {
     return "?";
 }
 
+const char* to_string(UnknownReason r) {
+    switch (r) {
+        case UnknownReason::None:
+            return "measured";
+        case UnknownReason::WarmingUp:
+            return "warming up: not enough history yet";
+        case UnknownReason::TooFewPoints:
+            return "too few tracked points";
+        case UnknownReason::NoEgoMotion:
+            return "no usable velocity or focus of expansion";
+        case UnknownReason::Rotating:
+            return "rotating too fast";
+        case UnknownReason::StaleVideo:
+            return "video stale";
+        case UnknownReason::Gap:
+            return "frames missing";
+    }
+    return "?";
+}
+
 const PlotSeries* FrameResult::find_series(std::string_view name) const {
     for (const PlotSeries& s : series)
         if (s.name == name) return &s;

@@ -38,9 +38,25 @@ enum class Region : int { Left = 0, Centre = 1, Right = 2 };
 inline constexpr std::array<Region, 3> kRegions{Region::Left, Region::Centre, Region::Right};
 const char* to_string(Region r);
 
+// Why a region has no decision this frame (RegionDecision::valid false). An unknown region is
+// shown as unknown ("no data", grey, with this reason), never as clear, and never brakes.
+// The classifiers set the first group; the session sets the second from what it knows of the
+// input stream.
+enum class UnknownReason : std::uint8_t {
+    None = 0,      // valid: the decision is measured
+    WarmingUp,     // not enough history yet (a fit window not filled)
+    TooFewPoints,  // fewer tracked points in the region than the decision needs
+    NoEgoMotion,   // no usable velocity or focus of expansion: the flight corridor is unplaced
+    Rotating,      // rotating too fast to tell expansion from rotation
+    StaleVideo,    // (session) the newest frame is older than the staleness limit
+    Gap,           // (session) frames missing before this one (link loss, replay gap)
+};
+const char* to_string(UnknownReason r);  // short, for a tooltip: "too few tracked points"
+
 struct RegionDecision {
     bool unsafe = false;
     bool valid = false;   // enough evidence for a score this frame
+    UnknownReason unknown = UnknownReason::WarmingUp;  // None when valid
     double score = kNaN;  // unsafe when score > threshold (and valid)
     double threshold = kNaN;
     int support = 0;  // trajectories / points behind the score

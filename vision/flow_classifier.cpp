@@ -185,6 +185,7 @@ void FlowClassifier::classify(const FrameInput& in) {
         }
         d.score = score;
         d.valid = !std::isnan(score);
+        d.unknown = d.valid ? UnknownReason::None : UnknownReason::TooFewPoints;
         confirm(r, raw);
     }
     plot(s_hazards_, hazards);

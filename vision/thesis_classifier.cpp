@@ -131,6 +131,7 @@ void ThesisClassifier::classify_sides() {
         d.threshold = p_.cluster_min_size;
         d.support = support[side];
         d.valid = true;  // no steep cluster is itself the evidence of "safe"
+        d.unknown = UnknownReason::None;
         d.score = best[side];
         d.unsafe = best[side] > p_.cluster_min_size;
     }
@@ -175,6 +176,7 @@ void ThesisClassifier::classify_centre() {
             const double nd = static_cast<double>(n);
             d.score = f.slope_at(nd);
             d.valid = true;
+            d.unknown = UnknownReason::None;
             d.unsafe = d.score > p_.centre_slope_threshold;
             plot(s_scale_fit_, f.at(nd));
             return;
@@ -182,6 +184,7 @@ void ThesisClassifier::classify_centre() {
     }
     d.score = kNaN;
     d.valid = false;
+    d.unknown = filtered_.size() >= n ? UnknownReason::TooFewPoints : UnknownReason::WarmingUp;
     d.unsafe = false;
     plot(s_scale_fit_, kNaN);
 }
