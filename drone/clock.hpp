@@ -24,6 +24,8 @@ public:
     static SteadyClock& instance();
 };
 
+// A clock its owner moves: tests step it instead of sleeping, and a lock-stepped run (the
+// offscreen window, a closed-loop evaluation) advances the virtual drone and the link with it.
 class FakeClock final : public Clock {
 public:
     explicit FakeClock(TimeNs start = 0) : now_(start) {}
@@ -34,6 +36,13 @@ public:
 private:
     std::atomic<TimeNs> now_;
 };
+
+// Blocks until `clock` reaches `t`, or returns false as soon as `keep_going` is false. On the
+// steady clock this is one sleep; on a clock someone else steps (FakeClock) it waits in 1 ms
+// slices of real time, so a thread follows the steps however fast or slow they come.
+bool sleep_until(const Clock& clock, TimeNs t, const std::atomic<bool>& keep_going);
+// True for a clock that moves only when stepped (not the steady clock).
+bool is_stepped(const Clock& clock);
 
 inline constexpr TimeNs kNsPerMs = 1'000'000;
 constexpr TimeNs ms_to_ns(double ms) {

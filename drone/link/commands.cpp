@@ -15,6 +15,7 @@ std::string command_name(const Command& c) {
         std::string operator()(const SwitchCamera&) const { return "switch camera"; }
         std::string operator()(const Led&) const { return "led"; }
         std::string operator()(const Anim&) const { return "anim"; }
+        std::string operator()(const ReadConfig&) const { return "read configuration"; }
     };
     return std::visit(V{}, c);
 }

@@ -24,6 +24,9 @@ struct SetConfig {
     std::string key, value;
     bool verify = true;  // read it back over the control port
 };
+// Reads the drone's whole configuration back over the control port (the dump arrives on
+// DroneLink::config()).
+struct ReadConfig {};
 struct SwitchCamera {
     int channel = 0;  // 0 front, 1 bottom
 };
@@ -38,7 +41,7 @@ struct Anim {
 };
 
 using Command = std::variant<Takeoff, Land, Emergency, Move, Hover, FlatTrim, Calibrate, SetConfig,
-                             SwitchCamera, Led, Anim>;
+                             SwitchCamera, Led, Anim, ReadConfig>;
 std::string command_name(const Command& c);
 
 enum class ResultCode { Sent, NotConnected, Rejected, Timeout };

@@ -328,6 +328,15 @@ std::future<CommandResult> DroneLink::submit(Command c) {
             return (*this)(SetConfig{"control:flight_anim",
                                      at::flight_anim_value(a.anim_id, a.duration_ms), false});
         }
+        std::future<CommandResult> operator()(const ReadConfig&) {
+            if (!connected) return ready(ResultCode::NotConnected, nc);
+            NavRequest r;
+            r.read_dump = true;
+            auto f = r.done.get_future();
+            if (!link.nav_queue_.push(std::move(r)))
+                return ready(ResultCode::Rejected, "too many configuration requests pending");
+            return f;
+        }
         std::future<CommandResult> oneshot(OneShot::Kind k) {
             OneShot o;
             o.kind = k;
@@ -555,10 +564,10 @@ void DroneLink::at_loop() {
     TimeNs next = clock_.now_ns();
     TimeNs last_cycle = 0;
     while (running_) {
-        // Sleep until the next cycle on the steady clock, waking for queued commands only at the
-        // cycle (commands are sent on the 30 ms beat, as the drone expects).
-        const TimeNs wait = next - clock_.now_ns();
-        if (wait > 0) std::this_thread::sleep_for(std::chrono::nanoseconds(wait));
+        // Sleep until the next cycle, waking for queued commands only at the cycle (commands are
+        // sent on the 30 ms beat, as the drone expects). On a stepped clock (a lock-stepped run)
+        // the beat follows the steps.
+        if (!sleep_until(clock_, next, running_)) break;
         next += config_.at_period_ns;
         TimeNs now = clock_.now_ns();
         if (next < now) next = now + config_.at_period_ns;  // fell far behind: do not burst

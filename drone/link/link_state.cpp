@@ -112,6 +112,10 @@ bool LinkStateMachine::ack_bit() const {
 }
 
 std::uint64_t LinkStateMachine::write_config(std::string key, std::string value, bool verify) {
+    // The navdata mode asked for becomes the one the link configures from now on (after a loss
+    // or a drone restart too), and the one it waits for.
+    if (key == "general:navdata_demo")
+        if (auto demo = config_bool(value)) setup_.navdata_demo = *demo;
     Job j;
     j.kind = JobKind::Write;
     j.id = next_id_++;

@@ -108,9 +108,17 @@ ConfigMap default_drone_config() {
     return c;
 }
 
+void DroneCore::reset_config() {
+    config_ = default_drone_config();
+    config_.set("video:bitrate", std::to_string(options_.video_bitrate_kbps));
+    config_.set("video:max_bitrate", std::to_string(std::max(options_.video_bitrate_kbps, 1000)));
+    video_codec_ = 129;
+    video_bitrate_kbps_ = options_.video_bitrate_kbps;
+}
+
 DroneCore::DroneCore(DroneCoreOptions options)
     : options_(std::move(options)), model_(options_.flight), rng_(options_.seed) {
-    config_ = default_drone_config();
+    reset_config();
     model_.set_pose(options_.start.x_m, options_.start.y_m, options_.start.z_m,
                     options_.start.yaw_deg);
     model_.set_battery(options_.battery_pct);
@@ -202,10 +210,12 @@ void DroneCore::apply_command(const at::Command& c, TimeNs now) {
         }
         void operator()(const at::Config& c) {
             ++d.counters_.configs;
+            if (!d.ids_pending_) ++d.counters_.configs_without_ids;
+            d.ids_pending_ = false;
             d.apply_config(c.key, c.value);
             d.ack_ = true;
         }
-        void operator()(const at::ConfigIds&) {}
+        void operator()(const at::ConfigIds&) { d.ids_pending_ = true; }
         void operator()(const at::Comwdg&) {
             ++d.counters_.comwdg;
             d.com_watchdog_ = false;
@@ -243,7 +253,45 @@ void DroneCore::apply_config(const std::string& key, const std::string& value) {
     const bool is_number = config_float(*current).has_value();
     if (is_bool && !config_bool(value)) return;
     if (!is_bool && is_number && !config_float(value)) return;
-    config_.set(key, value);
+    // What the firmware bounds (PROTOCOL.md section 5.4) is kept inside its range, and a video
+    // codec this drone cannot stream is refused: the read-back shows what it took.
+    struct Range {
+        const char* key;
+        double lo, hi;
+    };
+    static constexpr Range kRanges[] = {{"control:altitude_max", 500, 10000},
+                                        {"control:euler_angle_max", 0.0, 0.5236},
+                                        {"control:control_vz_max", 200, 2000},
+                                        {"control:control_yaw", 0.698, 6.11},
+                                        {"video:bitrate", 250, 4000}};
+    std::string stored = value;
+    for (const Range& r : kRanges) {
+        if (key != r.key) continue;
+        const double v = *config_float(value);
+        const double c = std::clamp(v, r.lo, r.hi);
+        if (c != v) {
+            ++counters_.configs_clamped;
+            stored = key == "control:altitude_max" || key == "video:bitrate"
+                         ? std::to_string(static_cast<long>(c))
+                         : config_format_float(c);
+        }
+    }
+    if (key == "video:video_codec") {
+        const auto codec = config_int(value);
+        if (!codec || (*codec != 129 && *codec != 131)) {
+            ++counters_.configs_refused;  // H.264 360p and 720p only (PROTOCOL.md section 4.5)
+            return;
+        }
+        video_codec_ = *codec;
+    }
+    if (key == "video:bitrate") video_bitrate_kbps_ = static_cast<int>(*config_float(stored));
+    config_.set(key, stored);
+    // Switching indoor/outdoor loads that mode's maxima, as the firmware does.
+    if (key == "control:outdoor") {
+        const std::string mode = *config_bool(value) ? "control:outdoor_" : "control:indoor_";
+        for (const char* k : {"euler_angle_max", "control_vz_max", "control_yaw"})
+            if (auto m = config_.get(mode + k)) config_.set(std::string("control:") + k, *m);
+    }
 
     if (key == "control:flight_anim") {
         autopilot_yield("animation");
@@ -280,7 +328,7 @@ void DroneCore::reboot(TimeNs now, TimeNs boot_ns) {
     ++counters_.reboots;
     booted_at_ns_ = now + boot_ns;
     ap_active_ = false;  // a rebooted drone waits on the ground for a pilot
-    config_ = default_drone_config();
+    reset_config();
     seq_filter_ = at::SeqFilter{};
     navdata_client_.reset();
     pending_dump_.reset();

@@ -46,6 +46,7 @@ struct DroneCoreOptions {
     TimeNs bootstrap_period_ns = ms_to_ns(65);  // bootstrap and demo navdata ≈ 15 Hz
     TimeNs full_period_ns = ms_to_ns(5);        // full navdata 200 Hz
     double battery_pct = 100.0;
+    int video_bitrate_kbps = 1000;  // what video:bitrate reports at boot (the encoder's rate)
 };
 
 struct OutDatagram {
@@ -69,7 +70,11 @@ struct DroneCoreCounters {
     std::uint64_t reboots = 0;
     std::uint64_t at_while_booting = 0;  // AT datagrams that arrived before the boot finished
     std::uint64_t ftrims = 0, calibrations = 0, leds = 0, anims = 0;  // AT*LED/ANIM or CONFIG
-    std::uint64_t autopilot_yields = 0;                               // 1 once the pilot took over
+    // Configuration writes kept but changed to what the firmware allows (clamped to its range)
+    // or refused (a value it does not support): the read-back shows the drone's value.
+    std::uint64_t configs_clamped = 0, configs_refused = 0;
+    std::uint64_t configs_without_ids = 0;  // AT*CONFIG not right after an AT*CONFIG_IDS
+    std::uint64_t autopilot_yields = 0;     // 1 once the pilot took over
 };
 
 class DroneCore {
@@ -99,6 +104,10 @@ public:
     bool navdata_demo() const { return demo_; }
     bool bootstrap() const { return bootstrap_; }
     int video_channel() const;
+    // The video stream the configuration asks for: video:video_codec (129 H.264 360p, 131 H.264
+    // 720p) and video:bitrate (kbit/s).
+    int video_codec() const { return video_codec_; }
+    int video_bitrate_kbps() const { return video_bitrate_kbps_; }
     std::uint32_t video_frame_number() const { return video_frame_number_; }
     void set_video_frame(std::uint32_t number, std::uint32_t size_bytes) {
         video_frame_number_ = number;
@@ -116,6 +125,7 @@ public:
 private:
     void apply_command(const at::Command& c, TimeNs now);
     void apply_config(const std::string& key, const std::string& value);
+    void reset_config();  // the factory configuration, with this drone's own video bitrate
     void update_bits();
     void emit_navdata(std::vector<OutDatagram>& out);
     void send(std::vector<std::uint8_t> bytes, std::vector<OutDatagram>& out);
@@ -149,6 +159,9 @@ private:
     bool com_watchdog_ = false;
     bool com_lost_ = false;
     FlightInput input_;  // from REF and PCMD
+    int video_codec_ = 129;
+    int video_bitrate_kbps_ = 1000;
+    bool ids_pending_ = false;  // an AT*CONFIG_IDS came and its AT*CONFIG not yet
     std::uint32_t video_frame_number_ = 0;
     std::uint32_t video_frame_size_ = 0;
     double calibration_yaw_left_deg_ = 0;

@@ -20,10 +20,23 @@ CameraCalibration camera_calibration(CameraId id) {
     auto c = default_calibration(id);
     return c ? *c : builtin_calibration(id);
 }
-TimeNs mono_now() {
-    return SteadyClock::instance().now_ns();
-}
 }  // namespace
+
+const Clock& VirtualDrone::clock() const {
+    return options_.clock ? *options_.clock : SteadyClock::instance();
+}
+
+bool VirtualDrone::wait_reached(TimeNs t, std::chrono::milliseconds timeout) const {
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    while (std::chrono::steady_clock::now() < deadline) {
+        const bool core = core_time_.load() >= t;
+        const bool video = !video_client_.load() || video_next_due_.load() > t;
+        if (core && video) return true;
+        if (!running_) return false;
+        std::this_thread::sleep_for(std::chrono::microseconds(200));
+    }
+    return false;
+}
 
 struct VirtualDrone::Sockets {
     net::UdpSocket at, navdata;
@@ -94,6 +107,7 @@ void VirtualDrone::stop() {
 
 void VirtualDrone::core_loop() {
     DroneCoreOptions co = options_.core;
+    co.video_bitrate_kbps = options_.bitrate_bps / 1000;  // what it reports is what it streams
     co.start = options_.scene.start;
     co.autopilot = options_.scene.autopilot;
     co.autopilot_enabled = options_.autopilot;
@@ -112,7 +126,7 @@ void VirtualDrone::core_loop() {
         fds[0].events = fds[1].events = POLLIN;
         fds[0].revents = fds[1].revents = 0;
         ::poll(fds.data(), fds.size(), 1);
-        TimeNs now = mono_now();
+        const TimeNs now = clock().now_ns();
         // Drain whatever arrived on both ports.
         for (int i = 0; i < 64; ++i) {
             auto got = sockets_->at.recv_from(std::span<std::uint8_t>(buf), net::Millis{0});
@@ -150,7 +164,10 @@ void VirtualDrone::core_loop() {
         }
         if (auto dump = core.take_config_dump()) dumps_.push(std::move(*dump));
 
-        camera_.publish({core.pose(), core.video_channel(), now});
+        camera_.publish({core.pose(), core.video_channel(), now, core.video_codec(),
+                         core.video_bitrate_kbps()});
+        navdata_seq_.store(core.navdata_sequence());
+        core_time_.store(now);
         if (now - last_status > ms_to_ns(20)) {
             last_status = now;
             VirtualDroneStatus st;
@@ -174,60 +191,98 @@ void VirtualDrone::core_loop() {
 void VirtualDrone::video_loop() {
     VideoReport report;
     // The front renderer was built by start(), so a client gets frames as soon as it connects;
-    // the bottom camera's is built only when a client first selects it.
+    // the bottom camera's, and both at 720p, are built when a client first asks for them.
     std::optional<Renderer>& front = sockets_->front;
-    std::optional<Renderer> bottom;
-    H264EncoderConfig ec;
-    ec.fps = options_.fps;
-    ec.gop = options_.gop;
-    ec.bitrate_bps = options_.bitrate_bps;
-    auto encoder = H264Encoder::create(ec);
-    if (!encoder) {
-        report.error = "encoder: " + to_string(encoder.error());
-        video_report_.publish(report);
-        return;
-    }
-    cv::Mat image(360, 640, CV_8UC3);
+    std::optional<Renderer> bottom, front_hd, bottom_hd;
+    const Clock& clk = clock();
+    const bool stepped = is_stepped(clk);
+    // The stream the configuration asks for (video:video_codec, video:bitrate): the encoder is
+    // made again when either changes.
+    int codec = 0, bitrate_kbps = 0;
+    std::unique_ptr<H264Encoder> encoder;
+    auto configure = [&](int want_codec, int want_kbps) {
+        H264EncoderConfig ec;
+        ec.fps = options_.fps;
+        ec.gop = options_.gop;
+        ec.width = want_codec == 131 ? 1280 : 640;
+        ec.height = want_codec == 131 ? 720 : 360;
+        ec.bitrate_bps = want_kbps * 1000;
+        auto e = H264Encoder::create(ec);
+        if (!e) {
+            report.error = "encoder: " + to_string(e.error());
+            video_report_.publish(report);
+            return false;
+        }
+        encoder = std::move(*e);
+        codec = want_codec;
+        bitrate_kbps = want_kbps;
+        return true;
+    };
+    if (!configure(129, options_.bitrate_bps / 1000)) return;
+    cv::Mat image;
     std::vector<std::uint8_t> au;
     std::vector<std::uint8_t> packet;
     std::uint32_t frame_number = 1;
     std::uint64_t byte_pos = 0;
     const TimeNs period = 1'000'000'000LL / std::max(1, options_.fps);
-    const TimeNs t0 = mono_now();
+    const TimeNs t0 = clk.now_ns();
     // A requested reset, waiting for its frame (two bools: g++ 12 misreads an optional here).
     bool reset_pending = false, reset_during_idr = false;
+    auto renderer_for = [&](int channel, bool hd) -> Renderer* {
+        std::optional<Renderer>& slot =
+            channel == 1 ? (hd ? bottom_hd : bottom) : (hd ? front_hd : front);
+        if (!slot) {
+            const CameraId id = channel == 1 ? CameraId::Bottom : CameraId::Front;
+            CameraCalibration cal = camera_calibration(id);
+            if (hd) cal = scaled_to(cal, 1280, 720);
+            auto r = Renderer::create(options_.scene, cal,
+                                      channel == 1 ? CameraKind::Bottom : CameraKind::Front);
+            if (r) slot.emplace(std::move(*r));
+        }
+        return slot ? &*slot : (front ? &*front : nullptr);
+    };
 
     while (running_) {
         auto client = sockets_->video.accept(net::Millis{100});
         if (!client) continue;
         ++report.clients;
         (void)client->set_no_delay(true);
-        TimeNs next = mono_now();
+        // Frames are due at whole periods of the drone's clock (k / fps), whenever the client
+        // came: a lock-stepped run sees the same frames at the same times on every machine.
+        const TimeNs now = clk.now_ns();
+        TimeNs next = (now + period - 1) / period * period;
+        video_next_due_.store(next);
+        video_client_.store(true);
         while (running_) {
-            const TimeNs wait = next - mono_now();
-            if (wait > 0) std::this_thread::sleep_for(std::chrono::nanoseconds(wait));
+            if (!sleep_until(clk, next, running_)) break;
+            const TimeNs due = next;  // this frame's time
             next += period;
             if (auto stall = video_stalls_.try_pop()) {
-                std::this_thread::sleep_for(std::chrono::milliseconds(stall->ms));
-                next = mono_now() + period;
+                const TimeNs until = clk.now_ns() + ms_to_ns(stall->ms);
+                video_next_due_.store(until + period);  // no frame is due while it stalls
+                if (!sleep_until(clk, until, running_)) break;
+                next = clk.now_ns() + period;
             }
             auto cam = camera_.latest();
-            if (!cam) continue;
-            const TimeNs r0 = mono_now();
-            Renderer* renderer = &*front;
-            if (cam->channel == 1) {
-                if (!bottom) {
-                    auto b = Renderer::create(options_.scene, camera_calibration(CameraId::Bottom),
-                                              CameraKind::Bottom);
-                    if (b) bottom.emplace(std::move(*b));
-                }
-                if (bottom) renderer = &*bottom;
+            // Lock-stepped, the picture is of the pose at the frame's time: wait for the physics.
+            while (stepped && running_ && (!cam || cam->t_ns < due)) {
+                std::this_thread::sleep_for(std::chrono::microseconds(200));
+                cam = camera_.latest();
             }
+            if (!cam) continue;
+            if (cam->codec != codec || cam->bitrate_kbps != bitrate_kbps) {
+                if (!configure(cam->codec, cam->bitrate_kbps)) break;
+            }
+            const bool hd = codec == 131;
+            const TimeNs r0 = SteadyClock::instance().now_ns();
+            Renderer* renderer = renderer_for(cam->channel, hd);
+            if (!renderer) continue;
             renderer->render(cam->pose, image);
-            const TimeNs r1 = mono_now();
+            if (image.cols != (hd ? 1280 : 640) || image.rows != (hd ? 720 : 360)) continue;
+            const TimeNs r1 = SteadyClock::instance().now_ns();
             bool idr = false;
-            auto enc = (*encoder)->encode(image, au, idr);
-            const TimeNs r2 = mono_now();
+            auto enc = encoder->encode(image, au, idr);
+            const TimeNs r2 = SteadyClock::instance().now_ns();
             report.render_ms = ns_to_ms(r1 - r0);
             report.encode_ms = ns_to_ms(r2 - r1);
             if (!enc) {
@@ -238,10 +293,10 @@ void VirtualDrone::video_loop() {
             PaveHeader h;
             h.header_size = 68;
             h.payload_size = static_cast<std::uint32_t>(au.size());
-            h.encoded_stream_width = 640;
-            h.encoded_stream_height = 368;
-            h.display_width = 640;
-            h.display_height = 360;
+            h.encoded_stream_width = static_cast<std::uint16_t>(image.cols);
+            h.encoded_stream_height = static_cast<std::uint16_t>(hd ? 720 : 368);
+            h.display_width = static_cast<std::uint16_t>(image.cols);
+            h.display_height = static_cast<std::uint16_t>(image.rows);
             h.frame_number = frame_number;
             // The capture time is the pose's: the physics step the image was rendered from.
             h.timestamp = static_cast<std::uint32_t>((std::max(cam->t_ns, t0) - t0) / 1'000'000);
@@ -250,6 +305,7 @@ void VirtualDrone::video_loop() {
             h.stream_byte_position_uw = static_cast<std::uint32_t>(byte_pos >> 32);
             h.stream_id = static_cast<std::uint16_t>(cam->channel == 1 ? 2 : 1);
             h.advertised_size = h.payload_size;
+            h.video_codec = PaveCodec::H264;
             packet.resize(h.header_size + au.size());
             auto w = write_pave_header(h, std::span<std::uint8_t>(packet));
             if (!w) continue;
@@ -285,7 +341,11 @@ void VirtualDrone::video_loop() {
             report.size = static_cast<std::uint32_t>(au.size());
             ++report.frames_sent;
             video_report_.publish(report);
+            last_frame_number_.store(report.frame_number);
+            frames_sent_.store(report.frames_sent);
+            video_next_due_.store(next);
         }
+        video_client_.store(false);
     }
 }
 

@@ -11,6 +11,7 @@
 #include "drone/sync.hpp"
 
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -29,7 +30,12 @@ struct VirtualDroneOptions {
     bool video = true;
     int fps = 30;
     int gop = 15;
-    int bitrate_bps = 1'500'000;
+    int bitrate_bps = 1'500'000;  // until a client writes video:bitrate
+    // The clock the drone lives on; null: the steady clock (free-running, real time). A clock its
+    // owner steps (a FakeClock) makes the drone lock-stepped: physics, navdata and video frames
+    // follow that clock and nothing else, so a run is the same however fast the machine is. The
+    // owner advances the clock, then wait_reached() until the drone has caught up.
+    const Clock* clock = nullptr;
 };
 
 // Faults injected while running (tests and the GUI's fault panel).
@@ -92,6 +98,17 @@ public:
     std::uint16_t control_port() const { return ports_[3]; }
 
     void inject(Fault f) { faults_.push(std::move(f)); }
+
+    // Lock-step: true once the drone has run everything due up to `t` on its clock: physics and
+    // navdata, and with a video client every frame due at or before `t` rendered and sent. False
+    // when `timeout` of real time passed first.
+    [[nodiscard]] bool wait_reached(TimeNs t, std::chrono::milliseconds timeout) const;
+    // Counters the lock-stepped owner waits on (any thread).
+    std::uint64_t video_frames_sent() const { return frames_sent_.load(); }
+    std::uint32_t last_frame_number() const { return last_frame_number_.load(); }
+    std::uint32_t navdata_sequence() const { return navdata_seq_.load(); }
+    bool video_client_connected() const { return video_client_.load(); }
+    const Clock& clock() const;
     VirtualDroneStatus status() const { return status_.latest().value_or(VirtualDroneStatus{}); }
     GroundTruth ground_truth() const { return truth_.latest().value_or(GroundTruth{}); }
     const Scene& scene() const { return options_.scene; }
@@ -116,7 +133,16 @@ private:
         Pose pose;
         int channel = 0;
         TimeNs t_ns = 0;
+        int codec = 129;  // video:video_codec
+        int bitrate_kbps = 1500;
     };
+    // Lock-step progress (written by the drone's threads).
+    std::atomic<TimeNs> core_time_{-1};       // physics and navdata done up to here
+    std::atomic<TimeNs> video_next_due_{-1};  // every frame due before this was sent
+    std::atomic<bool> video_client_{false};
+    std::atomic<std::uint64_t> frames_sent_{0};
+    std::atomic<std::uint32_t> last_frame_number_{0};
+    std::atomic<std::uint32_t> navdata_seq_{0};
     LatestValue<CameraState> camera_;
     struct VideoReport {
         std::uint32_t frame_number = 0, size = 0;
