@@ -41,6 +41,14 @@ vision::OdometryInput to_odometry_input(const NavState& nav, TimeNs t_ns, const 
     return in;
 }
 
+void mark_unknown(vision::FrameResult& r, vision::UnknownReason why) {
+    for (auto& d : r.regions) {
+        d.valid = false;
+        d.unsafe = false;
+        d.unknown = why;
+    }
+}
+
 ObstaclePipeline::ObstaclePipeline(std::string classifier, const CameraCalibration& calibration)
     : name_(std::move(classifier)), calib_(to_vision(calibration)) {
     classifier_ = vision::make_classifier(name_, calib_);
@@ -61,10 +69,19 @@ void ObstaclePipeline::set_calibration(const CameraCalibration& calibration) {
 
 void ObstaclePipeline::reset() {
     if (classifier_) classifier_->reset();
+    last_t_ns_.reset();
 }
 
 const vision::FrameResult& ObstaclePipeline::process(const FrameSample& s) {
-    return classifier_->process(to_frame_input(s));
+    const bool gap = last_t_ns_ && s.t_ns - *last_t_ns_ > kGapNs;
+    last_t_ns_ = s.t_ns;
+    if (gap) classifier_->reset();  // tracks across the gap would join two different scenes
+    const vision::FrameResult& r = classifier_->process(to_frame_input(s));
+    if (!gap) return r;
+    ++gaps_;
+    marked_ = r;
+    mark_unknown(marked_, vision::UnknownReason::Gap);
+    return marked_;
 }
 
 }  // namespace gs::app

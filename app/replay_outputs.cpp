@@ -259,6 +259,21 @@ nlohmann::json summary_json(const Dataset& d, const ReplaySettings& s, const Rep
     if (!st.first_error.empty()) j["first_decode_error"] = st.first_error;
     j["flagged_frames"] = {
         {"left", st.flagged[0]}, {"center", st.flagged[1]}, {"right", st.flagged[2]}};
+    // Frames without a measured decision (decisions.csv writes 0 for them: not unsafe), per
+    // region, and why.
+    j["unknown_frames"] = {
+        {"left", st.unknown[0]}, {"center", st.unknown[1]}, {"right", st.unknown[2]}};
+    nlohmann::json reasons = nlohmann::json::object();
+    const char* region_names[] = {"left", "center", "right"};
+    for (std::size_t r = 0; r < 3; ++r) {
+        nlohmann::json by = nlohmann::json::object();
+        for (std::size_t k = 0; k < st.unknown_by_reason[r].size(); ++k)
+            if (st.unknown_by_reason[r][k] > 0)
+                by[vision::to_string(static_cast<vision::UnknownReason>(k))] =
+                    st.unknown_by_reason[r][k];
+        reasons[region_names[r]] = by;
+    }
+    j["unknown_reasons"] = reasons;
     j["timing"] = {{"wall_s", st.wall_s},
                    {"cpu_s", st.cpu_s},
                    {"frames_per_s", st.wall_s > 0 ? double(st.processed) / st.wall_s : 0.0},

@@ -181,8 +181,14 @@ Expected<ReplayStats, std::string> replay_dataset(const Dataset& dataset,
         ++st.processed;
         RegionFlags& f = st.flags[static_cast<std::size_t>(sample.index)];
         for (std::size_t r = 0; r < 3; ++r) {
-            f[r] = res.regions[r].unsafe;
+            const vision::RegionDecision& d = res.regions[r];
+            f[r] = d.unsafe;
             st.flagged[r] += f[r] ? 1 : 0;
+            if (!d.valid) {
+                ++st.unknown[r];
+                const auto why = static_cast<std::size_t>(d.unknown);
+                if (why < st.unknown_by_reason[r].size()) ++st.unknown_by_reason[r][why];
+            }
         }
         if (on_frame) on_frame(sample, &res);
         if (progress) progress->update(sample.index + 1);

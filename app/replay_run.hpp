@@ -47,7 +47,11 @@ struct ReplayStats {
     std::int64_t decode_errors = 0;  // frames that could not be read (skipped, row left empty)
     std::string first_error;
     std::array<std::int64_t, 3> flagged{};  // frames each region was reported unsafe
-    double wall_s = 0, cpu_s = 0;           // whole replay, this thread
+    // Frames each region had no measured decision (RegionDecision::valid false), in all and by
+    // vision::UnknownReason (indexed by its value).
+    std::array<std::int64_t, 3> unknown{};
+    std::array<std::array<std::int64_t, 8>, 3> unknown_by_reason{};
+    double wall_s = 0, cpu_s = 0;  // whole replay, this thread
     // Per frame, milliseconds: reading (decode) and classifying.
     double read_ms_p50 = 0, read_ms_p99 = 0, classify_ms_p50 = 0, classify_ms_p99 = 0;
     double classify_ms_mean = 0;

@@ -132,7 +132,31 @@ Session::~Session() {
 }
 
 bool Session::request(SessionRequest r) {
-    return requests_.push(std::move(r));
+    // An open request is announced before it is queued, so no reader sees the old source as the
+    // current one after asking for another (the session thread's answer comes later).
+    const bool opens = std::holds_alternative<ConnectDrone>(r) ||
+                       std::holds_alternative<StartSim>(r) || std::holds_alternative<OpenReplay>(r);
+    if (!opens) return requests_.push(std::move(r));
+    std::lock_guard lock(opening_mutex_);
+    OpeningInfo o;
+    o.count = opening_last_.count + 1;
+    if (const auto* d = std::get_if<ConnectDrone>(&r)) {
+        o.kind = SessionSource::Drone;
+        o.what = d->address.empty() ? "192.168.1.1" : d->address;
+    } else if (const auto* sim = std::get_if<StartSim>(&r)) {
+        o.kind = SessionSource::Sim;
+        o.what = sim->scenario.empty() ? "warehouse" : sim->scenario;
+    } else if (const auto* rp = std::get_if<OpenReplay>(&r)) {
+        o.kind = SessionSource::Replay;
+        o.what = rp->path;
+    }
+    const OpeningInfo before = opening_last_;
+    opening_last_ = o;
+    opening_.publish(o);
+    if (requests_.push(std::move(r))) return true;
+    opening_last_ = before;  // never queued: nothing is being opened
+    opening_.publish(before);
+    return false;
 }
 
 void Session::message(std::string m) {
@@ -149,6 +173,7 @@ void Session::publish_source(std::string error) {
     s.error = std::move(error);
     s.link = cur_->link;
     s.virtual_drone = cur_->drone;
+    s.opens_handled = opens_handled_;
     source_.publish(std::move(s));
 }
 
@@ -288,6 +313,8 @@ void Session::close_current() {
     c.camera = CameraId::Front;
     c.config_gen = 0;
     c.settle = 0;
+    last_live_frame_ns_ = 0;
+    stale_published_ = false;
     if (had) {
         c.id = next_id_++;
         reset_vision();
@@ -336,6 +363,7 @@ void Session::open_sim(const StartSim& s) {
     vo.autopilot = s.autopilot;
     vo.video = opts_.sim_video;
     vo.core.battery_pct = opts_.sim_battery_pct;
+    vo.clock = &clock_;  // a stepped session clock lock-steps the drone (offscreen runs)
     auto drone = std::make_shared<sim::VirtualDrone>(std::move(vo));
     if (auto st = drone->start(); !st) {
         publish_source("cannot start the virtual drone: " + st.error());
@@ -427,10 +455,13 @@ void Session::handle(SessionRequest& r) {
         [&](auto& q) {
             using T = std::decay_t<decltype(q)>;
             if constexpr (std::is_same_v<T, ConnectDrone>) {
+                ++opens_handled_;  // counted first: every publish from here says it is done
                 open_drone(q.address);
             } else if constexpr (std::is_same_v<T, StartSim>) {
+                ++opens_handled_;
                 open_sim(q);
             } else if constexpr (std::is_same_v<T, OpenReplay>) {
+                ++opens_handled_;
                 open_replay(q.path);
             } else if constexpr (std::is_same_v<T, CloseSource>) {
                 const bool had = c.kind != SessionSource::None;
@@ -623,7 +654,23 @@ void Session::process(FrameSample& f, TimeNs recv_ns) {
     out->source_id = c.id;
     out->classifier = pipeline_.classifier_name();
     out->camera = c.camera;
+    out->stale = false;
     out->result = {};
+    if (c.kind != SessionSource::Replay) {
+        last_live_frame_ns_ = recv_ns > 0 ? recv_ns : clock_.now_ns();
+        stale_published_ = false;
+    }
+    // A drone streaming another size than the calibration's (720p, set in Drone -> Settings):
+    // the same lens, its intrinsics scaled to the frames.
+    if (c.camera == CameraId::Front && !f.image.empty() && calib_in_use_.width > 0 &&
+        (f.image.cols != calib_in_use_.width || f.image.rows != calib_in_use_.height)) {
+        const CameraCalibration scaled = scaled_to(calib_in_use_, f.image.cols, f.image.rows);
+        use_calibration(scaled, calib_origin_ + " (scaled to " + std::to_string(f.image.cols) +
+                                    "x" + std::to_string(f.image.rows) + ")");
+        reset_vision();
+        message("video " + std::to_string(f.image.cols) + "x" + std::to_string(f.image.rows) +
+                ": calibration scaled to it");
+    }
     out->odometry.active = false;
     if (c.settle > 0) {
         --c.settle;  // may still be of the camera before the switch
@@ -655,6 +702,22 @@ void Session::process(FrameSample& f, TimeNs recv_ns) {
     }
     output_.publish(std::move(out));
     ++processed_;
+}
+
+// Live video that stopped: the decision on screen is of a frozen picture. Its regions are
+// republished unknown (StaleVideo), so that nothing downstream (the window, an assist) takes the
+// last "clear" for a current one.
+void Session::check_stale(TimeNs now) {
+    if (stale_published_ || last_live_frame_ns_ == 0 || now - last_live_frame_ns_ <= kGapNs) return;
+    const auto latest = output_.latest();
+    if (!latest || !*latest || (*latest)->source_id != cur_->id) return;
+    auto stale = std::make_shared<PipelineOutput>(**latest);  // once per stall: not per frame
+    mark_unknown(stale->result, vision::UnknownReason::StaleVideo);
+    stale->stale = true;
+    output_.publish(std::move(stale));
+    stale_published_ = true;
+    message("video stale: no frame for " + std::to_string((now - last_live_frame_ns_) / 1'000'000) +
+            " ms; regions unknown until it is back");
 }
 
 void Session::record_start(const std::string& dir) {
@@ -743,7 +806,10 @@ void Session::run() {
         Current& c = *cur_;
         if (c.frames) {
             auto f = c.frames->pop_for(std::chrono::nanoseconds(kIdleWaitNs));
-            if (f) process(*f, f->recv_ns);
+            if (f)
+                process(*f, f->recv_ns);
+            else
+                check_stale(clock_.now_ns());
             continue;
         }
         TimeNs wait = kIdleWaitNs;

@@ -31,6 +31,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <thread>
@@ -123,6 +124,17 @@ struct SourceInfo {
     std::string error;     // why the last open failed (kind is then None), else empty
     std::shared_ptr<link::DroneLink> link;             // Drone and Sim
     std::shared_ptr<sim::VirtualDrone> virtual_drone;  // Sim
+    // Open requests (ConnectDrone, StartSim, OpenReplay) handled so far, failed ones included:
+    // while Session::opening() counts more, a source is being opened.
+    std::uint64_t opens_handled = 0;
+};
+
+// The open request posted last (published by request(), before the session thread sees it), so
+// the window can say "Starting virtual drone..." from the first frame.
+struct OpeningInfo {
+    std::uint64_t count = 0;  // open requests posted so far
+    SessionSource kind = SessionSource::None;
+    std::string what;  // scenario, drone address or dataset path
 };
 
 struct ReplayInfo {
@@ -170,6 +182,8 @@ struct PipelineOutput {
     double fps = kUnknown;             // frames classified per second
     double latency_ms = kUnknown;      // receive (live) to classified
     std::uint64_t frames_dropped = 0;  // frames the pipeline did not keep up with (live)
+    // Republished because no live frame came for kGapNs: the regions are unknown (StaleVideo).
+    bool stale = false;
 };
 
 // The camera model in use for the video shown now (changes with the source, the camera and on
@@ -218,6 +232,7 @@ public:
 
     // Latest values (any thread).
     const LatestValue<SourceInfo>& source() const { return source_; }
+    const LatestValue<OpeningInfo>& opening() const { return opening_; }
     const LatestValue<ReplayInfo>& replay() const { return replay_; }
     const LatestValue<ClassifierInfo>& classifier() const { return classifier_; }
     const LatestValue<std::shared_ptr<const PipelineOutput>>& output() const { return output_; }
@@ -271,6 +286,15 @@ private:
     std::uint64_t next_id_ = 1;
 
     BoundedQueue<SessionRequest> requests_{256};
+    std::mutex opening_mutex_;  // request() may be called from more than one thread
+    OpeningInfo opening_last_;  // guarded by opening_mutex_
+    LatestValue<OpeningInfo> opening_;
+    std::uint64_t opens_handled_ = 0;  // session thread only
+    // Stale video: when the newest live frame is older than kGapNs its regions are republished
+    // unknown (StaleVideo), once per stall.
+    TimeNs last_live_frame_ns_ = 0;
+    bool stale_published_ = false;
+    void check_stale(TimeNs now);
     BoundedQueue<std::string> messages_{64, QueueFull::DropOldest};
     LatestValue<SourceInfo> source_;
     LatestValue<ReplayInfo> replay_;
