@@ -5,6 +5,7 @@
 #include "app/gui_adapter.hpp"
 #include "app/gui_entry.hpp"
 #include "app/session.hpp"
+#include "drone/clock.hpp"
 #include "drone/dataset/dataset.hpp"
 #include "drone/sim/scenarios.hpp"
 #include "ui/app_window.hpp"
@@ -85,6 +86,70 @@ CommandRegistration reg(-1000, [](CLI::App& root) {
         ->group("");
 });
 
+// One lock-stepped window frame on a live source: the simulated clock moves to frame k's time
+// (k/30 s after the virtual drone came up), then the frame waits (bounded) until the drone has
+// run everything due by then and the ground has caught up: the link has the drone's newest
+// navdata, and the session has classified the newest video frame. Screenshot k is then the
+// flight at k/30 s, the same on any machine.
+void lockstep_live(Session& session, FakeClock& clock, int frame) {
+    using Steady = std::chrono::steady_clock;
+    auto until = [](const auto& pred, std::chrono::milliseconds limit) {
+        const auto deadline = Steady::now() + limit;
+        while (!pred()) {
+            if (Steady::now() > deadline) return false;
+            std::this_thread::sleep_for(std::chrono::microseconds(200));
+        }
+        return true;
+    };
+    // Frame 0 waits for the drone to be up (building the scene takes real time, not flight time).
+    SourceInfo src;
+    if (!until(
+            [&] {
+                src = session.source().latest().value_or(SourceInfo{});
+                return src.virtual_drone != nullptr || src.kind == SessionSource::None;
+            },
+            std::chrono::seconds(60)) ||
+        !src.virtual_drone)
+        return;
+    sim::VirtualDrone& drone = *src.virtual_drone;
+    // ... and for the link's video connection, so that the first frame is frame 0's.
+    if (frame == 0 && src.link && src.link->config_used().video)
+        (void)until([&] { return drone.video_client_connected(); }, std::chrono::seconds(10));
+    const TimeNs t = static_cast<TimeNs>(frame) * 1'000'000'000LL / 30;
+    clock.set(t);
+    if (!drone.wait_reached(t, std::chrono::seconds(10))) return;
+    link::DroneLink& lk = *src.link;
+    const std::uint32_t nav_seq = drone.navdata_sequence();
+    (void)until(
+        [&] {
+            const auto n = lk.navdata().latest();
+            return nav_seq == 0 || (n && n->seq >= nav_seq) ||
+                   lk.state() == link::ConnectionState::Bootstrapping;
+        },
+        std::chrono::seconds(2));
+    const std::uint32_t sent = drone.last_frame_number();
+    if (sent == 0) return;
+    // The newest frame sent, received and classified (a frame the decoder had to skip, waiting
+    // for a key frame, is not waited for).
+    (void)until(
+        [&] {
+            const auto v = lk.video().latest();
+            const link::LinkStatus st = lk.status();
+            if (!v) return st.video.pave_frames >= drone.video_frames_sent();
+            return v->frame_number >= sent || st.video.pave_frames >= drone.video_frames_sent();
+        },
+        std::chrono::seconds(2));
+    const auto got = lk.video().latest();
+    if (!got) return;
+    (void)until(
+        [&] {
+            const auto o = session.output().latest();
+            return o && *o && (*o)->source_id == src.id &&
+                   (*o)->frame.frame_number >= got->frame_number;
+        },
+        std::chrono::seconds(2));
+}
+
 }  // namespace
 
 int run_gui() {
@@ -144,8 +209,14 @@ int run_gui() {
         so.calibration_interval_ms = 0;
         so.calibration_auto_interval_ms = 0;
     }
-    Session session(so);
-    GuiAdapter adapter(session);
+    // Offscreen on a live source: everything (the virtual drone, the link, the session, the
+    // window) runs on one simulated clock that advances 1/30 s per window frame, so that frame
+    // k shows the flight at k/30 s whatever the machine's speed (see provide()).
+    const bool offscreen_live = o.offscreen && !o.demo && o.replay.empty();
+    FakeClock sim_clock(0);
+    Clock& clock = offscreen_live ? static_cast<Clock&>(sim_clock) : SteadyClock::instance();
+    Session session(so, clock);
+    GuiAdapter adapter(session, clock);
     adapter.set_sim_autopilot(o.autopilot);
     if (o.camera == "bottom") adapter.set_start_camera(1);
     if (!o.demo) {
@@ -156,8 +227,6 @@ int run_gui() {
     }
 
     const bool demo = o.demo;
-    const bool offscreen_live = o.offscreen && !demo && o.replay.empty();
-    const auto t0 = std::chrono::steady_clock::now();
     // Lock-stepped calibration mode: wait (bounded) until its worker has checked replay frame
     // `f` (and auto-captured it), so screenshot k shows frame k's board and views.
     auto wait_calibration = [&](std::int64_t f) {
@@ -191,9 +260,7 @@ int run_gui() {
                     if (const auto now = session.replay().latest()) wait_calibration(now->frame);
             }
         } else if (offscreen_live) {
-            // Live sources run in real time: 30 window frames per second, so --frames N covers
-            // N/30 s of flight whatever the renderer's speed.
-            std::this_thread::sleep_until(t0 + std::chrono::microseconds(33'333) * frame);
+            lockstep_live(session, sim_clock, frame);
         }
         adapter.fill(s);
     };

@@ -194,7 +194,8 @@ void classifier_output(const PipelineOutput& o, ui::ClassifierOutput& c, double 
     c.decisions.clear();
     for (std::size_t i = 0; i < 3; ++i) {
         const vision::RegionDecision& d = r.regions[i];
-        c.decisions.push_back({kRegionNames[i], d.unsafe, d.score, d.threshold});
+        c.decisions.push_back({kRegionNames[i], d.valid && d.unsafe, d.score, d.threshold, d.valid,
+                               d.valid ? std::string() : vision::to_string(d.unknown)});
     }
     c.cycle_ms = r.timings.total_ms;
 
@@ -203,8 +204,9 @@ void classifier_output(const PipelineOutput& o, ui::ClassifierOutput& c, double 
     for (std::size_t i = 0; i < r.overlay.bars.size() && i < 3; ++i) {
         const auto& b = r.overlay.bars[i];
         const vision::RegionDecision& d = r.regions[i];
-        ov.regions.push_back(
-            {kRegionNames[i], b.rect.x, b.rect.x + b.rect.width, d.unsafe, d.score, d.threshold});
+        ov.regions.push_back({kRegionNames[i], b.rect.x, b.rect.x + b.rect.width,
+                              d.valid && d.unsafe, d.score, d.threshold, d.valid,
+                              d.valid ? std::string() : vision::to_string(d.unknown)});
     }
     for (const auto& l : r.overlay.lines)
         ov.boundaries.push_back(
@@ -322,25 +324,38 @@ void classifier_output(const PipelineOutput& o, ui::ClassifierOutput& c, double 
 
 }  // namespace
 
-void GuiAdapter::Rate::update(std::uint64_t n, TimeNs now) {
-    if (t0 == 0 || n < n0) {
-        t0 = now;
-        n0 = n;
-        return;
+double GuiAdapter::SlidingRate::update(std::uint64_t count, TimeNs now) {
+    constexpr TimeNs kWindow = ms_to_ns(1000);
+    if (size > 0) {
+        const auto& newest = ring[(head + kSamples - 1) % kSamples];
+        if (count < newest.second || now < newest.first) reset();  // a new stream or source
     }
-    const TimeNs dt = now - t0;
-    if (dt < ms_to_ns(500)) return;
-    hz = static_cast<double>(n - n0) * 1e9 / static_cast<double>(dt);
-    t0 = now;
-    n0 = n;
+    ring[head] = {now, count};
+    head = (head + 1) % kSamples;
+    size = std::min(size + 1, kSamples);
+    // The oldest sample inside the window (or the oldest kept, if the window is not full yet).
+    std::size_t oldest = (head + kSamples - size) % kSamples;
+    for (std::size_t k = 0; k + 1 < size; ++k) {
+        const std::size_t i = (head + kSamples - size + k) % kSamples;
+        const std::size_t next = (i + 1) % kSamples;
+        if (now - ring[next].first >= kWindow)
+            oldest = next;
+        else
+            break;
+    }
+    const TimeNs span = now - ring[oldest].first;
+    if (span < ms_to_ns(250)) return hz;  // too short to say yet: keep the last value
+    hz = static_cast<double>(count - ring[oldest].second) * 1e9 / static_cast<double>(span);
+    return hz;
 }
 
 GuiAdapter::GuiAdapter(Session& session, Clock& clock)
     : session_(session), clock_(clock), scenarios_(sim::list_scenes()) {}
 
-void GuiAdapter::note(std::string m) {
-    messages_.push_back(std::move(m));
+void GuiAdapter::note(std::string m, ui::LogLevel level) {
+    messages_.push_back({std::move(m), level, static_cast<double>(clock_.now_ns()) * 1e-9});
     while (messages_.size() > kMaxMessages) messages_.pop_front();
+    messages_changed_ = true;
 }
 
 void GuiAdapter::on_source_change() {
@@ -353,7 +368,18 @@ void GuiAdapter::on_source_change() {
     camera_channel_ = 0;
     shown_camera_ = CameraId::Front;
     start_camera_sent_ = false;
-    at_rate_ = video_bytes_rate_ = Rate{};
+    at_rate_.reset();
+    video_bytes_rate_.reset();
+    nav_rate_.reset();
+    video_rate_.reset();
+    replay_rate_.reset();
+    last_video_frame_ns_ = 0;
+    video_connected_ = false;
+    prev_emergency_bit_ = emergency_commanded_ = false;
+    emergency_sent_ns_ = 0;
+    config_read_ = false;
+    config_values_.clear();
+    config_requested_ = false;
     at_cycle_bytes_ = 0;
     shown_source_id_ = source_.id;
 }
@@ -372,8 +398,11 @@ void GuiAdapter::fill_link(ui::GuiSnapshot& s, TimeNs now) {
     ui::StreamHealth& n = s.link.navdata;
     n = ui::StreamHealth{};
     n.active = source_.link->running();
-    n.rate_hz = st.navdata.rate_hz;
+    n.rate_hz = nav_rate_.update(st.navdata.accepted, now);
     n.age_ms = age_ms(st.now_ns, st.navdata.last_ns);
+    s.link.expected_navdata_hz = kUnknown;
+    if (nav_valid_ && nav_.state.drone_state)
+        s.link.expected_navdata_hz = (*nav_.state.drone_state & (1u << 10)) ? 15.0 : 200.0;
     n.packets = st.navdata.accepted;
     n.gaps = st.machine.sequence_gaps;
     n.drops = st.machine.out_of_order + st.navdata.foreign_dropped + st.navdata.oversize;
@@ -392,10 +421,11 @@ void GuiAdapter::fill_link(ui::GuiSnapshot& s, TimeNs now) {
     ui::StreamHealth& v = s.link.video;
     v = ui::StreamHealth{};
     v.active = st.video.connected;
-    v.rate_hz = st.video.fps;
+    v.rate_hz = video_rate_.update(st.video.decoded, now);
     v.age_ms = age_ms(st.now_ns, st.video.last_frame_ns);
-    video_bytes_rate_.update(st.video.bytes, now);
-    v.bytes_per_s = video_bytes_rate_.hz;
+    last_video_frame_ns_ = st.video.last_frame_ns;
+    video_connected_ = st.video.connected;
+    v.bytes_per_s = video_bytes_rate_.update(st.video.bytes, now);
     v.packets = st.video.decoded;
     v.gaps = st.video.frame_gaps;
     v.drops = out_ ? out_->frames_dropped : 0;  // frames the classifier could not keep up with
@@ -406,8 +436,7 @@ void GuiAdapter::fill_link(ui::GuiSnapshot& s, TimeNs now) {
     ui::StreamHealth& a = s.link.at;
     a = ui::StreamHealth{};
     a.active = source_.link->running();
-    at_rate_.update(st.at.counters.datagrams, now);
-    a.rate_hz = at_rate_.hz;
+    a.rate_hz = at_rate_.update(st.at.counters.datagrams, now);
     a.age_ms = st.at.period_ms_last;
     a.packets = st.at.counters.datagrams;
     // Bytes are not counted by the link either: each 30 ms datagram is a REF and a PCMD (the
@@ -457,6 +486,8 @@ void GuiAdapter::fill_telemetry(ui::GuiSnapshot& s) {
             navdata_fields(nav_.data, t.fields);
             nav_dirty_ = false;
         }
+        t.age_ms = age_ms(clock_.now_ns(), nav_.recv_ns);
+        t.stale = known(t.age_ms) && t.age_ms > ui::kStaleAfterMs;
     } else if (source_.kind == SessionSource::Replay) {
         if (session_.replay_nav().read_if_newer(rnav_gen_, replay_nav_)) replay_nav_valid_ = true;
         t.valid = replay_nav_valid_;
@@ -477,6 +508,8 @@ void GuiAdapter::fill_telemetry(ui::GuiSnapshot& s) {
         num("vz", replay_nav_.vz_mps, "m/s");
         num("altitude", replay_nav_.altitude_m, "m");
         num("battery", replay_nav_.battery_pct, "%");
+        t.age_ms = kUnknown;  // a recording is not live: nothing goes stale
+        t.stale = false;
     } else {
         t = ui::Telemetry{};
         return;
@@ -486,6 +519,15 @@ void GuiAdapter::fill_telemetry(ui::GuiSnapshot& s) {
     else
         t.state.reset();
     t.ctrl_state = t.nav.ctrl_state ? ui::ctrl_state_name(*t.nav.ctrl_state) : std::string{};
+    // Was the emergency the drone reports commanded from here? Yes when its bit rose within a
+    // few seconds of our Emergency; a cut-out nobody asked for is a fault (Why not flying).
+    const bool bit = source_.link && t.state && t.state->emergency;
+    if (bit && !prev_emergency_bit_)
+        emergency_commanded_ =
+            emergency_sent_ns_ > 0 && clock_.now_ns() - emergency_sent_ns_ < ms_to_ns(3000);
+    if (!bit) emergency_commanded_ = false;
+    prev_emergency_bit_ = bit;
+    t.emergency_commanded = emergency_commanded_;
 }
 
 void GuiAdapter::fill_output(ui::GuiSnapshot& s) {
@@ -504,6 +546,18 @@ void GuiAdapter::fill_output(ui::GuiSnapshot& s) {
                             p.info.type != vision::ParamType::Real, p.info.description});
 
     ui::VideoFrame& v = s.video;
+    // Rate and age of the newest frame: measured every window frame, so a stalled stream shows
+    // 0 fps and its age growing (the frame itself is only rebuilt when a new one comes).
+    const bool live = source_.kind == SessionSource::Drone || source_.kind == SessionSource::Sim;
+    const TimeNs now = clock_.now_ns();
+    double fps = kUnknown, vage = kUnknown;
+    if (live) {
+        fps = s.link.video.rate_hz;
+        vage = age_ms(now, last_video_frame_ns_);
+    } else if (source_.kind == SessionSource::Replay) {
+        fps = replay_rate_.update(session_.frames_processed(), now);
+    }
+    const bool stale = live && out_ && known(vage) && vage > ui::kStaleAfterMs;
     if (!out_) {
         shown_out_ = nullptr;
         v = ui::VideoFrame{};
@@ -517,6 +571,9 @@ void GuiAdapter::fill_output(ui::GuiSnapshot& s) {
         s.odometry.path_y.clear();
         return;
     }
+    v.fps = fps;
+    v.age_ms = vage;
+    v.stale = stale;
     // Redone when a new frame arrives, the preview is switched, or the calibration changes.
     if (out_.get() == shown_out_ && undistort_ == shown_undistort_ &&
         calib_gen_ == shown_calib_gen_ && v.index == out_->frame.index)
@@ -527,7 +584,6 @@ void GuiAdapter::fill_output(ui::GuiSnapshot& s) {
     v.bgr = out_->frame.image;  // shared, never rewritten by the pipeline
     v.index = out_->frame.index;
     v.t_ns = out_->frame.t_ns;
-    v.fps = out_->fps;
     v.latency_ms = out_->latency_ms;
     v.camera = to_string(out_->camera);
     // The C key asks for the other camera than the one the video comes from.
@@ -673,12 +729,124 @@ void GuiAdapter::poll_results() {
             continue;
         }
         const link::CommandResult r = it->result.get();
-        if (!r.ok())
+        ui::ConfigWrite* found = nullptr;
+        for (auto& w : config_writes_)
+            if (it->config_write != 0 && w.id == it->config_write) found = &w;
+        if (found) {
+            ui::ConfigWrite& w = *found;
+            config_dirty_ = true;
+            w.detail = r.reason;
+            switch (r.code) {
+                case link::ResultCode::Sent:
+                    w.state = ui::ConfigWriteState::Confirmed;
+                    break;
+                case link::ResultCode::Rejected:
+                    // Refused before it was sent, or acknowledged and then read back otherwise.
+                    w.state = r.reason.find("reports") != std::string::npos ||
+                                      r.reason.find("has no key") != std::string::npos
+                                  ? ui::ConfigWriteState::Ignored
+                                  : ui::ConfigWriteState::Refused;
+                    break;
+                case link::ResultCode::Timeout:
+                    w.state = ui::ConfigWriteState::TimedOut;
+                    break;
+                case link::ResultCode::NotConnected:
+                    w.state = ui::ConfigWriteState::NotConnected;
+                    break;
+            }
+            note(
+                w.key + " = " + w.value + ": " + ui::to_string(w.state) +
+                    (r.reason.empty() ? "" : " (" + r.reason + ")"),
+                w.state == ui::ConfigWriteState::Confirmed ? ui::LogLevel::Ok : ui::LogLevel::Warn);
+        } else if (!r.ok()) {
+            // "take-off rejected: battery 12 % is below the 20 % take-off minimum"
             note(it->what + " " + link::to_string(r.code) +
-                 (r.reason.empty() ? "" : ": " + r.reason));
-        else if (!r.reason.empty())
+                     (r.reason.empty() ? "" : ": " + r.reason),
+                 r.code == link::ResultCode::Rejected ? ui::LogLevel::Warn : ui::LogLevel::Error);
+        } else if (!it->ok_text.empty()) {
+            note(it->ok_text, ui::LogLevel::Ok);
+        } else if (!r.reason.empty()) {
             note(it->what + ": " + r.reason);
+        }
         it = pending_.erase(it);
+    }
+}
+
+// What the session is doing now, in words, as it happens: starting the virtual drone, connecting,
+// configuring, waiting for video.
+void GuiAdapter::fill_activity(ui::GuiSnapshot& s, const OpeningInfo& op, bool pending) {
+    ui::ConnectionInfo& c = s.connection;
+    c.opening = pending;
+    c.activity.clear();
+    if (pending) {
+        switch (op.kind) {
+            case SessionSource::Sim:
+                c.source = ui::SourceKind::Sim;
+                c.scenario = op.what;
+                c.activity = "Starting virtual drone '" + op.what + "'...";
+                break;
+            case SessionSource::Drone:
+                c.source = ui::SourceKind::Drone;
+                c.address = op.what;
+                c.activity = "Connecting to " + op.what + "...";
+                break;
+            case SessionSource::Replay:
+                c.source = ui::SourceKind::Replay;
+                c.activity = "Opening replay " + op.what + "...";
+                break;
+            case SessionSource::None:
+                break;
+        }
+        // Whatever was shown before is going: say what comes, not what was.
+        if (op.kind == SessionSource::Sim || op.kind == SessionSource::Drone)
+            c.state = ui::LinkState::Connecting;
+        c.reason = c.activity;
+        return;
+    }
+    if (source_.kind != SessionSource::Drone && source_.kind != SessionSource::Sim) return;
+    const std::string who = source_.kind == SessionSource::Sim
+                                ? "the virtual drone"
+                                : (source_.address.empty() ? "the drone" : source_.address);
+    switch (c.state) {
+        case ui::LinkState::Connecting:
+            c.activity = c.reason.rfind("writing", 0) == 0 || c.reason.rfind("configured", 0) == 0
+                             ? "Configuring " + who + "..."
+                             : "Connecting to " + who + "...";
+            break;
+        case ui::LinkState::Lost:
+            c.activity = "Link lost: waiting for " + who + "...";
+            break;
+        case ui::LinkState::Connected:
+            if (source_.link && source_.link->config_used().video && !out_)
+                c.activity = "Waiting for video...";
+            break;
+        default:
+            break;
+    }
+}
+
+// Drone -> Settings: the configuration as read back, and what became of each write.
+void GuiAdapter::fill_config(ui::GuiSnapshot& s) {
+    ui::DroneConfigView& cv = s.config;
+    cv.available = source_.link && s.connection.state == ui::LinkState::Connected;
+    if (source_.link) {
+        ConfigMap cfg;
+        if (source_.link->config().read_if_newer(config_gen_, cfg)) {
+            config_values_ = cfg.entries();  // only when a new dump arrived
+            config_read_ = true;
+        }
+        // One read-back when connected, so the window shows the drone's values.
+        if (cv.available && !config_requested_ && !config_read_) {
+            config_requested_ = true;
+            command(link::ReadConfig{});
+        }
+    }
+    cv.read = config_read_;
+    if (cv.values.size() != config_values_.size() || cv.writes.size() != config_writes_.size() ||
+        config_dirty_) {
+        cv.values = config_values_;
+        cv.writes = config_writes_;
+        config_dirty_ = false;
     }
 }
 
@@ -686,11 +854,18 @@ void GuiAdapter::fill(ui::GuiSnapshot& s) {
     const TimeNs now = clock_.now_ns();
     s.now_ns = now;
     if (session_.source().read_if_newer(source_gen_, source_)) {
-        if (!source_.error.empty()) note(source_.error);
+        if (!source_.error.empty()) note(source_.error, ui::LogLevel::Error);
     }
     if (source_.id != shown_source_id_) on_source_change();
-    while (auto m = session_.next_message()) note(std::move(*m));
+    while (auto m = session_.next_message()) {
+        const bool bad =
+            m->find("fail") != std::string::npos || m->find("cannot") != std::string::npos ||
+            m->find("error") != std::string::npos || m->find("stale") != std::string::npos;
+        note(std::move(*m), bad ? ui::LogLevel::Warn : ui::LogLevel::Info);
+    }
     poll_results();
+    const OpeningInfo opening = session_.opening().latest().value_or(OpeningInfo{});
+    const bool opening_pending = opening.count > source_.opens_handled;
 
     ui::ConnectionInfo& c = s.connection;
     c.scenarios = scenarios_;
@@ -723,6 +898,8 @@ void GuiAdapter::fill(ui::GuiSnapshot& s) {
         undistorter_.set_calibration(to_vision(calib_.camera));
     fill_output(s);
     fill_calibration(s);
+    fill_activity(s, opening, opening_pending);
+    fill_config(s);
 
     session_.replay().read_if_newer(replay_gen_, replay_);
     ui::ReplayStatus& r = s.replay;
@@ -751,29 +928,60 @@ void GuiAdapter::fill(ui::GuiSnapshot& s) {
         s.recording = ui::RecordingStatus{};
     }
 
-    s.messages.assign(messages_.begin(), messages_.end());
+    if (s.messages.size() != messages_.size() || messages_changed_) {
+        s.messages.assign(messages_.begin(), messages_.end());
+        messages_changed_ = false;
+    }
 }
 
-void GuiAdapter::command(link::Command c, bool report_success) {
+void GuiAdapter::command(link::Command c, bool report_success, std::string ok_text) {
     const std::string what = link::command_name(c);
     if (!source_.link) {
-        note(what + ": not connected to a drone");
+        note(what + ": not connected to a drone", ui::LogLevel::Warn);
         return;
     }
-    pending_.push_back({what, source_.link->submit(std::move(c))});
+    Pending p;
+    p.what = what;
+    p.ok_text = std::move(ok_text);
+    p.result = source_.link->submit(std::move(c));
+    pending_.push_back(std::move(p));
     if (report_success) note(what + " sent");
 }
 
 void GuiAdapter::consume(const ui::Actions& a) {
+    for (const auto& n : a.notes) note(n);
     // Flight: emergency first, whatever else happened in the frame.
-    if (a.emergency) command(link::Emergency{}, true);
-    if (a.takeoff) command(link::Takeoff{});
-    if (a.land) command(link::Land{});
-    if (a.flat_trim) command(link::FlatTrim{});
+    if (a.emergency) {
+        emergency_sent_ns_ = clock_.now_ns();
+        command(link::Emergency{}, true);
+    }
+    if (a.takeoff) command(link::Takeoff{}, false, "take-off sent");
+    if (a.land) command(link::Land{}, false, "land sent");
+    if (a.flat_trim) command(link::FlatTrim{}, false, "flat trim sent");
+    if (a.calibrate_magnetometer)
+        command(link::Calibrate{}, false, "magnetometer calibration started: the drone turns");
     if (a.switch_camera) {
         camera_channel_ = 1 - camera_channel_;
-        command(link::SwitchCamera{camera_channel_});
+        command(link::SwitchCamera{camera_channel_}, false,
+                std::string("camera switched to ") + (camera_channel_ ? "bottom" : "front"));
     }
+    // Drone -> Settings: each write with the multiconfiguration ids, read back to confirm.
+    for (const auto& [key, value] : a.config_writes) {
+        if (!source_.link) {
+            note("config " + key + ": not connected to a drone", ui::LogLevel::Warn);
+            continue;
+        }
+        config_writes_.push_back(
+            {key, value, ui::ConfigWriteState::Pending, {}, ++config_write_id_});
+        if (config_writes_.size() > kMaxConfigWrites) config_writes_.erase(config_writes_.begin());
+        Pending p;
+        p.what = "config " + key;
+        p.config_write = config_write_id_;
+        p.result = source_.link->submit(link::SetConfig{key, value, true});
+        pending_.push_back(std::move(p));
+        config_dirty_ = true;
+    }
+    if (a.config_read) command(link::ReadConfig{});
     // Manual input wins: while the user steers, every change goes out as Move (the link repeats
     // the current command every 30 ms); letting go sends one Hover.
     if (source_.link) {

@@ -37,21 +37,27 @@ public:
     // connected, for every source opened from now on; -1: leave it as it is.
     void set_start_camera(int channel) { start_channel_ = channel; }
     // Adds a line to the window's message log.
-    void note(std::string m);
+    void note(std::string m, ui::LogLevel level = ui::LogLevel::Info);
 
     std::uint64_t moves_sent() const { return moves_sent_; }
     std::uint64_t hovers_sent() const { return hovers_sent_; }
 
 private:
-    struct Rate {
-        TimeNs t0 = 0;
-        std::uint64_t n0 = 0;
+    // Items per second over the last second, from a counter sampled at every fill(): a stream
+    // that stops reads 0 a second later, and a burst after a stall is spread over the window.
+    struct SlidingRate {
+        static constexpr std::size_t kSamples = 256;
+        std::array<std::pair<TimeNs, std::uint64_t>, kSamples> ring{};
+        std::size_t head = 0, size = 0;
         double hz = kUnknown;
-        void update(std::uint64_t n, TimeNs now);
+        double update(std::uint64_t count, TimeNs now);
+        void reset() { *this = SlidingRate{}; }
     };
     struct Pending {
         std::string what;
         std::future<link::CommandResult> result;
+        std::string ok_text;             // said when it succeeded ("" : nothing)
+        std::uint64_t config_write = 0;  // ConfigWrite::id when a configuration write
     };
 
     void on_source_change();
@@ -59,8 +65,10 @@ private:
     void fill_telemetry(ui::GuiSnapshot& s);
     void fill_output(ui::GuiSnapshot& s);
     void fill_calibration(ui::GuiSnapshot& s);
+    void fill_config(ui::GuiSnapshot& s);
+    void fill_activity(ui::GuiSnapshot& s, const OpeningInfo& opening, bool opening_pending);
     void poll_results();
-    void command(link::Command c, bool report_success = false);
+    void command(link::Command c, bool report_success = false, std::string ok_text = {});
 
     Session& session_;
     Clock& clock_;
@@ -79,7 +87,18 @@ private:
     ReplayInfo replay_;
     NavState replay_nav_;
     bool replay_nav_valid_ = false;
-    Rate at_rate_, video_bytes_rate_;
+    SlidingRate at_rate_, video_bytes_rate_, nav_rate_, video_rate_, replay_rate_;
+    TimeNs last_video_frame_ns_ = 0;  // the link's newest frame (live)
+    bool video_connected_ = false;
+    // The emergency the drone reports was commanded from here (key, button) just before.
+    TimeNs emergency_sent_ns_ = 0;
+    bool prev_emergency_bit_ = false, emergency_commanded_ = false;
+    // Configuration: what the drone reported last and the writes sent from Drone -> Settings.
+    std::uint64_t config_gen_ = 0;
+    bool config_read_ = false;
+    std::vector<std::pair<std::string, std::string>> config_values_;
+    std::vector<ui::ConfigWrite> config_writes_;
+    bool config_requested_ = false;  // a read-back asked for this source
     // Size of one AT cycle's datagram (REF + PCMD) for the throughput estimate, and what it was
     // computed for.
     std::size_t at_cycle_bytes_ = 0;
@@ -112,8 +131,12 @@ private:
     std::uint64_t shown_calib_gen_ = 0;
 
     std::vector<Pending> pending_;
-    std::deque<std::string> messages_;
-    static constexpr std::size_t kMaxMessages = 40;
+    std::deque<ui::LogLine> messages_;
+    bool messages_changed_ = false;
+    static constexpr std::size_t kMaxMessages = 200;
+    static constexpr std::size_t kMaxConfigWrites = 32;
+    bool config_dirty_ = false;
+    std::uint64_t config_write_id_ = 0;
 };
 
 }  // namespace gs::app

@@ -32,6 +32,12 @@ struct Actions {
     PilotInput pilot;
     bool manual = false;
     bool takeoff = false, land = false, emergency = false, flat_trim = false, switch_camera = false;
+    bool calibrate_magnetometer = false;  // in flight: the drone turns a full circle
+
+    // Drone -> Settings: configuration writes (key, value as the drone prints it) and a request
+    // to read the whole configuration back.
+    std::vector<std::pair<std::string, std::string>> config_writes;
+    bool config_read = false;
 
     std::optional<ConnectRequest> connect;
     bool disconnect = false;
@@ -64,6 +70,10 @@ struct Actions {
     bool undistort_preview = false;
 
     bool quit = false;  // the window may close now (after the landing confirmation if flying)
+
+    // Lines for the message log that the window itself produced ("take-off: not available in a
+    // replay", a migrated keymap ...). Usually empty.
+    std::vector<std::string> notes;
 };
 
 }  // namespace gs::ui

@@ -2,6 +2,7 @@
 
 #include "ui/gl_texture.hpp"
 #include "ui/gui.hpp"
+#include "ui/key_latch.hpp"
 
 #include <GL/gl.h>
 #include <GL/glext.h>
@@ -13,6 +14,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -125,8 +127,12 @@ bool write_screenshot(const std::filesystem::path& png, int w, int h, const Layo
     j["video_image"] = rect_json(layout.video_image);
     j["region_bars"] = nlohmann::json::array();
     for (const auto& b : layout.region_bars)
-        j["region_bars"].push_back(
-            {{"name", b.name}, {"rect", rect_json(b.rect)}, {"flagged", b.flagged}});
+        j["region_bars"].push_back({{"name", b.name},
+                                    {"rect", rect_json(b.rect)},
+                                    {"flagged", b.flagged},
+                                    {"known", b.known},
+                                    {"reason", b.reason},
+                                    {"label", b.label}});
     j["battery"] = {{"outline", rect_json(layout.battery_outline)},
                     {"fill", rect_json(layout.battery_fill)},
                     {"text", layout.battery_text},
@@ -140,6 +146,17 @@ bool write_screenshot(const std::filesystem::path& png, int w, int h, const Layo
                         {"rms_px", known(c.rms_px) ? nlohmann::json(c.rms_px) : nlohmann::json()},
                         {"status", c.status}};
     j["undistorted"] = layout.undistorted;
+    j["clock_s"] = layout.clock_s;
+    j["video_index"] = layout.video_index;
+    j["layout"] = layout.layout_mode;
+    j["video_stale"] = layout.video_stale_text;
+    const LayoutReport::Status& st = layout.status;
+    j["status"] = {{"source", st.source},   {"state", st.state},     {"activity", st.activity},
+                   {"battery", st.battery}, {"link", st.link},       {"video", st.video},
+                   {"rec", st.rec},         {"message", st.message}, {"banners", st.banners}};
+    nlohmann::json disabled = nlohmann::json::object();
+    for (const auto& [id, why] : layout.disabled) disabled[id] = why;
+    j["disabled"] = disabled;
     nlohmann::json buttons = nlohmann::json::object();
     for (const auto& [name, r] : layout.buttons) buttons[name] = rect_json(r);
     j["buttons"] = buttons;
@@ -153,8 +170,20 @@ bool write_screenshot(const std::filesystem::path& png, int w, int h, const Layo
     return static_cast<bool>(out);
 }
 
-InputState poll_input(GLFWwindow* win) {
+// Every key event, latched until the next frame reads it (ImGui 1.86 keeps only the current
+// state, so a tap between two frames would be lost). Installed before ImGui's backend, which
+// chains to it.
+void key_callback(GLFWwindow* win, int key, int /*scancode*/, int action, int /*mods*/) {
+    auto* latch = static_cast<KeyLatch*>(glfwGetWindowUserPointer(win));
+    if (!latch) return;
+    latch->on_key(key, action == GLFW_PRESS     ? KeyLatch::Event::Press
+                       : action == GLFW_RELEASE ? KeyLatch::Event::Release
+                                                : KeyLatch::Event::Repeat);
+}
+
+InputState poll_input(GLFWwindow* win, KeyLatch& latch) {
     InputState in;
+    latch.take(in);
     in.window_focused = glfwGetWindowAttrib(win, GLFW_FOCUSED) == GLFW_TRUE;
     for (int jid = GLFW_JOYSTICK_1; jid <= GLFW_JOYSTICK_LAST; ++jid) {
         GLFWgamepadstate st;
@@ -192,10 +221,30 @@ Expected<RunResult, AppError> run_window(const AppOptions& opt, const SnapshotPr
     glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
     glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
     if (opt.offscreen) glfwWindowHint(GLFW_VISIBLE, GLFW_FALSE);
-    GLFWwindow* win = glfwCreateWindow(opt.width, opt.height, opt.title.c_str(), nullptr, nullptr);
+    // On screen, the window fits the monitor's work area (the desktop minus its panels): on a
+    // 1280x720 screen it opens maximised instead of running off the edges.
+    int width = opt.width, height = opt.height;
+    bool maximize = false;
+    int wa_x = 0, wa_y = 0, wa_w = 0, wa_h = 0;  // the work area
+    if (!opt.offscreen) {
+        if (GLFWmonitor* mon = glfwGetPrimaryMonitor()) {
+            glfwGetMonitorWorkarea(mon, &wa_x, &wa_y, &wa_w, &wa_h);
+            constexpr int kDecorations = 40;  // title bar and borders the window manager adds
+            if (wa_w > 0 && wa_h > 0 && (width > wa_w || height > wa_h - kDecorations)) {
+                width = std::min(width, wa_w);
+                height = std::min(height, std::max(240, wa_h - kDecorations));
+                maximize = true;
+            }
+        }
+    }
+    GLFWwindow* win = glfwCreateWindow(width, height, opt.title.c_str(), nullptr, nullptr);
     if (!win) return fail(AppError::WindowCreate);
+    if (maximize) glfwMaximizeWindow(win);
     glfwMakeContextCurrent(win);
     glfwSwapInterval(opt.offscreen ? 0 : 1);
+    KeyLatch latch;
+    glfwSetWindowUserPointer(win, &latch);
+    glfwSetKeyCallback(win, key_callback);  // before ImGui's backend, which chains to it
 
     IMGUI_CHECKVERSION();
     ImGui::CreateContext();
@@ -258,7 +307,7 @@ Expected<RunResult, AppError> run_window(const AppOptions& opt, const SnapshotPr
                 io.MousePos = {-FLT_MAX, -FLT_MAX};
             }
             ImGui::NewFrame();
-            Actions a = gui.frame(snap, poll_input(win), &video_tex);
+            Actions a = gui.frame(snap, poll_input(win, latch), &video_tex);
             if (glfwWindowShouldClose(win)) {
                 if (gui.request_close(snap))
                     a.quit = true;

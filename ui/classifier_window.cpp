@@ -109,13 +109,23 @@ void ClassifierWindow::draw(const GuiSnapshot& s, ViewState& v, Actions& a) {
     }
     // Decisions.
     for (const auto& d : c.decisions) {
-        const std::uint32_t col = d.flagged ? colors::kBad : colors::kGood;
-        ImGui::TextColored(colors::v4(col), "%-7s %-6s", d.name.c_str(),
-                           d.flagged ? "UNSAFE" : "clear");
+        const bool stale = s.video.stale;
+        const bool measured = d.known && !stale;
+        const std::uint32_t col = !measured   ? colors::kDim
+                                  : d.flagged ? colors::kBad
+                                              : colors::kGood;
+        ImGui::TextColored(colors::v4(col), "%-7s %-7s", d.name.c_str(),
+                           !measured   ? "no data"
+                           : d.flagged ? "UNSAFE"
+                                       : "clear");
         ImGui::SameLine();
-        if (known(d.score))
+        if (!measured)
+            ImGui::TextColored(colors::v4(colors::kDim), "%s",
+                               stale ? "video stale" : d.unknown_reason.c_str());
+        else if (known(d.score))
             ImGui::TextColored(colors::v4(colors::kDim), "score %s / thr %s",
-                               format_sig(d.score).c_str(), format_sig(d.threshold).c_str());
+                               format_score(d.score, d.threshold).c_str(),
+                               format_score(d.threshold, d.threshold).c_str());
         else
             ImGui::TextColored(colors::v4(colors::kDim), "score -");
     }
@@ -126,13 +136,15 @@ void ClassifierWindow::draw(const GuiSnapshot& s, ViewState& v, Actions& a) {
     // dragged; a name cut short shows in full (with its description) when hovered.
     float name_w = 0;
     for (const auto& p : c.params) name_w = std::max(name_w, ImGui::CalcTextSize(p.name.c_str()).x);
-    const float min_slider = ImGui::GetFontSize() * 7;
+    const float min_slider = ImGui::GetFontSize() * 10;
     const float avail = ImGui::GetContentRegionAvail().x;
     name_w = std::clamp(name_w, ImGui::GetFontSize() * 4, std::max(avail - min_slider, 1.0f));
     bool any_changed = false;
-    if (ImGui::BeginTable("params", 2, ImGuiTableFlags_SizingFixedFit | ImGuiTableFlags_RowBg)) {
+    const float value_w = ImGui::CalcTextSize("-0.0000").x;
+    if (ImGui::BeginTable("params", 3, ImGuiTableFlags_SizingFixedFit | ImGuiTableFlags_RowBg)) {
         ImGui::TableSetupColumn("name", ImGuiTableColumnFlags_WidthFixed, name_w);
-        ImGui::TableSetupColumn("value", ImGuiTableColumnFlags_WidthStretch);
+        ImGui::TableSetupColumn("slider", ImGuiTableColumnFlags_WidthStretch);
+        ImGui::TableSetupColumn("value", ImGuiTableColumnFlags_WidthFixed, value_w);
         for (const auto& p : c.params) {
             ImGui::TableNextRow();
             ImGui::TableSetColumnIndex(0);
@@ -155,14 +167,15 @@ void ClassifierWindow::draw(const GuiSnapshot& s, ViewState& v, Actions& a) {
             ImGui::PushID(p.name.c_str());
             bool changed = false;
             double val = p.value;
+            // The value in its own column: a slider's handle never covers it.
             if (p.integer) {
                 int iv = static_cast<int>(p.value);
-                changed =
-                    ImGui::SliderInt("##v", &iv, static_cast<int>(p.min), static_cast<int>(p.max));
+                changed = ImGui::SliderInt("##v", &iv, static_cast<int>(p.min),
+                                           static_cast<int>(p.max), "");
                 val = iv;
             } else {
                 changed =
-                    ImGui::SliderScalar("##v", ImGuiDataType_Double, &val, &p.min, &p.max, "%.4g");
+                    ImGui::SliderScalar("##v", ImGuiDataType_Double, &val, &p.min, &p.max, "");
             }
             if (ImGui::BeginPopupContextItem("reset")) {
                 if (ImGui::MenuItem("Reset to default")) {
@@ -172,6 +185,9 @@ void ClassifierWindow::draw(const GuiSnapshot& s, ViewState& v, Actions& a) {
                 ImGui::EndPopup();
             }
             ImGui::PopID();
+            ImGui::TableSetColumnIndex(2);
+            ImGui::TextUnformatted(p.integer ? std::to_string(static_cast<long long>(val)).c_str()
+                                             : format_sig(val, 3).c_str());
             if (changed) {
                 a.param_changes.emplace_back(p.name, val);
                 v.settings.classifier_params[c.active][p.name] = val;

@@ -1,5 +1,6 @@
 #include "ui/windows.hpp"
 
+#include "ui/controls.hpp"
 #include "ui/pilot_input.hpp"
 
 #include <cstdio>
@@ -45,7 +46,10 @@ void ConnectionWindow::draw(const GuiSnapshot& s, ViewState& v, Actions& a) {
             ImGui::TextColored(colors::v4(colors::kDim), "%s %s", to_string(c.source),
                                c.address.c_str());
     }
-    if (!c.reason.empty()) {
+    if (!c.activity.empty()) {
+        ImGui::SameLine();
+        ImGui::TextColored(colors::v4(colors::kWarn), "- %s", c.activity.c_str());
+    } else if (!c.reason.empty()) {
         ImGui::SameLine();
         ImGui::TextColored(colors::v4(colors::kDim), "- %s", c.reason.c_str());
     }
@@ -81,12 +85,22 @@ void ConnectionWindow::draw(const GuiSnapshot& s, ViewState& v, Actions& a) {
         }
     } else {
         const char* cur = st.sim_scenario.empty() ? "(default)" : st.sim_scenario.c_str();
-        if (ImGui::BeginCombo("##scenario", cur)) {
-            for (const auto& sc : c.scenarios)
+        const bool open = ImGui::BeginCombo("##scenario", cur);
+        if (!open) record_button(v, "connection.scenario");
+        if (open) {
+            for (const auto& sc : c.scenarios) {
                 if (ImGui::Selectable(sc.c_str(), sc == st.sim_scenario)) {
+                    // Picking another scenario while the virtual drone runs switches to it (the
+                    // window asks first when the drone is flying).
+                    const bool running_other = c.source == SourceKind::Sim &&
+                                               c.state != LinkState::Disconnected &&
+                                               c.state != LinkState::Replay && sc != c.scenario;
+                    if (running_other) a.connect = ConnectRequest{true, {}, sc};
                     st.sim_scenario = sc;
                     v.settings_dirty = true;
                 }
+                record_button(v, ("scenario." + sc).c_str());
+            }
             ImGui::EndCombo();
         }
     }
@@ -100,30 +114,39 @@ void ConnectionWindow::draw(const GuiSnapshot& s, ViewState& v, Actions& a) {
             r.scenario = st.sim_scenario;
             a.connect = r;
         }
-    } else if (ImGui::Button("Disconnect", {btn_w, 0})) {
-        a.disconnect = true;
+        record_button(v, "connection.connect");
+    } else {
+        if (ImGui::Button("Disconnect", {btn_w, 0})) a.disconnect = true;
+        record_button(v, "connection.disconnect");
     }
     ImGui::Separator();
 
-    // Flight controls. Emergency is large, red and always in the same place.
+    // Take off, Land and EMERGENCY live in the status bar (always on screen); here the ground
+    // checks and the camera, each disabled with its reason when it cannot act now.
     const Keymap& km = st.keymap;
     auto label = [&](const char* text, PilotKey k) {
-        return std::string(text) + " (" + key_name(km.key(k)) + ")";
+        const std::string key = key_name(km.key(k));
+        return key.empty() ? std::string(text) : std::string(text) + " (" + key + ")";
     };
-    const float h = ImGui::GetFrameHeight() * 1.6f;
-    const float w = (ImGui::GetContentRegionAvail().x - ImGui::GetStyle().ItemSpacing.x * 2) / 3.0f;
-    if (ImGui::Button(label("Take off", PilotKey::Takeoff).c_str(), {w, h})) a.takeoff = true;
+    auto button = [&](const char* id, const std::string& text, Control ctl, bool& out) {
+        const ControlState cs = control_state(s, ctl);
+        if (!cs.enabled) ImGui::BeginDisabled();
+        if (ImGui::Button((text + "##" + id).c_str())) out = true;
+        if (!cs.enabled) ImGui::EndDisabled();
+        record_button(v, id);
+        if (!cs.enabled) {
+            v.layout.disabled.push_back({id, cs.why});
+            if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
+                ImGui::SetTooltip("%s", cs.why.c_str());
+        }
+    };
+    button("connection.flat_trim", label("Flat trim", PilotKey::FlatTrim), Control::FlatTrim,
+           a.flat_trim);
     ImGui::SameLine();
-    if (ImGui::Button(label("Land", PilotKey::Land).c_str(), {w, h})) a.land = true;
+    button("connection.camera", label("Camera", PilotKey::SwitchCamera), Control::SwitchCamera,
+           a.switch_camera);
     ImGui::SameLine();
-    ImGui::PushStyleColor(ImGuiCol_Button, colors::v4(IM_COL32(170, 30, 25, 255)));
-    ImGui::PushStyleColor(ImGuiCol_ButtonHovered, colors::v4(IM_COL32(215, 45, 35, 255)));
-    ImGui::PushStyleColor(ImGuiCol_ButtonActive, colors::v4(IM_COL32(240, 70, 50, 255)));
-    if (ImGui::Button(label("EMERGENCY", PilotKey::Emergency).c_str(), {w, h})) a.emergency = true;
-    ImGui::PopStyleColor(3);
-    if (ImGui::Button(label("Flat trim", PilotKey::FlatTrim).c_str())) a.flat_trim = true;
-    ImGui::SameLine();
-    if (ImGui::Button(label("Camera", PilotKey::SwitchCamera).c_str())) a.switch_camera = true;
+    if (ImGui::Button("Settings...")) v.open.drone_settings = true;
     ImGui::SameLine();
     if (ImGui::Button("Keys...")) v.open.keys = true;
 
@@ -150,15 +173,16 @@ void KeysWindow::draw(ViewState& v) {
         return;
     }
     ImGui::TextWrapped(
-        "Keyboard (works when the window has focus; text fields keep the keys except "
-        "emergency). Losing focus makes the drone hover.");
+        "Keyboard (works when the window has focus; text fields keep the keys except the "
+        "emergency key, which works in every state). Losing focus makes the drone hover.");
     if (ImGui::BeginTable("keys", 2, ImGuiTableFlags_RowBg | ImGuiTableFlags_SizingStretchProp)) {
         for (std::size_t i = 0; i < kPilotKeyCount; ++i) {
             const auto k = static_cast<PilotKey>(i);
             ImGui::TableNextRow();
             ImGui::TableSetColumnIndex(0);
+            const int code = v.settings.keymap.key(k);
             ImGui::TextColored(colors::v4(k == PilotKey::Emergency ? colors::kBad : colors::kInfo),
-                               "%s", key_name(v.settings.keymap.key(k)).c_str());
+                               "%s", code == kNoKey ? "(none)" : key_name(code).c_str());
             ImGui::TableSetColumnIndex(1);
             ImGui::TextUnformatted(description(k));
         }
@@ -170,7 +194,10 @@ void KeysWindow::draw(ViewState& v) {
         "A take off, B land, Back EMERGENCY, X flat trim, Y camera, Start record. "
         "A held key overrides the stick on its axis.");
     ImGui::TextColored(colors::v4(colors::kDim),
-                       "F1 toggles this window. Ctrl+Q quits (asks to land first).");
+                       "F1 toggles this window, F2 the flight / engineering layout. Escape closes "
+                       "menus and dialogs and does nothing to the drone. Ctrl+Q quits (asks to "
+                       "land first when flying).");
+    v.layout.keys_clipped = ImGui::GetScrollMaxY() > 0.0f;
     ImGui::End();
 }
 

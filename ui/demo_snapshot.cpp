@@ -56,8 +56,9 @@ void draw_scene(cv::Mat& img, int frame, int w, int h) {
                   cv::FILLED);
     cv::rectangle(img, cv::Rect(w * 80 / 100, horizon - 70, 26, 120), cv::Scalar(120, 125, 128),
                   cv::FILLED);
-    cv::putText(img, "DEMO", {8, h - 10}, cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(230, 230, 230),
-                1, cv::LINE_AA);
+    // Top left, under the region bar: the HUD's bottom strip would hide it at the bottom.
+    cv::putText(img, "DEMO", {8, h * 16 / 100}, cv::FONT_HERSHEY_SIMPLEX, 0.5,
+                cv::Scalar(230, 230, 230), 1, cv::LINE_AA);
 }
 
 }  // namespace
@@ -140,9 +141,15 @@ void make_demo_snapshot(GuiSnapshot& s, int frame, const DemoOptions& opt) {
     c.decisions.clear();
     c.overlay = Overlay{};
     for (int i = 0; i < 3; ++i) {
-        c.decisions.push_back({names[i], flags[i], scores[i], 1.0});
-        c.overlay.regions.push_back({names[i], third * static_cast<float>(i),
-                                     third * static_cast<float>(i + 1), flags[i], scores[i], 1.0});
+        c.decisions.push_back({names[i], flags[i], scores[i], 1.0, true, {}});
+        c.overlay.regions.push_back({names[i],
+                                     third * static_cast<float>(i),
+                                     third * static_cast<float>(i + 1),
+                                     flags[i],
+                                     scores[i],
+                                     1.0,
+                                     true,
+                                     {}});
     }
     for (int i = 1; i < 3; ++i)
         c.overlay.boundaries.push_back({{third * static_cast<float>(i), 0.0f},
@@ -229,7 +236,9 @@ void make_demo_snapshot(GuiSnapshot& s, int frame, const DemoOptions& opt) {
     s.recording.disk_bytes = static_cast<std::uint64_t>((t + 42.0) * 160000);
     s.recording.disk_free_bytes = 48e9;
     s.replay = ReplayStatus{};
-    s.messages = {"navdata: configured (full mode)", "video: first IDR after 1 frame"};
+    s.messages = {{"navdata: configured (full mode)", LogLevel::Info, 1.0},
+                  {"video: first IDR after 1 frame", LogLevel::Info, 1.2},
+                  {"recording to ~/flights/2026-11-22_0640", LogLevel::Ok, 2.0}};
 }
 
 GuiSnapshot demo_no_link() {

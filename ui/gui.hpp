@@ -27,15 +27,27 @@ public:
     // now; when the drone is flying it opens the "land first?" dialog and returns false.
     bool request_close(const GuiSnapshot& s);
 
+    // True while a drone is in the air that this window commands (or commanded until its link
+    // was lost): leaving it (quit, disconnect, replay, another source) asks first.
+    static bool commanding_flying_drone(const GuiSnapshot& s);
+
     ViewState& view() { return view_; }
     const ViewState& view() const { return view_; }
 
 private:
     void draw_menu(const GuiSnapshot& s, Actions& a);
-    void draw_quit_dialog(const GuiSnapshot& s, Actions& a);
+    void read_ui_keys(const InputState& in, Actions& a, const GuiSnapshot& s);
+    void handle_escape();
+    // Requests in `a` that would stop commanding a flying drone wait behind the question.
+    void guard_leaving(const GuiSnapshot& s, Actions& a);
+    void draw_leave_dialog(const GuiSnapshot& s, Actions& a);
+    void finish_leaving(const GuiSnapshot& s, Actions& a);
+    void draw_notices();
+    void hold_back_unavailable(const GuiSnapshot& s, Actions& a);
     void calibration_mode(const GuiSnapshot& s, Actions& a);
 
     ViewState view_;
+    bool notices_logged_ = false;
     VideoWindow video_;
     TelemetryWindow telemetry_;
     LinkWindow link_;
@@ -47,6 +59,10 @@ private:
     ConnectionWindow connection_;
     KeysWindow keys_;
     CalibrationWindow calibration_;
+    StatusBar status_;
+    MessagesWindow messages_;
+    DroneSettingsWindow settings_;
+    FlightView flight_;
 };
 
 }  // namespace gs::ui

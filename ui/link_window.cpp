@@ -9,11 +9,13 @@ void LinkWindow::draw(const GuiSnapshot& s, ViewState& v) {
         ImGui::End();
         return;
     }
-    const ImGuiTableFlags tf =
-        ImGuiTableFlags_RowBg | ImGuiTableFlags_BordersInnerV | ImGuiTableFlags_SizingStretchProp;
+    // Columns as wide as their content (never cut); a narrow window scrolls sideways instead.
+    const ImGuiTableFlags tf = ImGuiTableFlags_RowBg | ImGuiTableFlags_BordersInnerV |
+                               ImGuiTableFlags_SizingFixedFit | ImGuiTableFlags_ScrollX;
     const StreamHealth* streams[] = {&s.link.navdata, &s.link.video, &s.link.at};
     const char* names[] = {"navdata", "video", "AT"};
-    if (ImGui::BeginTable("health", 4, tf)) {
+    const float table_h = ImGui::GetTextLineHeightWithSpacing() * 11.5f;
+    if (ImGui::BeginTable("health", 4, tf, {0, table_h})) {
         ImGui::TableSetupColumn("", ImGuiTableColumnFlags_WidthFixed);  // labels in full
         for (const char* n : names) ImGui::TableSetupColumn(n);
         ImGui::TableHeadersRow();
@@ -47,8 +49,9 @@ void LinkWindow::draw(const GuiSnapshot& s, ViewState& v) {
         rowf(
             "bytes /s",
             [&](const StreamHealth& h) {
-                return (h.bytes_estimated && known(h.bytes_per_s) ? "~" : "") +
-                       format_bytes(h.bytes_per_s);
+                std::string b = format_bytes(h.bytes_per_s);
+                if (h.bytes_estimated && known(h.bytes_per_s)) b.insert(b.begin(), '~');
+                return b;
             },
             [](const StreamHealth&) { return false; });
         rowf(
@@ -81,9 +84,7 @@ void LinkWindow::draw(const GuiSnapshot& s, ViewState& v) {
         known(s.classifier.cycle_ms)
             ? (std::to_string(static_cast<int>(s.classifier.cycle_ms + 0.5)) + " ms").c_str()
             : "-");
-    if (!s.messages.empty() && ImGui::CollapsingHeader("Messages")) {
-        for (const auto& m : s.messages) ImGui::TextUnformatted(m.c_str());
-    }
+    if (ImGui::SmallButton("Messages...")) v.open.messages = true;
     ImGui::End();
 }
 

@@ -98,12 +98,54 @@ Keymap Keymap::defaults() {
     m.key(PilotKey::YawRight) = GLFW_KEY_RIGHT;
     m.key(PilotKey::Takeoff) = GLFW_KEY_T;
     m.key(PilotKey::Land) = GLFW_KEY_L;
-    m.key(PilotKey::Emergency) = GLFW_KEY_ESCAPE;  // never typed into text, found blind
+    // Typed into no text field, used by no menu or popup, at the end of the function-key row.
+    m.key(PilotKey::Emergency) = GLFW_KEY_F12;
     m.key(PilotKey::FlatTrim) = GLFW_KEY_F;
     m.key(PilotKey::SwitchCamera) = GLFW_KEY_C;
     m.key(PilotKey::Record) = GLFW_KEY_R;
     m.key(PilotKey::CalibrationCapture) = GLFW_KEY_K;
     return m;
+}
+
+int default_emergency_key() {
+    return GLFW_KEY_F12;
+}
+
+bool emergency_key_allowed(int k) {
+    return (k >= GLFW_KEY_F3 && k <= GLFW_KEY_F25) || k == GLFW_KEY_PAUSE;
+}
+
+bool reserved_ui_key(int k) {
+    return k == GLFW_KEY_ESCAPE || k == GLFW_KEY_F1 || k == GLFW_KEY_F2;
+}
+
+std::vector<std::string> sanitize_keymap(Keymap& map) {
+    std::vector<std::string> notes;
+    const Keymap def = Keymap::defaults();
+    auto name = [](int k) { return k == kNoKey ? std::string("no key") : key_name(k); };
+    for (std::size_t i = 0; i < kPilotKeyCount; ++i) {
+        const auto a = static_cast<PilotKey>(i);
+        int& k = map.key(a);
+        const bool bad_emergency = a == PilotKey::Emergency && !emergency_key_allowed(k);
+        if (!reserved_ui_key(k) && !bad_emergency) continue;
+        std::string why = k == GLFW_KEY_ESCAPE ? "Escape only closes menus and dialogs now"
+                          : reserved_ui_key(k) ? "F1 and F2 are the key help and the layout"
+                                               : "the emergency key must be one no text field "
+                                                 "or menu uses";
+        notes.push_back(std::string(description(a)) + ": " + name(k) + " -> " + name(def.key(a)) +
+                        " (" + why + ")");
+        k = def.key(a);
+    }
+    // Nothing else may share the emergency key: one press must never do two things.
+    const int e = map.key(PilotKey::Emergency);
+    for (std::size_t i = 0; i < kPilotKeyCount; ++i) {
+        const auto a = static_cast<PilotKey>(i);
+        if (a == PilotKey::Emergency || map.key(a) != e) continue;
+        notes.push_back(std::string(description(a)) + ": " + name(e) +
+                        " -> no key (it is the emergency key)");
+        map.key(a) = kNoKey;
+    }
+    return notes;
 }
 
 namespace {
@@ -125,6 +167,7 @@ const std::vector<std::pair<int, const char*>>& named_keys() {
         {GLFW_KEY_HOME, "Home"},
         {GLFW_KEY_END, "End"},
         {GLFW_KEY_PAUSE, "Pause"},
+        {GLFW_KEY_SCROLL_LOCK, "ScrollLock"},
         {GLFW_KEY_LEFT_SHIFT, "LeftShift"},
         {GLFW_KEY_RIGHT_SHIFT, "RightShift"},
         {GLFW_KEY_LEFT_CONTROL, "LeftCtrl"},
@@ -197,27 +240,36 @@ PilotFrame PilotMapper::update(const InputState& in, const Keymap& map) {
     auto valid = [](int k) { return k >= 0 && k < 512; };
 
     // Focus latch: whatever is held while unfocused (or at the moment focus returns) was pressed
-    // outside our sight; its key-up may never arrive. Ignore it until we see it released.
+    // outside our sight; its key-up may never arrive. Ignore it until we see it released, unless
+    // we saw it pressed again (a press event is a new press).
     if (!in.window_focused) {
         latched_ |= in.keys;
-    } else if (!was_focused_) {
-        latched_ |= in.keys;
+    } else {
+        if (!was_focused_) latched_ |= in.keys;
+        latched_ &= ~in.pressed;  // pressed again in our window: a fresh press
     }
     latched_ &= in.keys;  // released keys are free again
 
-    const std::bitset<512> usable = in.window_focused ? (in.keys & ~latched_) : std::bitset<512>{};
+    const std::bitset<512> none;
+    const std::bitset<512> held_now = in.window_focused ? (in.keys & ~latched_) : none;
+    // A press is a latched press event or a key seen held now and not in the last frame; a key
+    // pressed and released between two frames is held for this one frame (a short tap moves).
+    const std::bitset<512> presses =
+        in.window_focused ? ((in.pressed & ~latched_) | (held_now & ~prev_keys_)) : none;
+    const std::bitset<512> usable = held_now | presses;
     auto held = [&](PilotKey k) {
         const int c = map.key(k);
         return valid(c) && usable.test(static_cast<std::size_t>(c));
     };
     auto pressed = [&](PilotKey k) {
         const int c = map.key(k);
-        return valid(c) && usable.test(static_cast<std::size_t>(c)) &&
-               !prev_keys_.test(static_cast<std::size_t>(c));
+        return valid(c) && presses.test(static_cast<std::size_t>(c));
     };
 
-    // Emergency first and unconditionally (text fields do not swallow it).
-    out.emergency = pressed(PilotKey::Emergency);
+    // Emergency first and unconditionally: text fields, menus and dialogs do not swallow it (its
+    // key types nothing; a keymap putting it on a typing key is refused, see sanitize_keymap).
+    out.emergency = pressed(PilotKey::Emergency) &&
+                    (!in.text_input_active || emergency_key_allowed(map.key(PilotKey::Emergency)));
 
     float k_roll = 0, k_pitch = 0, k_gaz = 0, k_yaw = 0;
     bool k_roll_set = false, k_pitch_set = false, k_gaz_set = false, k_yaw_set = false;
@@ -270,7 +322,7 @@ PilotFrame PilotMapper::update(const InputState& in, const Keymap& map) {
     out.pilot.yaw = std::clamp(k_yaw_set ? k_yaw : g_yaw, -1.0f, 1.0f);
     out.manual = k_roll_set || k_pitch_set || k_gaz_set || k_yaw_set || out.pilot.any();
 
-    prev_keys_ = usable;
+    prev_keys_ = held_now;
     was_focused_ = in.window_focused;
     return out;
 }

@@ -5,8 +5,12 @@
 //  - a held movement key overrides the gamepad on its axis (keyboard is the deliberate input);
 //  - losing window focus gives a hover command, and a key still held when focus returns is ignored
 //    until released (no stale command from a missed key-up);
-//  - the emergency key/button is honoured even while a text field has the keyboard and even
-//    without focus-latched keys: it is always reachable.
+//  - the emergency key/button is honoured even while a text field has the keyboard, a menu or a
+//    dialog is open: it is always reachable. It is a key no text field, menu or popup uses
+//    (F12 by default; only F2..F25 and Pause may be bound to it), so typing never cuts the motors;
+//  - a press is acted on exactly once, even when it is released before the frame that reads it
+//    (InputState::pressed, latched from the key callback by KeyLatch).
+// Escape is never a pilot key: it closes menus and dialogs (ui/gui.cpp) and nothing else.
 // Key codes are GLFW key codes (the ImGui 1.86 GLFW backend indexes io.KeysDown with them).
 
 #include "ui/actions.hpp"
@@ -16,6 +20,7 @@
 #include <cstdint>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace gs::ui {
 
@@ -41,8 +46,10 @@ inline constexpr std::size_t kPilotKeyCount = static_cast<std::size_t>(PilotKey:
 const char* to_string(PilotKey k);    // "forward", "emergency" ... (settings key)
 const char* description(PilotKey k);  // "Move forward (pitch down)"
 
+inline constexpr int kNoKey = -1;  // an action with no key bound
+
 struct Keymap {
-    std::array<int, kPilotKeyCount> keys{};  // GLFW key code per action
+    std::array<int, kPilotKeyCount> keys{};  // GLFW key code per action (kNoKey: unbound)
     float keyboard_gain = 0.5f;              // fraction of max deflection a held key gives
     float yaw_gain = 0.7f;
     float gaz_gain = 0.7f;
@@ -52,6 +59,23 @@ struct Keymap {
     int key(PilotKey k) const { return keys[static_cast<std::size_t>(k)]; }
     int& key(PilotKey k) { return keys[static_cast<std::size_t>(k)]; }
 };
+
+// The default emergency key (F12): on every keyboard, typed into nothing, used by no menu.
+int default_emergency_key();
+// True for the keys the emergency may be bound to: F3..F25 and Pause (F1, F2: key help, layout). A
+// key a text field types or edits with, or one that closes menus (Escape), would either cut the
+// motors while typing a path or be pressed by reflex to close a menu.
+bool emergency_key_allowed(int glfw_key);
+// Keys no pilot action may use: Escape closes menus and dialogs, and only that; F1 toggles the
+// key help, F2 the flight / engineering layout.
+bool reserved_ui_key(int glfw_key);
+inline constexpr int kHelpKey = 290;    // GLFW_KEY_F1
+inline constexpr int kLayoutKey = 291;  // GLFW_KEY_F2
+
+// Makes a keymap safe, whatever a settings file said: actions bound to a reserved key (Escape)
+// or the emergency on a key that is not allowed go back to their default; an action that then
+// shares a key with the emergency is unbound. Returns one line per change, for the user.
+std::vector<std::string> sanitize_keymap(Keymap& map);
 
 // "W", "Up", "Escape", "Space" ... for GLFW key codes; empty for unknown codes.
 std::string key_name(int glfw_key);
@@ -68,6 +92,9 @@ struct GamepadState {
 
 struct InputState {
     std::bitset<512> keys;  // held keys, by GLFW key code
+    // Keys pressed since the previous frame (KeyLatch: from the key callback), held or already
+    // released: a tap shorter than a frame is still one press.
+    std::bitset<512> pressed;
     bool window_focused = true;
     bool text_input_active = false;  // a text field owns the keyboard: only emergency passes
     GamepadState gamepad;

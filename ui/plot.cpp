@@ -277,7 +277,8 @@ PlotResult draw_plot(const char* id, const PlotSpec& spec, ImVec2 size) {
         yr = yr0;
         if (spec.equal_aspect) {
             const double w = r.area_max.x - r.area_min.x, h = r.area_max.y - r.area_min.y;
-            const double upp = std::max((xr.hi - xr.lo) / w, (yr.hi - yr.lo) / h);
+            double upp = std::max((xr.hi - xr.lo) / w, (yr.hi - yr.lo) / h);
+            if (spec.min_span > 0) upp = std::max(upp, spec.min_span / std::min(w, h));
             const double xc = 0.5 * (xr.lo + xr.hi), yc = 0.5 * (yr.lo + yr.hi);
             xr = {xc - upp * w * 0.5, xc + upp * w * 0.5};
             yr = {yc - upp * h * 0.5, yc + upp * h * 0.5};
@@ -438,7 +439,8 @@ PlotResult draw_plot(const char* id, const PlotSpec& spec, ImVec2 size) {
                         hidden ? kDimText : kText, name.c_str());
         }
         if (legend.more > 0) {
-            const std::string more = "+" + std::to_string(legend.more);
+            std::string more = std::to_string(legend.more);
+            more.insert(more.begin(), '+');
             dl->AddText(ImGui::GetFont(), lfs, legend.more_pos, kDimText, more.c_str());
             const ImVec2 mouse1{legend.more_pos.x + text_w(lfs, more), legend.more_pos.y + lfs};
             if (r.hovered && mouse.x >= legend.more_pos.x && mouse.x < mouse1.x &&

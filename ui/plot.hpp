@@ -67,6 +67,9 @@ struct PlotSpec {
     std::vector<PlotThresholdView> thresholds;
     std::optional<double> x_min, x_max, y_min, y_max;  // fixed limits; unset = autoscale
     bool equal_aspect = false;                         // same units per pixel on both axes
+    // Equal aspect: the smaller axis shows at least this span (data units), so that noise of a
+    // few millimetres does not fill the map and read as a path. 0: none.
+    double min_span = 0;
     bool show_legend = true;
 };
 

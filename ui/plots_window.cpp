@@ -87,6 +87,7 @@ void flight_path(const GuiSnapshot& s, ViewState& v, ImVec2 size) {
     spec.x_label = "right [m]";
     spec.y_label = "m";
     spec.equal_aspect = true;
+    spec.min_span = 0.10;  // 10 cm at least: hover noise stays a dot, not a path
     PlotSeriesView nav;
     nav.name = "navdata";
     nav.ring = &v.history.path;
@@ -138,6 +139,23 @@ void flight_path(const GuiSnapshot& s, ViewState& v, ImVec2 size) {
 
 }  // namespace
 
+void PlotsWindow::draw_strip(const GuiSnapshot& s, ViewState& v) {
+    const ImVec2 avail = ImGui::GetContentRegionAvail();
+    const float sp = ImGui::GetStyle().ItemSpacing.x;
+    const ImVec2 cell{(avail.x - sp * 3) / 4.0f, avail.y};
+    const char* empty =
+        s.classifier.not_running.empty() ? "no classifier data" : "not run on the bottom camera";
+    draw_data("strip_scores", find_plot(s, "scores"), "Region scores", cell, empty);
+    ImGui::SameLine();
+    time_plot("strip_alt", "Altitude", "m", {{"altitude", &v.history.altitude_m}}, v, cell, 0.0);
+    ImGui::SameLine();
+    time_plot("strip_att", "Attitude", "deg",
+              {{"roll", &v.history.roll_deg}, {"pitch", &v.history.pitch_deg}}, v, cell);
+    ImGui::SameLine();
+    time_plot("strip_bat", "Battery", "%", {{"battery", &v.history.battery_pct}}, v, cell, 0.0,
+              100.0, {{"low", s.telemetry.battery_low_pct, IM_COL32(235, 65, 55, 220)}});
+}
+
 void PlotsWindow::draw(const GuiSnapshot& s, ViewState& v) {
     if (!ImGui::Begin("Plots", &v.open.plots)) {
         ImGui::End();
@@ -187,10 +205,26 @@ void PlotsWindow::draw(const GuiSnapshot& s, ViewState& v) {
         time_plot("bat", "Battery", "%", {{"battery", &v.history.battery_pct}}, v, sz, 0.0, 100.0,
                   {{"low", s.telemetry.battery_low_pct, IM_COL32(235, 65, 55, 220)}});
     };
-    if (v.plot_tab == 0) {
+    // A plot needs some height to be read: when two rows would be too short, "All" shows one
+    // row of the plots a pilot needs most (the tabs still have every plot).
+    const float min_plot_h = ImGui::GetFontSize() * 8.0f;
+    if (v.plot_tab == 0 && avail.y >= 2 * min_plot_h) {
         const ImVec2 c3 = cell(3, 2), c4 = cell(4, 2);
         classifier_plots(c3);
         flight_plots(c4);
+    } else if (v.plot_tab == 0) {
+        const ImVec2 c = cell(5, 1);
+        draw_data("scores", find_plot(s, "scores"), "Region scores", c, empty);
+        ImGui::SameLine();
+        flight_path(s, v, c);
+        ImGui::SameLine();
+        time_plot("alt", "Altitude", "m", {{"altitude", &v.history.altitude_m}}, v, c, 0.0);
+        ImGui::SameLine();
+        time_plot("att", "Attitude", "deg",
+                  {{"roll", &v.history.roll_deg}, {"pitch", &v.history.pitch_deg}}, v, c);
+        ImGui::SameLine();
+        time_plot("bat", "Battery", "%", {{"battery", &v.history.battery_pct}}, v, c, 0.0, 100.0,
+                  {{"low", s.telemetry.battery_low_pct, IM_COL32(235, 65, 55, 220)}});
     } else if (v.plot_tab == 1) {
         const ImVec2 c = cell(3, 1);
         classifier_plots(c);

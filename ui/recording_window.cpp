@@ -35,6 +35,23 @@ std::string format_sig(double v, int digits) {
     return buf;
 }
 
+std::string format_score(double v, double threshold) {
+    if (std::isnan(v)) return "-";
+    if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+    int decimals = 2;
+    if (std::isfinite(threshold) && threshold != 0.0) {
+        // Two significant digits of the threshold: 0.3 -> 2 decimals, 0.0013 -> 4, 3.5 -> 1.
+        const int mag = static_cast<int>(std::floor(std::log10(std::fabs(threshold))));
+        decimals = std::clamp(1 - mag, 0, 6);
+    }
+    char buf[48];
+    std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+    // "-0.00" reads as a sign where there is none.
+    std::string out = buf;
+    if (out[0] == '-' && out.find_first_not_of("-0.") == std::string::npos) out.erase(0, 1);
+    return out;
+}
+
 std::string format_duration(double s) {
     if (!known(s) || s < 0) return "--:--";
     const long total = static_cast<long>(s);

@@ -13,34 +13,40 @@ void ReplayWindow::draw(const GuiSnapshot& s, ViewState& v, Actions& a) {
         return;
     }
     const ReplayStatus& r = s.replay;
+    // Last: the controls of an open replay come first, so they stay in view in a short window.
+    auto recent_datasets = [&] {
+        if (!v.settings.recent_datasets.empty()) {
+            ImGui::SetNextItemWidth(-FLT_MIN);
+            if (ImGui::BeginCombo("##recent", "recent datasets")) {
+                for (const auto& p : v.settings.recent_datasets) {
+                    if (ImGui::Selectable(p.c_str())) {
+                        std::memset(v.replay_path.data(), 0, v.replay_path.size());
+                        std::memcpy(v.replay_path.data(), p.data(),
+                                    std::min(p.size(), v.replay_path.size() - 1));
+                        a.replay_open = p;
+                    }
+                }
+                ImGui::EndCombo();
+            }
+        }
+    };
     const float bw = ImGui::GetFrameHeight() * 2.2f;
     ImGui::SetNextItemWidth(-bw - ImGui::GetStyle().ItemSpacing.x);
     const bool enter =
         ImGui::InputTextWithHint("##path", "dataset directory", v.replay_path.data(),
                                  v.replay_path.size(), ImGuiInputTextFlags_EnterReturnsTrue);
+    record_button(v, "replay.path");
     ImGui::SameLine();
     if ((ImGui::Button("Open", {bw, 0}) || enter) && v.replay_path[0] != 0) {
         a.replay_open = std::string(v.replay_path.data());
         v.settings.add_recent(*a.replay_open);
         v.settings_dirty = true;
     }
-    if (!v.settings.recent_datasets.empty()) {
-        ImGui::SetNextItemWidth(-FLT_MIN);
-        if (ImGui::BeginCombo("##recent", "recent datasets")) {
-            for (const auto& p : v.settings.recent_datasets) {
-                if (ImGui::Selectable(p.c_str())) {
-                    std::memset(v.replay_path.data(), 0, v.replay_path.size());
-                    std::memcpy(v.replay_path.data(), p.data(),
-                                std::min(p.size(), v.replay_path.size() - 1));
-                    a.replay_open = p;
-                }
-            }
-            ImGui::EndCombo();
-        }
-    }
+    record_button(v, "replay.open");
     if (!r.error.empty()) ImGui::TextColored(colors::v4(colors::kBad), "%s", r.error.c_str());
     if (!r.open) {
         ImGui::TextColored(colors::v4(colors::kDim), "No dataset open.");
+        recent_datasets();
         ImGui::End();
         return;
     }
@@ -55,6 +61,15 @@ void ReplayWindow::draw(const GuiSnapshot& s, ViewState& v, Actions& a) {
     ImGui::SameLine();
     bool loop = r.loop;
     if (ImGui::Checkbox("Loop", &loop)) a.replay_loop = loop;
+    long long frame = r.frame;
+    const long long last = std::max<long long>(0, r.frame_count - 1);
+    ImGui::SetNextItemWidth(-FLT_MIN);
+    char fmt[64];
+    std::snprintf(fmt, sizeof fmt, "frame %%lld / %lld", last);
+    static const long long zero = 0;
+    if (ImGui::SliderScalar("##seek", ImGuiDataType_S64, &frame, &zero, &last, fmt))
+        a.replay_seek = frame;
+    record_button(v, "replay.seek");
     // Speed: a numeric field (any speed from 0.25x to 8x, typed and applied with Enter) and a
     // slider over the presets (powers of two); on the same line when both have room, else on a
     // line of their own.
@@ -65,8 +80,7 @@ void ReplayWindow::draw(const GuiSnapshot& s, ViewState& v, Actions& a) {
             si = i;
     const float field_w = ImGui::CalcTextSize("0.25x").x + ImGui::GetFontSize() * 1.5f;
     const float speed_w = field_w + ImGui::CalcTextSize("0.25x").x + ImGui::GetFontSize() * 4;
-    ImGui::SameLine();
-    if (ImGui::GetContentRegionAvail().x < speed_w) ImGui::NewLine();
+    (void)speed_w;
     ImGui::SetNextItemWidth(field_w);
     double typed = r.speed > 0 ? r.speed : 1.0;
     if (ImGui::InputDouble("##speed_value", &typed, 0.0, 0.0, "%.2fx",
@@ -86,19 +100,13 @@ void ReplayWindow::draw(const GuiSnapshot& s, ViewState& v, Actions& a) {
     ImGui::SetNextItemWidth(-FLT_MIN);
     if (ImGui::SliderInt("##speed", &si, 0, 5, speed_label)) a.replay_speed = speeds[si];
 
-    long long frame = r.frame;
-    const long long last = std::max<long long>(0, r.frame_count - 1);
-    ImGui::SetNextItemWidth(-FLT_MIN);
-    char fmt[64];
-    std::snprintf(fmt, sizeof fmt, "frame %%lld / %lld", last);
-    static const long long zero = 0;
-    if (ImGui::SliderScalar("##seek", ImGuiDataType_S64, &frame, &zero, &last, fmt))
-        a.replay_seek = frame;
     if (known(r.fps) && r.fps > 0)
         ImGui::TextColored(colors::v4(colors::kDim), "%s / %s  %.0f fps",
                            format_duration(static_cast<double>(r.frame) / r.fps).c_str(),
                            format_duration(static_cast<double>(r.frame_count) / r.fps).c_str(),
                            r.fps);
+    recent_datasets();
+    v.layout.replay_scroll_max = ImGui::GetScrollMaxY();
     ImGui::End();
 }
 

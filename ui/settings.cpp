@@ -20,6 +20,10 @@ void Settings::add_recent(const std::string& path) {
     if (recent_datasets.size() > kMaxRecent) recent_datasets.resize(kMaxRecent);
 }
 
+const char* to_string(LayoutMode m) {
+    return m == LayoutMode::Flight ? "flight" : "engineering";
+}
+
 const char* to_string(SettingsError e) {
     switch (e) {
         case SettingsError::NotFound:
@@ -47,8 +51,11 @@ std::string settings_to_json(const Settings& s) {
     json keys = json::object();
     for (std::size_t i = 0; i < kPilotKeyCount; ++i) {
         const auto k = static_cast<PilotKey>(i);
-        const std::string name = key_name(s.keymap.key(k));
-        keys[to_string(k)] = name.empty() ? json(s.keymap.key(k)) : json(name);
+        const int code = s.keymap.key(k);
+        const std::string name = key_name(code);
+        keys[to_string(k)] = code == kNoKey ? json(nullptr)
+                             : name.empty() ? json(code)
+                                            : json(name);
     }
     j["keymap"] = {{"keys", keys},
                    {"keyboard_gain", s.keymap.keyboard_gain},
@@ -72,6 +79,7 @@ std::string settings_to_json(const Settings& s) {
         presets[name] = {{"classifier", p.classifier}, {"params", p.params}};
     j["classifier_presets"] = presets;
     j["classifier_params"] = s.classifier_params;
+    j["layout"] = to_string(s.layout);
     return j.dump(2);
 }
 
@@ -86,12 +94,17 @@ Expected<Settings, SettingsError> settings_from_json(std::string_view text) {
                     const auto k = static_cast<PilotKey>(i);
                     auto it = keys->find(to_string(k));
                     if (it == keys->end()) continue;
+                    if (it->is_null()) {  // deliberately unbound
+                        s.keymap.key(k) = kNoKey;
+                        continue;
+                    }
                     const int code =
                         it->is_string() ? key_from_name(it->get<std::string>()) : it->get<int>();
                     if (code < 0 || code >= 512) return Unexpected{SettingsError::Malformed};
                     s.keymap.key(k) = code;
                 }
             }
+            for (auto& n : sanitize_keymap(s.keymap)) s.notices.push_back("keymap: " + n);
             s.keymap.keyboard_gain = km->value("keyboard_gain", s.keymap.keyboard_gain);
             s.keymap.yaw_gain = km->value("yaw_gain", s.keymap.yaw_gain);
             s.keymap.gaz_gain = km->value("gaz_gain", s.keymap.gaz_gain);
@@ -122,6 +135,10 @@ Expected<Settings, SettingsError> settings_from_json(std::string_view text) {
             }
         }
         s.classifier_params = j.value("classifier_params", s.classifier_params);
+        const std::string layout = j.value("layout", std::string(to_string(s.layout)));
+        if (layout != "flight" && layout != "engineering")
+            return Unexpected{SettingsError::Malformed};
+        s.layout = layout == "flight" ? LayoutMode::Flight : LayoutMode::Engineering;
     } catch (const json::exception&) {
         return Unexpected{SettingsError::Malformed};
     }

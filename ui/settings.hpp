@@ -28,6 +28,10 @@ struct OverlayToggles {
     friend bool operator==(const OverlayToggles&, const OverlayToggles&) = default;
 };
 
+// The window's two layouts: engineering (every panel) and flight (the video fills the window).
+enum class LayoutMode { Engineering, Flight };
+const char* to_string(LayoutMode m);
+
 struct Settings {
     Keymap keymap = Keymap::defaults();
     std::vector<std::string> recent_datasets;  // newest first, at most kMaxRecent
@@ -39,6 +43,11 @@ struct Settings {
     std::string classifier;                                      // last selected classifier
     std::map<std::string, ClassifierPreset> classifier_presets;  // by preset name
     std::map<std::string, std::map<std::string, double>> classifier_params;  // last values
+    LayoutMode layout = LayoutMode::Engineering;
+
+    // Not saved: what loading changed and the user must be told (a keymap migrated because it
+    // bound Escape, or the emergency to a typing key).
+    std::vector<std::string> notices;
 
     static constexpr std::size_t kMaxRecent = 10;
     // Moves `path` to the front of recent_datasets (no duplicates, bounded).
@@ -53,7 +62,8 @@ std::filesystem::path config_dir();
 
 std::string settings_to_json(const Settings& s);
 // Unknown keys are ignored and missing keys keep their defaults (older/newer files still load);
-// a key of the wrong type is Malformed.
+// a key of the wrong type is Malformed. The keymap is made safe (sanitize_keymap) and what that
+// changed is in Settings::notices.
 [[nodiscard]] Expected<Settings, SettingsError> settings_from_json(std::string_view text);
 [[nodiscard]] Expected<Settings, SettingsError> load_settings(const std::filesystem::path& file);
 // nullopt on success. Writes to a temporary file and renames, so a crash never leaves half a file.

@@ -32,6 +32,24 @@ const char* to_string(SourceKind k) {
     return "?";
 }
 
+const char* to_string(ConfigWriteState s) {
+    switch (s) {
+        case ConfigWriteState::Pending:
+            return "sending";
+        case ConfigWriteState::Confirmed:
+            return "confirmed";
+        case ConfigWriteState::Ignored:
+            return "ignored by the drone";
+        case ConfigWriteState::Refused:
+            return "refused";
+        case ConfigWriteState::TimedOut:
+            return "no answer";
+        case ConfigWriteState::NotConnected:
+            return "not connected";
+    }
+    return "?";
+}
+
 namespace {
 // Member pointers in bit order, so from_raw/to_raw cannot disagree with the name table.
 using Member = bool DroneStateBits::*;

@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace gs::ui {
@@ -37,6 +38,10 @@ struct ConnectionInfo {
     SourceKind source = SourceKind::Drone;
     std::string
         reason;  // human text: why Connecting / Lost / Disconnected ("no navdata for 2.1 s")
+    // What is happening now, as it happens: "Starting virtual drone 'warehouse'...",
+    // "Connecting to 192.168.1.1...", "Waiting for video...", "" when nothing is pending.
+    std::string activity;
+    bool opening = false;  // a source is being opened (state and source say which one)
     std::string address;   // drone address in use ("192.168.1.1", "127.0.0.1:5554" for the sim)
     std::string scenario;  // virtual-drone scenario when source == Sim
     std::vector<std::string> scenarios;  // scenarios the virtual drone offers (for the picker)
@@ -46,9 +51,11 @@ struct ConnectionInfo {
 
 // Counters for one stream (navdata UDP, video TCP, AT UDP). Unknown rates/ages are NaN.
 struct StreamHealth {
-    bool active = false;        // the stream is open
-    double rate_hz = kUnknown;  // packets (navdata), frames (video), datagrams (AT) per s
-    double age_ms = kUnknown;   // time since the last packet
+    bool active = false;  // the stream is open
+    // Packets (navdata), frames (video), datagrams (AT) per s, over a sliding window of the
+    // items received: falls to 0 when they stop.
+    double rate_hz = kUnknown;
+    double age_ms = kUnknown;  // time since the last packet
     double bytes_per_s = kUnknown;
     bool bytes_estimated = false;  // bytes_per_s is computed, not counted (shown as "~")
     std::uint64_t packets = 0;
@@ -61,7 +68,11 @@ struct StreamHealth {
 
 struct LinkHealth {
     StreamHealth navdata, video, at;
+    double expected_navdata_hz = kUnknown;  // 15 (demo) or 200 (full), from the state bits
 };
+
+// Past this age video and navdata are shown as stale ("VIDEO STALE 1.6 s", regions unknown).
+inline constexpr double kStaleAfterMs = 500.0;
 
 // ---- Telemetry ------------------------------------------------------------------------------
 
@@ -107,6 +118,11 @@ struct Telemetry {
     std::string ctrl_state;               // ctrl_state_name(nav.ctrl_state), or "" if unknown
     double battery_low_pct = 20.0;        // below this the HUD warns
     std::vector<TelemetryField> fields;
+    double age_ms = kUnknown;  // age of the newest navdata sample (live); unknown in a replay
+    bool stale = false;        // live and older than kStaleAfterMs
+    // The pilot commanded the emergency the drone reports (EMERGENCY key or button, within a
+    // few seconds before the drone raised its emergency bit): the motors were cut on purpose.
+    bool emergency_commanded = false;
 };
 
 // ---- Video ----------------------------------------------------------------------------------
@@ -116,8 +132,12 @@ struct VideoFrame {
     std::int64_t index = -1;  // frame index in its stream; changes when a new frame arrives
     TimeNs t_ns = 0;          // capture time
     std::string camera = "front";
-    double fps = kUnknown;         // frames displayed per second, measured by the pipeline
+    double fps = kUnknown;         // frames received per second (sliding window; 0 when they stop)
     double latency_ms = kUnknown;  // capture (or receive) to available for display
+    // Age of the newest frame received (live: since the link got it); unknown in a replay,
+    // whose frames are not live.
+    double age_ms = kUnknown;
+    bool stale = false;  // live and older than kStaleAfterMs: the picture is frozen
     // Undistortion preview: `bgr` is the undistorted image (same camera matrix) and every overlay
     // in image pixels (classifier, calibration corners) has been moved onto it. When the preview
     // was asked for but cannot be shown, `undistort_note` says why and the raw image is shown.
@@ -140,8 +160,11 @@ struct Point2f {
 struct RegionBar {
     std::string name;      // "left", "center", "right"
     float x0 = 0, x1 = 0;  // horizontal extent in image pixels
-    bool flagged = false;  // unsafe: drawn red, else green
+    bool flagged = false;  // unsafe: drawn red, else green (when known)
     double score = kUnknown, threshold = kUnknown;
+    // No measured decision this frame: drawn grey "no data", with the reason as a tooltip.
+    bool known = true;
+    std::string unknown_reason;
 };
 struct OverlayPolyline {
     std::vector<Point2f> points;
@@ -169,6 +192,8 @@ struct RegionDecision {
     std::string name;
     bool flagged = false;
     double score = kUnknown, threshold = kUnknown;
+    bool known = true;           // measured this frame
+    std::string unknown_reason;  // why not ("too few tracked points", "video stale" ...)
 };
 
 // Generic tunable parameter, so the window needs no knowledge of a classifier's internals.
@@ -312,6 +337,44 @@ struct CalibrationView {
     std::string in_use;    // the calibration the pipeline uses: "fx 568.1 ... (origin)"
 };
 
+// ---- Drone configuration (Drone -> Settings) -------------------------------------------
+
+// One configuration write and what became of it.
+enum class ConfigWriteState { Pending, Confirmed, Ignored, Refused, TimedOut, NotConnected };
+const char* to_string(ConfigWriteState s);
+struct ConfigWrite {
+    std::string key, value;
+    ConfigWriteState state = ConfigWriteState::Pending;
+    std::string detail;    // what the read-back found, why it was refused
+    std::uint64_t id = 0;  // increasing, one per write
+};
+
+struct DroneConfigView {
+    bool available = false;  // a live link that can read and write the configuration
+    bool read = false;       // a configuration dump has been read back
+    std::vector<std::pair<std::string, std::string>> values;  // key -> value, as read back
+    std::vector<ConfigWrite> writes;                          // newest last
+    const std::string* get(std::string_view key) const {
+        for (const auto& [k, v] : values)
+            if (k == key) return &v;
+        return nullptr;
+    }
+    const ConfigWrite* last_write(std::string_view key) const {
+        for (auto it = writes.rbegin(); it != writes.rend(); ++it)
+            if (it->key == key) return &*it;
+        return nullptr;
+    }
+};
+
+// ---- Messages -------------------------------------------------------------------------------
+
+enum class LogLevel { Info, Ok, Warn, Error };
+struct LogLine {
+    std::string text;
+    LogLevel level = LogLevel::Info;
+    double t_s = kUnknown;  // seconds on the snapshot clock when it was logged
+};
+
 // ---- The snapshot ---------------------------------------------------------------------------
 
 struct GuiSnapshot {
@@ -325,7 +388,8 @@ struct GuiSnapshot {
     RecordingStatus recording;
     ReplayStatus replay;
     CalibrationView calibration;
-    std::vector<std::string> messages;  // recent log lines (newest last), shown in the link window
+    DroneConfigView config;
+    std::vector<LogLine> messages;  // recent log lines, newest last
 };
 
 }  // namespace gs::ui

@@ -13,54 +13,74 @@ ImVec2 lerp_img(ImVec2 p0, float sx, float sy, Point2f p) {
 }
 }  // namespace
 
-void VideoWindow::draw(const GuiSnapshot& s, ViewState& v, Actions& a, TextureSource* tex) {
+void VideoWindow::draw(const GuiSnapshot& s, ViewState& v, Actions& a, TextureSource* tex,
+                       const char* name, bool fixed) {
     (void)a;
-    const bool visible = ImGui::Begin(
-        "Video", &v.open.video, ImGuiWindowFlags_NoScrollbar | ImGuiWindowFlags_NoScrollWithMouse);
+    ImGuiWindowFlags flags = ImGuiWindowFlags_NoScrollbar | ImGuiWindowFlags_NoScrollWithMouse;
+    if (fixed)
+        flags |= ImGuiWindowFlags_NoTitleBar | ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize |
+                 ImGuiWindowFlags_NoCollapse | ImGuiWindowFlags_NoBringToFrontOnFocus |
+                 ImGuiWindowFlags_NoSavedSettings;
+    const bool visible = ImGui::Begin(name, fixed ? nullptr : &v.open.video, flags);
     {
         const ImVec2 wp = ImGui::GetWindowPos(), ws = ImGui::GetWindowSize();
-        v.layout.windows.push_back({"Video", {wp.x, wp.y, wp.x + ws.x, wp.y + ws.y}});
+        v.layout.windows.push_back({name, {wp.x, wp.y, wp.x + ws.x, wp.y + ws.y}});
     }
     if (!visible) {
         ImGui::End();
         return;
     }
 
-    // Layer toggles on one line, frame facts on the right.
+    // Layer toggles on one line, frame facts on the right (not in the flight layout: the View
+    // menu has the toggles, the picture gets the room).
     OverlayToggles& t = v.settings.overlay;
     bool changed = false;
-    changed |= ImGui::Checkbox("Regions", &t.regions);
-    ImGui::SameLine();
-    changed |= ImGui::Checkbox("Trajectories", &t.trajectories);
-    ImGui::SameLine();
-    changed |= ImGui::Checkbox("Centre points", &t.center_points);
-    ImGui::SameLine();
-    changed |= ImGui::Checkbox("Boundaries", &t.boundaries);
-    ImGui::SameLine();
-    changed |= ImGui::Checkbox("HUD", &t.hud);
-    ImGui::SameLine();
-    // Undistortion preview: the adapter remaps the frame with the calibration in use and moves
-    // the overlay onto it, so straight lines come out straight.
-    changed |= ImGui::Checkbox("Undistort", &t.undistort);
-    if (changed) v.settings_dirty = true;
-    v.layout.undistorted = s.video.undistorted;
-    {
-        char info[192];
-        const char* und = s.video.undistorted ? " | undistorted" : "";
-        if (s.video.bgr.empty())
-            std::snprintf(info, sizeof info, "%s camera | no frame", s.video.camera.c_str());
-        else if (t.undistort && !s.video.undistorted && !s.video.undistort_note.empty())
-            std::snprintf(info, sizeof info, "%s camera | frame %lld | raw: %s",
-                          s.video.camera.c_str(), static_cast<long long>(s.video.index),
-                          s.video.undistort_note.c_str());
-        else
-            std::snprintf(info, sizeof info, "%s camera | %dx%d | frame %lld%s",
-                          s.video.camera.c_str(), s.video.bgr.cols, s.video.bgr.rows,
-                          static_cast<long long>(s.video.index), und);
-        const float w = ImGui::CalcTextSize(info).x;
-        ImGui::SameLine(std::max(ImGui::GetCursorPosX(), ImGui::GetWindowContentRegionMax().x - w));
-        ImGui::TextColored(colors::v4(s.video.undistorted ? colors::kInfo : colors::kDim), "%s",
-                           info);
+    if (!fixed) {
+        changed |= ImGui::Checkbox("Regions", &t.regions);
+        ImGui::SameLine();
+        changed |= ImGui::Checkbox("Trajectories", &t.trajectories);
+        ImGui::SameLine();
+        changed |= ImGui::Checkbox("Centre points", &t.center_points);
+        ImGui::SameLine();
+        changed |= ImGui::Checkbox("Boundaries", &t.boundaries);
+        ImGui::SameLine();
+        changed |= ImGui::Checkbox("HUD", &t.hud);
+        ImGui::SameLine();
+        // Undistortion preview: the adapter remaps the frame with the calibration in use and moves
+        // the overlay onto it, so straight lines come out straight.
+        changed |= ImGui::Checkbox("Undistort", &t.undistort);
+        const ImVec2 toggles_min = ImGui::GetItemRectMin();
+        if (changed) v.settings_dirty = true;
+        v.layout.undistorted = s.video.undistorted;
+        {
+            char info[192];
+            const char* und = s.video.undistorted ? " | undistorted" : "";
+            if (s.video.bgr.empty())
+                std::snprintf(info, sizeof info, "%s camera | no frame", s.video.camera.c_str());
+            else if (t.undistort && !s.video.undistorted && !s.video.undistort_note.empty())
+                std::snprintf(info, sizeof info, "%s camera | frame %lld | raw: %s",
+                              s.video.camera.c_str(), static_cast<long long>(s.video.index),
+                              s.video.undistort_note.c_str());
+            else
+                std::snprintf(info, sizeof info, "%s camera | %dx%d | frame %lld%s",
+                              s.video.camera.c_str(), s.video.bgr.cols, s.video.bgr.rows,
+                              static_cast<long long>(s.video.index), und);
+            // Right-aligned after the checkboxes when there is room, else on a line of its own
+            // (never drawn over the Undistort checkbox).
+            const float w = ImGui::CalcTextSize(info).x;
+            const ImVec2 toggles_end = ImGui::GetItemRectMax();
+            const float right = ImGui::GetWindowContentRegionMax().x - w;
+            const float after =
+                toggles_end.x - ImGui::GetWindowPos().x + ImGui::GetStyle().ItemSpacing.x;
+            if (right >= after) ImGui::SameLine(right);
+            ImGui::TextColored(colors::v4(s.video.undistorted ? colors::kInfo : colors::kDim), "%s",
+                               info);
+            const ImVec2 i0 = ImGui::GetItemRectMin(), i1 = ImGui::GetItemRectMax();
+            v.layout.labels.push_back({"video.info", {i0.x, i0.y, i1.x, i1.y}});
+            v.layout.labels.push_back(
+                {"video.toggles_end",
+                 {toggles_end.x, toggles_min.y, toggles_end.x, toggles_end.y}});
+        }
     }
 
     // Aspect-correct image area, centred.
@@ -112,25 +132,60 @@ void VideoWindow::draw(const GuiSnapshot& s, ViewState& v, Actions& a, TextureSo
     }
     if (t.regions && !ov.regions.empty()) {
         const float bar_h = std::max(16.0f, size.y * 0.04f);
+        const bool stale = s.video.stale;
         for (const auto& r : ov.regions) {
             const ImVec2 b0{p0.x + r.x0 * scale + 1.0f, p0.y + 1.0f};
             const ImVec2 b1{p0.x + r.x1 * scale - 1.0f, p0.y + bar_h};
-            const std::uint32_t col =
-                r.flagged ? IM_COL32(225, 45, 40, 235) : IM_COL32(40, 185, 80, 215);
+            // Unknown (too little evidence, stale video, a gap) is grey "no data", never green.
+            const bool known_now = r.known && !stale;
+            const std::string reason = !r.known ? r.unknown_reason
+                                       : stale  ? std::string("video stale")
+                                                : std::string();
+            const std::uint32_t col = !known_now  ? IM_COL32(110, 114, 122, 225)
+                                      : r.flagged ? IM_COL32(225, 45, 40, 235)
+                                                  : IM_COL32(40, 185, 80, 215);
             dl->AddRectFilled(b0, b1, col, 2.0f);
-            char lbl[96];
-            if (known(r.score))
-                std::snprintf(lbl, sizeof lbl, "%s %s  %s / %s", r.name.c_str(),
-                              r.flagged ? "UNSAFE" : "clear", format_sig(r.score).c_str(),
-                              format_sig(r.threshold).c_str());
-            else
-                std::snprintf(lbl, sizeof lbl, "%s %s", r.name.c_str(),
-                              r.flagged ? "UNSAFE" : "clear");
-            const ImVec2 ts = ImGui::CalcTextSize(lbl);
-            if (ts.x < b1.x - b0.x - 4)
-                dl->AddText({0.5f * (b0.x + b1.x - ts.x), 0.5f * (b0.y + b1.y - ts.y)},
-                            IM_COL32(255, 255, 255, 255), lbl);
-            v.layout.region_bars.push_back({r.name, {b0.x, b0.y, b1.x, b1.y}, r.flagged});
+            // The longest label that fits: "left UNSAFE 0.45 / 0.30", "left 0.45/0.30", "0.45".
+            const char* word = !known_now ? "no data" : r.flagged ? "UNSAFE" : "clear";
+            const std::string sc = format_score(r.score, r.threshold);
+            const std::string th = format_score(r.threshold, r.threshold);
+            std::string options[4];
+            if (!known_now) {
+                options[0] = r.name + " no data";
+                options[1] = "no data";
+                options[2] = "?";
+            } else if (known(r.score)) {
+                options[0] = r.name + " " + word + "  " + sc + " / " + th;
+                options[1] = r.name + " " + sc + "/" + th;
+                options[2] = sc;
+            } else {
+                options[0] = r.name + " " + word;
+                options[1] = word;
+            }
+            std::string shown;
+            for (const auto& o : options) {
+                if (o.empty()) continue;
+                const ImVec2 ts = ImGui::CalcTextSize(o.c_str());
+                if (ts.x < b1.x - b0.x - 6) {
+                    dl->AddText({0.5f * (b0.x + b1.x - ts.x), 0.5f * (b0.y + b1.y - ts.y)},
+                                IM_COL32(255, 255, 255, 255), o.c_str());
+                    shown = o;
+                    break;
+                }
+            }
+            if (!reason.empty() && ImGui::IsMouseHoveringRect(b0, b1) &&
+                ImGui::IsWindowHovered(ImGuiHoveredFlags_AllowWhenBlockedByPopup)) {
+                ImGui::SetTooltip("%s: no data - %s", r.name.c_str(), reason.c_str());
+                v.layout.tooltip = r.name + ": no data - " + reason;
+            }
+            LayoutReport::Bar bar;
+            bar.name = r.name;
+            bar.rect = {b0.x, b0.y, b1.x, b1.y};
+            bar.flagged = known_now && r.flagged;
+            bar.known = known_now;
+            bar.reason = reason;
+            bar.label = shown;
+            v.layout.region_bars.push_back(std::move(bar));
         }
     }
     // Calibration mode: the detected board over the video, and what a capture would do.
@@ -156,6 +211,32 @@ void VideoWindow::draw(const GuiSnapshot& s, ViewState& v, Actions& a, TextureSo
     dl->PopClipRect();
 
     if (t.hud) hud.draw(dl, p0, p1, s, v);
+    // A frozen picture says so: past kStaleAfterMs the newest frame is too old to fly by.
+    if (s.video.stale && !s.video.bgr.empty()) {
+        char msg[64];
+        std::snprintf(msg, sizeof msg, "VIDEO STALE %.1f s", s.video.age_ms / 1000.0);
+        const float fs = ImGui::GetFontSize() * 2.0f;
+        const ImVec2 ts = ImGui::GetFont()->CalcTextSizeA(fs, FLT_MAX, 0, msg);
+        const ImVec2 c{0.5f * (p0.x + p1.x), p0.y + size.y * 0.36f};
+        const ImVec2 m0{c.x - ts.x * 0.5f - 14, c.y - ts.y * 0.5f - 8};
+        const ImVec2 m1{c.x + ts.x * 0.5f + 14, c.y + ts.y * 0.5f + 8};
+        dl->AddRectFilled(p0, p1, IM_COL32(20, 20, 24, 110));
+        dl->AddRectFilled(m0, m1, IM_COL32(0, 0, 0, 200), 4.0f);
+        dl->AddRect(m0, m1, colors::kWarn, 4.0f, 0, 2.0f);
+        dl->AddText(ImGui::GetFont(), fs, {m0.x + 14, m0.y + 8}, colors::kWarn, msg);
+        v.layout.video_stale_text = msg;
+    }
+    // A replay is unmistakable: an orange frame and its name over the picture.
+    if (s.connection.state == LinkState::Replay) {
+        dl->AddRect(p0, p1, IM_COL32(230, 120, 20, 255), 0.0f, 0, 4.0f);
+        const char* tag = "REPLAY";
+        const ImVec2 ts = ImGui::CalcTextSize(tag);
+        const ImVec2 r0{p1.x - ts.x - 18,
+                        p1.y - ts.y - (t.hud ? ImGui::GetFontSize() * 1.9f : 0) - 12};
+        dl->AddRectFilled(r0, {r0.x + ts.x + 12, r0.y + ts.y + 6}, IM_COL32(230, 120, 20, 230),
+                          3.0f);
+        dl->AddText({r0.x + 6, r0.y + 3}, IM_COL32(255, 255, 255, 255), tag);
+    }
     ImGui::Dummy(avail);
     ImGui::End();
 }

@@ -3,6 +3,7 @@
 // toggles, text fields, the telemetry history behind the scrolling plots, the persisted settings,
 // and the laid-out rectangles of the last frame (LayoutReport) for tests and offscreen checks.
 
+#include "ui/actions.hpp"
 #include "ui/history.hpp"
 #include "ui/pilot_input.hpp"
 #include "ui/settings.hpp"
@@ -10,6 +11,9 @@
 #include <imgui.h>
 
 #include <array>
+#include <bitset>
+#include <map>
+#include <set>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -19,8 +23,19 @@ namespace gs::ui {
 struct OpenWindows {
     bool video = true, plots = true, telemetry = true, link = true, why_not_flying = true,
          classifier = true, recording = true, replay = true, connection = true, keys = false,
-         calibration = false;
+         calibration = false, drone_settings = false, messages = false;
 };
+
+// Something the user asked for that would stop commanding a flying drone: it waits behind the
+// "The drone is flying" question ("Land, then ..." / "Cancel").
+enum class LeaveKind { None, Quit, Disconnect, OpenReplay, Connect };
+struct LeaveRequest {
+    LeaveKind kind = LeaveKind::None;
+    std::string replay_path;  // OpenReplay
+    ConnectRequest connect;   // Connect
+    bool pending() const { return kind != LeaveKind::None; }
+};
+const char* leave_verb(LeaveKind k);  // "quit", "disconnect", "open the replay", "connect"
 
 struct Rect {
     float x0 = 0, y0 = 0, x1 = 0, y1 = 0;
@@ -34,6 +49,9 @@ struct LayoutReport {
         std::string name;
         Rect rect;
         bool flagged = false;
+        bool known = true;   // false: grey "no data"
+        std::string reason;  // why unknown (its tooltip)
+        std::string label;   // the text drawn in the bar ("" if none fitted)
     };
     Rect video_image;              // the image (aspect-correct) inside the video window
     std::vector<Bar> region_bars;  // classifier region bar, one per region
@@ -43,6 +61,27 @@ struct LayoutReport {
     std::string battery_text;
     bool battery_warning = false;
     std::vector<std::pair<std::string, Rect>> windows;  // name -> rect
+    int popups_open = 0;            // menus, combos and dialogs open at the end of the frame
+    double clock_s = 0;             // the snapshot's time (a lock-stepped run: the simulated clock)
+    std::int64_t video_index = -1;  // the video frame shown
+    std::string layout_mode;        // "engineering" / "flight"
+    std::vector<std::pair<std::string, Rect>> labels;  // text items checked for overlap
+    std::string tooltip;           // a tooltip shown this frame by the overlay (region bars)
+    std::string video_stale_text;  // "VIDEO STALE 1.6 s" when drawn
+    // Drone settings as drawn: key -> "confirmed", "ignored by the drone", "sending" ...
+    std::vector<std::pair<std::string, std::string>> setting_status;
+    // Controls drawn disabled this frame, with the reason shown as their tooltip.
+    std::vector<std::pair<std::string, std::string>> disabled;
+    // The status bar as drawn (empty fields were not shown: no room or nothing to say).
+    struct Status {
+        std::string source, state, activity, battery, link, video, rec, message;
+        std::uint32_t source_color = 0;
+        std::vector<std::string> banners;
+    } status;
+    bool messages_at_end = false;  // the Messages window shows the newest line
+    float replay_scroll_max = 0;   // > 0: the Replay window's content is taller than the window
+    bool keys_clipped = false;     // the key help does not fit its window
+    int messages_shown = -1;       // lines in the Messages window (-1: not drawn)
     // Buttons a test may click: "quit.land", "calibration.capture", "calibration.save" ...
     std::vector<std::pair<std::string, Rect>> buttons;
     // The calibration mode as drawn.
@@ -99,9 +138,27 @@ struct ViewState {
 
     CalibrationUiState calib;
 
-    bool confirm_quit = false;        // the "drone is flying" dialog is up
-    bool quit_after_landing = false;  // user chose "land, then quit"
-    bool quit_dialog_open = false;    // the dialog was drawn this frame
+    // Leaving a flying drone (quit, disconnect, open a replay, connect elsewhere) asks first.
+    LeaveRequest leave_asked;            // the question is (to be) shown about this
+    bool leave_popup_requested = false;  // open the popup this frame
+    LeaveRequest leave_after_landing;    // "Land, then ..." chosen: carried out once landed
+    bool quit_after_landing = false;     // leave_after_landing is a quit (kept for readers)
+    bool quit_dialog_open = false;       // the question was drawn this frame (any kind)
+
+    bool messages_scroll_to_end = false;  // the Messages window scrolls to the newest line
+    // Drone settings: slider values while edited (display units), by configuration key.
+    std::map<std::string, float> settings_edits;
+    std::set<std::string> settings_editing;
+
+    // Notices the user must read once (a migrated keymap ...), shown until acknowledged.
+    std::vector<std::string> notices;
+    std::bitset<512> ui_prev_keys;  // keys held in the last frame (edges of the UI's own keys)
+
+    // Layout bookkeeping (ui/layout.cpp).
+    ImVec2 last_display{0, 0};    // the viewport of the last frame
+    ImVec2 display_scale{1, 1};   // this frame's viewport / the last one (1 when unchanged)
+    int reset_layout_frames = 0;  // > 0: windows go to their defaults (View -> Reset layout)
+    LayoutMode drawn_layout = LayoutMode::Engineering;  // the layout of the last frame
 
     double ui_frame_ms = kUnknown;  // measured by the run loop, shown in the link window
     double ui_fps = kUnknown;

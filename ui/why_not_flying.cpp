@@ -42,10 +42,17 @@ std::vector<Reason> explain_not_flying(const GuiSnapshot& s) {
     if (b.navdata_bootstrap)
         add(Severity::Warning, "Navdata in bootstrap",
             "The drone sends only its header: the ground station has not configured navdata yet.");
-    if (b.emergency)
+    // A cut-out the pilot commanded is no fault: the drone sets its cut-out bit either way, so
+    // only an emergency nobody asked for points at the propellers.
+    const bool commanded = b.emergency && s.telemetry.emergency_commanded;
+    if (commanded)
+        add(Severity::Blocker, "Emergency: motors cut by the pilot",
+            "You cut the motors (EMERGENCY). Check the drone, set it level on the ground, then "
+            "press EMERGENCY once more to reset the emergency; take off again when ready.");
+    else if (b.emergency)
         add(Severity::Blocker, "Emergency: motors cut",
-            "The drone is in emergency mode and will not start. Find the cause below, set it flat, "
-            "then press the emergency key once to clear the emergency.");
+            "The drone cut its motors by itself and will not start. Find the cause below, set it "
+            "flat, then press EMERGENCY once to reset the emergency.");
     if (b.user_emergency_landing)
         add(Severity::Blocker, "User emergency landing", "An emergency landing was requested.");
     if (b.battery_low)
@@ -62,7 +69,7 @@ std::vector<Reason> explain_not_flying(const GuiSnapshot& s) {
         add(Severity::Blocker, "Angles out of range",
             "The drone is tilted too much (crash or flip). Put it flat on the ground, then clear "
             "the emergency.");
-    if (b.cutout)
+    if (b.cutout && !commanded)
         add(Severity::Blocker, "Motor cut-out",
             "A motor was cut (propeller blocked or hit). Check the propellers and the hull.");
     if (b.motors_problem)

@@ -4,6 +4,7 @@
 // paired; default position/size from the default layout (FirstUseEver, then imgui.ini).
 
 #include "ui/actions.hpp"
+#include "ui/layout.hpp"
 #include "ui/snapshot.hpp"
 #include "ui/view_state.hpp"
 
@@ -21,10 +22,6 @@ public:
     // Texture holding `frame` (uploaded once per new frame index). nullptr if none.
     virtual ImTextureID video_texture(const VideoFrame& frame) = 0;
 };
-
-// Default layout for a display of `size`: window name -> rect.
-Rect default_window_rect(const char* window, ImVec2 display);
-void set_default_layout(const char* window, ImVec2 display);
 
 // Shared colours, so every window says "bad" and "good" the same way.
 namespace colors {
@@ -44,7 +41,9 @@ struct Hud {
 
 struct VideoWindow {
     Hud hud;
-    void draw(const GuiSnapshot& s, ViewState& v, Actions& a, TextureSource* tex);
+    // `fixed`: the flight layout's video, without title bar, never moved or closed.
+    void draw(const GuiSnapshot& s, ViewState& v, Actions& a, TextureSource* tex,
+              const char* name = "Video", bool fixed = false);
 };
 
 struct TelemetryWindow {
@@ -70,6 +69,8 @@ struct WhyNotFlyingWindow {
 
 struct PlotsWindow {
     void draw(const GuiSnapshot& s, ViewState& v);
+    // The flight layout's compact strip: region scores, altitude, battery and attitude in a row.
+    void draw_strip(const GuiSnapshot& s, ViewState& v);
 };
 
 struct ClassifierWindow {
@@ -79,6 +80,11 @@ struct ClassifierWindow {
 struct RecordingWindow {
     void draw(const GuiSnapshot& s, ViewState& v, Actions& a);
 };
+
+// A score beside its threshold: two significant digits of the threshold's magnitude, the score
+// with as many decimals ("0.12" for 0.3, "0.0000" for 4.95e-06 against 0.0013 -> "0.0013"),
+// never an exponent; "-" for NaN.
+std::string format_score(double score, double threshold);
 
 // "1.5 GB", "12.0 kB" ...
 std::string format_bytes(double bytes);
@@ -120,6 +126,32 @@ inline void record_button(ViewState& v, const char* name) {
 // Key help.
 struct KeysWindow {
     void draw(ViewState& v);
+};
+
+// The fixed status bar under the menu bar (ui/status_bar.cpp): source, flight state, battery,
+// link, video, REC, the flight buttons, banners and the latest message.
+struct StatusBar {
+    void draw(const GuiSnapshot& s, ViewState& v, Actions& a);
+};
+
+// Drone -> Settings: the drone's flight limits, indoor/outdoor and hull, video and navdata
+// rate, written with the link's SetConfig (multiconfiguration ids) and confirmed by reading the
+// configuration back; magnetometer calibration (flying) and flat trim (landed).
+struct DroneSettingsWindow {
+    void draw(const GuiSnapshot& s, ViewState& v, Actions& a);
+};
+
+// The flight layout: the video with its overlay and HUD filling the window under the status
+// bar, a compact plot strip below.
+struct FlightView {
+    VideoWindow video;
+    PlotsWindow plots;
+    void draw(const GuiSnapshot& s, ViewState& v, Actions& a, TextureSource* tex);
+};
+
+// The message log, newest last, scrolled to the newest when opened from the status bar.
+struct MessagesWindow {
+    void draw(const GuiSnapshot& s, ViewState& v);
 };
 
 }  // namespace gs::ui

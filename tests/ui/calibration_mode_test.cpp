@@ -160,7 +160,7 @@ TEST_F(CalibrationMode, CapturesRealChessboardViewsCalibratesSavesAndAppliesAtOn
     ASSERT_EQ(write_chessboard_dataset(dataset), "");
     start();
     ASSERT_TRUE(run_until([&] { return snap.replay.open; }, 10s))
-        << (snap.messages.empty() ? "" : snap.messages.back());
+        << (snap.messages.empty() ? "" : snap.messages.back().text);
     ASSERT_EQ(snap.replay.frame_count, kChessboardFrames + 1);
 
     // K does nothing while the Calibration window is closed.
@@ -260,7 +260,7 @@ TEST_F(CalibrationMode, CapturesRealChessboardViewsCalibratesSavesAndAppliesAtOn
     EXPECT_NEAR(in_use->camera.cy, saved->cy, 1e-6);
     EXPECT_NEAR(in_use->camera.dist[0], saved->dist[0], 1e-9);
     bool said = false;
-    for (const auto& m : snap.messages) said = said || m.find("calibration applied") == 0;
+    for (const auto& m : snap.messages) said = said || m.text.find("calibration applied") == 0;
     EXPECT_TRUE(said);
 
     // Undistortion preview with the calibration just applied: the board's rows and columns come

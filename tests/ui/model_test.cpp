@@ -164,7 +164,7 @@ TEST(RingSeries, KeepsTheNewestInOrder) {
 
 TEST(Settings, JsonRoundTripKeepsEverything) {
     Settings s;
-    s.keymap.key(PilotKey::Emergency) = GLFW_KEY_SPACE;
+    s.keymap.key(PilotKey::Emergency) = GLFW_KEY_PAUSE;
     s.keymap.dead_zone = 0.2f;
     s.add_recent("/data/a");
     s.add_recent("/data/b");
@@ -196,7 +196,7 @@ TEST(Settings, MissingKeysKeepDefaultsWrongTypesAreMalformed) {
     auto s = settings_from_json(R"({"drone_address": "1.2.3.4", "future_key": [1,2]})");
     ASSERT_TRUE(s);
     EXPECT_EQ(s->drone_address, "1.2.3.4");
-    EXPECT_EQ(s->keymap.key(PilotKey::Emergency), GLFW_KEY_ESCAPE);
+    EXPECT_EQ(s->keymap.key(PilotKey::Emergency), GLFW_KEY_F12);
     EXPECT_EQ(settings_from_json("{not json").error(), SettingsError::Malformed);
     EXPECT_EQ(settings_from_json(R"({"drone_address": 5})").error(), SettingsError::Malformed);
     EXPECT_EQ(settings_from_json(R"({"keymap": {"keys": {"land": "NoSuchKey"}}})").error(),

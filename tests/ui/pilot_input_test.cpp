@@ -80,7 +80,7 @@ TEST(PilotMapper, FocusLossHoversAndIgnoresKeysHeldAcrossIt) {
 TEST(PilotMapper, TextFieldKeepsKeysButNotEmergency) {
     PilotMapper m;
     const Keymap km = Keymap::defaults();
-    InputState typing = keys({GLFW_KEY_W, GLFW_KEY_T, GLFW_KEY_ESCAPE});
+    InputState typing = keys({GLFW_KEY_W, GLFW_KEY_T, GLFW_KEY_F12});
     typing.text_input_active = true;
     const PilotFrame f = m.update(typing, km);
     EXPECT_FALSE(f.pilot.any());
@@ -125,10 +125,10 @@ TEST(PilotMapper, GamepadButtonsAreEdges) {
 TEST(PilotMapper, RemappedKeysAreUsed) {
     PilotMapper m;
     Keymap km = Keymap::defaults();
-    km.key(PilotKey::Emergency) = GLFW_KEY_SPACE;
+    km.key(PilotKey::Emergency) = GLFW_KEY_PAUSE;
     km.key(PilotKey::Forward) = GLFW_KEY_I;
-    EXPECT_FALSE(m.update(keys({GLFW_KEY_ESCAPE, GLFW_KEY_W}), km).emergency);
-    const PilotFrame f = m.update(keys({GLFW_KEY_SPACE, GLFW_KEY_I}), km);
+    EXPECT_FALSE(m.update(keys({GLFW_KEY_F12, GLFW_KEY_W}), km).emergency);
+    const PilotFrame f = m.update(keys({GLFW_KEY_PAUSE, GLFW_KEY_I}), km);
     EXPECT_TRUE(f.emergency);
     EXPECT_LT(f.pilot.pitch, 0.0f);
 }

@@ -84,7 +84,7 @@ TEST_F(ReplayControls, PlayPauseStepSeekSpeedAndLoopOnTheShippedFlight) {
     ASSERT_TRUE(std::filesystem::exists(kFlight + "/flight.json")) << kFlight;
     start(/*autoplay=*/true);
     ASSERT_TRUE(run_until([&] { return snap.replay.open && snap.replay.frame > 3; }, 15s))
-        << (snap.messages.empty() ? "" : snap.messages.back());
+        << (snap.messages.empty() ? "" : snap.messages.back().text);
     EXPECT_EQ(snap.connection.state, LinkState::Replay);
     EXPECT_EQ(snap.replay.frame_count, kFrames);
     EXPECT_TRUE(snap.replay.playing);
@@ -148,7 +148,8 @@ TEST_F(ReplayControls, PlayPauseStepSeekSpeedAndLoopOnTheShippedFlight) {
     ASSERT_TRUE(run_until([&] { return !snap.replay.playing; }, 15s)) << snap.replay.frame;
     EXPECT_EQ(snap.replay.frame, kFrames - 1);
     bool said_end = false;
-    for (const auto& m : snap.messages) said_end = said_end || m == "replay: end of the flight";
+    for (const auto& m : snap.messages)
+        said_end = said_end || m.text == "replay: end of the flight";
     EXPECT_TRUE(said_end);
     // At 1x, so the start-over is seen before the replay reaches the end again (at 8x the
     // whole flight takes 0.6 s).
@@ -193,7 +194,7 @@ TEST_F(ReplayControls, TheReplayWindowDrawsTheStateAndItsSliderSpeedsArePowersOf
     bool said = false;
     ASSERT_TRUE(run_until(
         [&] {
-            for (const auto& m : snap.messages) said = said || m == "no replay open";
+            for (const auto& m : snap.messages) said = said || m.text == "no replay open";
             return said;
         },
         5s));

@@ -1,0 +1,254 @@
+// Where the window puts things (issue 13, points 3, 10 and 12), on a bare ImGui context at the
+// three screen sizes a pilot meets (1280x720, 1600x900, 1920x1080): take-off, land and the
+// emergency always inside the viewport, no window outside it (a saved layout from a bigger screen,
+// a resize, a window dragged away), View -> Reset layout, the flight layout, readability.
+#include "imgui_fixture.hpp"
+#include "ui/demo_snapshot.hpp"
+
+#include <GLFW/glfw3.h>
+
+#include <cstdio>
+#include <string>
+
+namespace gs::ui::test {
+namespace {
+
+struct Size {
+    float w, h;
+};
+constexpr Size kSizes[] = {{1280, 720}, {1600, 900}, {1920, 1080}};
+
+class CockpitLayout : public ImGuiFixture {
+protected:
+    void resize(Size s) { ImGui::GetIO().DisplaySize = {s.w, s.h}; }
+    // A fresh context (nothing remembered), as the window starts.
+    void restart(Size s) {
+        ImGuiFixture::TearDown();
+        ImGuiFixture::SetUp();
+        resize(s);
+    }
+    static bool inside(const Rect& r, Size s, float tol = 0.5f) {
+        return r.x0 >= -tol && r.y0 >= -tol && r.x1 <= s.w + tol && r.y1 <= s.h + tol &&
+               r.w() > 0 && r.h() > 0;
+    }
+    static std::string str(const Rect& r) {
+        char b[96];
+        std::snprintf(b, sizeof b, "[%.0f,%.0f - %.0f,%.0f]", static_cast<double>(r.x0),
+                      static_cast<double>(r.y0), static_cast<double>(r.x1),
+                      static_cast<double>(r.y1));
+        return b;
+    }
+    // The flight controls, every window and the region bars lie inside the viewport.
+    void expect_all_inside(const Gui& gui, Size s, const char* what) {
+        const LayoutReport& l = gui.view().layout;
+        for (const char* b : {"flight.emergency", "flight.land", "flight.takeoff"}) {
+            const Rect* r = l.button(b);
+            ASSERT_NE(r, nullptr) << b << " not drawn at " << s.w << "x" << s.h << " " << what;
+            EXPECT_TRUE(inside(*r, s))
+                << b << " " << str(*r) << " at " << s.w << "x" << s.h << " " << what;
+        }
+        for (const auto& [name, r] : l.windows)
+            EXPECT_TRUE(inside(r, s))
+                << name << " " << str(r) << " at " << s.w << "x" << s.h << " " << what;
+        ASSERT_EQ(l.region_bars.size(), 3u) << what;
+        for (const auto& b : l.region_bars) EXPECT_TRUE(inside(b.rect, s)) << b.name << " " << what;
+        EXPECT_TRUE(inside(l.video_image, s)) << what;
+    }
+    Actions click(Gui& gui, const GuiSnapshot& s, const char* button) {
+        const Rect* r = gui.view().layout.button(button);
+        EXPECT_NE(r, nullptr) << button;
+        if (!r) return {};
+        ImGuiIO& io = ImGui::GetIO();
+        io.MousePos = {0.5f * (r->x0 + r->x1), 0.5f * (r->y0 + r->y1)};
+        frame(gui, s);
+        io.MouseDown[0] = true;
+        frame(gui, s);
+        io.MouseDown[0] = false;
+        const Actions a = frame(gui, s);
+        io.MousePos = {-FLT_MAX, -FLT_MAX};
+        return a;
+    }
+    // The window's rectangle this frame; an empty one when it was not drawn.
+    static Rect window(const Gui& gui, const std::string& name) {
+        for (const auto& [n, r] : gui.view().layout.windows)
+            if (n == name) return r;
+        return {};
+    }
+    static bool drawn(const Gui& gui, const std::string& name) {
+        for (const auto& [n, r] : gui.view().layout.windows)
+            if (n == name) return true;
+        return false;
+    }
+};
+
+TEST_F(CockpitLayout, FlightControlsAndEveryWindowInsideTheViewportAtEverySize) {
+    GuiSnapshot s;
+    for (const Size sz : kSizes) {
+        for (const LayoutMode mode : {LayoutMode::Engineering, LayoutMode::Flight}) {
+            restart(sz);
+            Settings st;
+            st.layout = mode;
+            Gui gui(st);
+            for (int f = 0; f < 3; ++f) {
+                make_demo_snapshot(s, f);
+                frame(gui, s);
+            }
+            expect_all_inside(gui, sz, to_string(mode));
+            // The status bar spans the width under the menu, and nothing lies over it.
+            ASSERT_TRUE(drawn(gui, "Status bar"));
+            const Rect bar = window(gui, "Status bar");
+            EXPECT_NEAR(bar.w(), sz.w, 0.5f);
+            for (const auto& [name, r] : gui.view().layout.windows) {
+                if (name == "Status bar") continue;
+                EXPECT_GE(r.y0, bar.y1 - 0.5f) << name;
+            }
+        }
+    }
+}
+
+TEST_F(CockpitLayout, ALayoutSavedOnABiggerScreenIsPulledInsideASmallerOne) {
+    resize({1280, 720});
+    // imgui.ini as a 1920x1080 session left it.
+    const char* ini =
+        "[Window][Telemetry]\nPos=1700,820\nSize=220,260\nCollapsed=0\n\n"
+        "[Window][Link]\nPos=1500,950\nSize=420,130\nCollapsed=0\n\n"
+        "[Window][Video]\nPos=0,23\nSize=1200,690\nCollapsed=0\n\n"
+        "[Window][Plots]\nPos=0,713\nSize=1200,367\nCollapsed=0\n";
+    ImGui::LoadIniSettingsFromMemory(ini);
+    Gui gui;
+    GuiSnapshot s;
+    for (int f = 0; f < 3; ++f) {
+        make_demo_snapshot(s, f);
+        frame(gui, s);
+    }
+    expect_all_inside(gui, {1280, 720}, "after loading a 1920x1080 layout");
+}
+
+TEST_F(CockpitLayout, ResizingReanchorsWindowsAndAWindowDraggedAwayComesBack) {
+    resize({1920, 1080});
+    Gui gui;
+    GuiSnapshot s;
+    make_demo_snapshot(s, 1);
+    for (int f = 0; f < 3; ++f) frame(gui, s);
+    const Rect link_big = window(gui, "Link");
+    resize({1280, 720});
+    for (int f = 0; f < 3; ++f) frame(gui, s);
+    expect_all_inside(gui, {1280, 720}, "after a resize");
+    // Windows keep their place relative to the viewport: Link stays at the bottom right.
+    const Rect link_small = window(gui, "Link");
+    EXPECT_NEAR(link_small.x1, 1280.0f, 2.0f) << str(link_big) << " -> " << str(link_small);
+    EXPECT_NEAR(link_small.y1, 720.0f, 2.0f);
+
+    // A window dragged over the status bar or off the screen is pulled back in.
+    ImGui::SetWindowPos("Telemetry", {1200, 5});
+    ImGui::SetWindowPos("Classifier", {-400, 600});
+    for (int f = 0; f < 2; ++f) frame(gui, s);
+    expect_all_inside(gui, {1280, 720}, "after dragging windows away");
+    EXPECT_GE(window(gui, "Telemetry").y0, window(gui, "Status bar").y1 - 0.5f);
+}
+
+TEST_F(CockpitLayout, ResetLayoutPutsEveryWindowBackAndReopensThem) {
+    resize({1600, 900});
+    Gui gui;
+    GuiSnapshot s;
+    make_demo_snapshot(s, 1);
+    for (int f = 0; f < 2; ++f) frame(gui, s);
+    ImGui::SetWindowPos("Telemetry", {300, 300});
+    gui.view().open.link = false;
+    for (int f = 0; f < 2; ++f) frame(gui, s);
+    // View -> Reset layout.
+    click(gui, s, "menu.view");
+    frame(gui, s);
+    frame(gui, s);
+    ASSERT_EQ(gui.view().layout.popups_open, 1);
+    click(gui, s, "menu.reset_layout");
+    for (int f = 0; f < 3; ++f) frame(gui, s);
+    const Rect def = default_window_rect("Telemetry", {1600, 900});
+    ASSERT_TRUE(drawn(gui, "Telemetry"));
+    EXPECT_NEAR(window(gui, "Telemetry").x0, def.x0, 1.0f);
+    EXPECT_NEAR(window(gui, "Telemetry").y0, def.y0, 1.0f);
+    EXPECT_TRUE(drawn(gui, "Link")) << "closed windows open again";
+}
+
+TEST_F(CockpitLayout, FlightLayoutFillsTheWindowWithVideoAndPersists) {
+    resize({1600, 900});
+    Gui gui;
+    GuiSnapshot s;
+    make_demo_snapshot(s, 1);
+    frame(gui, s);
+    const float engineering_area =
+        gui.view().layout.video_image.w() * gui.view().layout.video_image.h();
+    // F2: the flight layout.
+    InputState f2;
+    f2.pressed.set(GLFW_KEY_F2);
+    frame(gui, s, f2);
+    EXPECT_EQ(gui.view().settings.layout, LayoutMode::Flight);
+    EXPECT_TRUE(gui.view().settings_dirty);
+    for (int f = 0; f < 2; ++f) frame(gui, s);
+    const LayoutReport& l = gui.view().layout;
+    const float area = l.video_image.w() * l.video_image.h();
+    // The picture keeps its 16:9 aspect: it fills the height between the bars.
+    EXPECT_GT(area, 0.45f * 1600 * 900) << "the video should fill the window";
+    EXPECT_GT(area, 1.6f * engineering_area);
+    ASSERT_TRUE(drawn(gui, "Plot strip"));
+    EXPECT_FALSE(drawn(gui, "Telemetry")) << "engineering panels stay away";
+    EXPECT_NE(l.button("flight.emergency"), nullptr);
+    // The choice is saved with the settings.
+    auto back = settings_from_json(settings_to_json(gui.view().settings));
+    ASSERT_TRUE(back);
+    EXPECT_EQ(back->layout, LayoutMode::Flight);
+    // F2 again: the engineering layout, windows where they were.
+    frame(gui, s, f2);
+    frame(gui, s);
+    EXPECT_EQ(gui.view().settings.layout, LayoutMode::Engineering);
+    EXPECT_TRUE(drawn(gui, "Telemetry"));
+}
+
+// Point 10: readable at 1280x720.
+TEST_F(CockpitLayout, ReadableAt1280x720) {
+    restart({1280, 720});
+    Gui gui;
+    gui.view().open.keys = true;
+    GuiSnapshot s;
+    make_demo_snapshot(s, 1);
+    s.replay.open = true;
+    s.replay.frame = 10;
+    s.replay.frame_count = 300;
+    s.replay.fps = 15;
+    gui.view().settings.add_recent("/data/flight_1");
+    for (int f = 0; f < 3; ++f) frame(gui, s);
+    const LayoutReport& l = gui.view().layout;
+    // The key help fits its window.
+    EXPECT_FALSE(l.keys_clipped);
+    // The camera label never lies over the overlay checkboxes.
+    const Rect* info = nullptr;
+    const Rect* toggles = nullptr;
+    for (const auto& [n, r] : l.labels) {
+        if (n == "video.info") info = &r;
+        if (n == "video.toggles_end") toggles = &r;
+    }
+    ASSERT_TRUE(info && toggles);
+    EXPECT_TRUE(info->x0 >= toggles->x0 || info->y0 >= toggles->y1) << str(*info);
+    // Every region bar keeps a label, the centre's too.
+    for (const auto& b : l.region_bars) EXPECT_FALSE(b.label.empty()) << b.name;
+    // The Replay window's seek slider is in view, inside its window.
+    const Rect* seek = l.button("replay.seek");
+    ASSERT_TRUE(seek && drawn(gui, "Replay"));
+    const Rect replay = window(gui, "Replay");
+    EXPECT_LE(seek->y1, replay.y1) << str(*seek) << " in " << str(replay);
+    // Plots are big enough to read.
+    EXPECT_GT(l.flight_path.area.h(), 50.0f);
+}
+
+TEST(ScoreFormat, TwoSignificantDigitsOfTheThresholdNoExponent) {
+    EXPECT_EQ(format_score(4.95e-06, 0.3), "0.00");
+    EXPECT_EQ(format_score(0.1234, 0.3), "0.12");
+    EXPECT_EQ(format_score(0.3, 0.3), "0.30");
+    EXPECT_EQ(format_score(0.00052, 0.0013), "0.0005");
+    EXPECT_EQ(format_score(3.71, 3.5), "3.7");
+    EXPECT_EQ(format_score(-1e-9, 0.3), "0.00");
+    EXPECT_EQ(format_score(std::nan(""), 0.3), "-");
+}
+
+}  // namespace
+}  // namespace gs::ui::test
