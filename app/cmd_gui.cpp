@@ -37,6 +37,7 @@ struct GuiOpts {
     bool calibration_window = false;
     bool auto_capture = false;
     bool undistort_preview = false;
+    std::string layout;
 };
 
 GuiOpts& opts() {
@@ -78,6 +79,10 @@ CommandRegistration reg(-1000, [](CLI::App& root) {
                   "--calibration-window)");
     root.add_flag("--undistort-preview", o.undistort_preview,
                   "Start with the video window showing the undistorted image");
+    root.add_option("--layout", o.layout,
+                    "Start in this layout: flight (the video fills the window) or engineering "
+                    "(every panel); F2 switches. Default: the one used last")
+        ->check(CLI::IsMember({"flight", "engineering"}));
     root.add_option("--width", o.width, "Offscreen window width")
         ->check(CLI::Range(320, 8192))
         ->group("");
@@ -86,69 +91,96 @@ CommandRegistration reg(-1000, [](CLI::App& root) {
         ->group("");
 });
 
-// One lock-stepped window frame on a live source: the simulated clock moves to frame k's time
-// (k/30 s after the virtual drone came up), then the frame waits (bounded) until the drone has
+// Lock-step on a live source: the simulated clock moves to window frame k's time (k/30 s after
+// the frame the virtual drone came up on), then the frame waits (bounded) until the drone has
 // run everything due by then and the ground has caught up: the link has the drone's newest
-// navdata, and the session has classified the newest video frame. Screenshot k is then the
-// flight at k/30 s, the same on any machine.
-void lockstep_live(Session& session, FakeClock& clock, int frame) {
-    using Steady = std::chrono::steady_clock;
-    auto until = [](const auto& pred, std::chrono::milliseconds limit) {
-        const auto deadline = Steady::now() + limit;
+// navdata and the session has classified the newest video frame. Screenshot k is then the
+// flight at k/30 s, the same on any machine. A wait that runs out is said on stderr.
+class LockstepLive {
+public:
+    LockstepLive(Session& session, FakeClock& clock) : session_(session), clock_(clock) {}
+
+    void frame(int frame) {
+        // The drone comes up first (building the scene takes real time, not flight time), with
+        // the link's video connection, so that the flight's first frame is window frame 0's.
+        if (first_ < 0) {
+            const bool up = until(
+                [&] {
+                    src_ = session_.source().latest().value_or(SourceInfo{});
+                    return src_.opens_handled > 0 &&
+                           (src_.virtual_drone != nullptr || src_.kind == SessionSource::None);
+                },
+                std::chrono::seconds(60), "the virtual drone to start");
+            if (!up || !src_.virtual_drone || !src_.link) return;
+            if (src_.link->config_used().video)
+                (void)until([&] { return src_.virtual_drone->video_client_connected(); },
+                            std::chrono::seconds(10), "the video connection");
+            first_ = frame;
+        }
+        sim::VirtualDrone& drone = *src_.virtual_drone;
+        link::DroneLink& lk = *src_.link;
+        const TimeNs t = static_cast<TimeNs>(frame - first_) * 1'000'000'000LL / 30;
+        clock_.set(t);
+        if (!drone.wait_reached(t, std::chrono::seconds(10))) {
+            warn("the virtual drone");
+            return;
+        }
+        const std::uint32_t nav_seq = drone.navdata_sequence();
+        (void)until(
+            [&] {
+                const auto n = lk.navdata().latest();
+                return nav_seq == 0 || (n && n->seq >= nav_seq) ||
+                       lk.state() == link::ConnectionState::Bootstrapping;
+            },
+            std::chrono::seconds(10), "navdata");
+        const std::uint32_t sent = drone.last_frame_number();
+        if (sent == 0) return;
+        // The newest frame sent, received and classified (a frame the decoder had to skip,
+        // waiting for a key frame, is not waited for).
+        (void)until(
+            [&] {
+                const auto v = lk.video().latest();
+                const link::LinkStatus st = lk.status();
+                const bool all_in = st.video.pave_frames >= drone.video_frames_sent();
+                return v ? (v->frame_number >= sent || all_in) : all_in;
+            },
+            std::chrono::seconds(10), "the video frame");
+        const auto got = lk.video().latest();
+        if (!got) return;
+        (void)until(
+            [&] {
+                const auto o = session_.output().latest();
+                return o && *o && (*o)->source_id == src_.id &&
+                       (*o)->frame.frame_number >= got->frame_number;
+            },
+            std::chrono::seconds(10), "the classifier");
+    }
+
+private:
+    template <class Pred>
+    bool until(const Pred& pred, std::chrono::milliseconds limit, const char* what) {
+        const auto deadline = std::chrono::steady_clock::now() + limit;
         while (!pred()) {
-            if (Steady::now() > deadline) return false;
+            if (std::chrono::steady_clock::now() > deadline) {
+                warn(what);
+                return false;
+            }
             std::this_thread::sleep_for(std::chrono::microseconds(200));
         }
         return true;
-    };
-    // Frame 0 waits for the drone to be up (building the scene takes real time, not flight time).
-    SourceInfo src;
-    if (!until(
-            [&] {
-                src = session.source().latest().value_or(SourceInfo{});
-                return src.virtual_drone != nullptr || src.kind == SessionSource::None;
-            },
-            std::chrono::seconds(60)) ||
-        !src.virtual_drone)
-        return;
-    sim::VirtualDrone& drone = *src.virtual_drone;
-    // ... and for the link's video connection, so that the first frame is frame 0's.
-    if (frame == 0 && src.link && src.link->config_used().video)
-        (void)until([&] { return drone.video_client_connected(); }, std::chrono::seconds(10));
-    const TimeNs t = static_cast<TimeNs>(frame) * 1'000'000'000LL / 30;
-    clock.set(t);
-    if (!drone.wait_reached(t, std::chrono::seconds(10))) return;
-    link::DroneLink& lk = *src.link;
-    const std::uint32_t nav_seq = drone.navdata_sequence();
-    (void)until(
-        [&] {
-            const auto n = lk.navdata().latest();
-            return nav_seq == 0 || (n && n->seq >= nav_seq) ||
-                   lk.state() == link::ConnectionState::Bootstrapping;
-        },
-        std::chrono::seconds(2));
-    const std::uint32_t sent = drone.last_frame_number();
-    if (sent == 0) return;
-    // The newest frame sent, received and classified (a frame the decoder had to skip, waiting
-    // for a key frame, is not waited for).
-    (void)until(
-        [&] {
-            const auto v = lk.video().latest();
-            const link::LinkStatus st = lk.status();
-            if (!v) return st.video.pave_frames >= drone.video_frames_sent();
-            return v->frame_number >= sent || st.video.pave_frames >= drone.video_frames_sent();
-        },
-        std::chrono::seconds(2));
-    const auto got = lk.video().latest();
-    if (!got) return;
-    (void)until(
-        [&] {
-            const auto o = session.output().latest();
-            return o && *o && (*o)->source_id == src.id &&
-                   (*o)->frame.frame_number >= got->frame_number;
-        },
-        std::chrono::seconds(2));
-}
+    }
+    void warn(const char* what) {
+        if (++warnings_ <= 5)
+            std::cerr << "ardrone-gs: lock-step: waited in vain for " << what
+                      << "; this frame may lag the flight\n";
+    }
+
+    Session& session_;
+    FakeClock& clock_;
+    SourceInfo src_;
+    int first_ = -1;  // the window frame the flight's clock starts on
+    int warnings_ = 0;
+};
 
 }  // namespace
 
@@ -185,6 +217,8 @@ int run_gui() {
     ao.open_calibration = calibrating;
     ao.calibration_auto_capture = o.auto_capture;
     ao.undistort_preview = o.undistort_preview;
+    if (!o.layout.empty())
+        ao.layout = o.layout == "flight" ? ui::LayoutMode::Flight : ui::LayoutMode::Engineering;
     if (o.offscreen) {
         std::error_code ec;
         std::filesystem::create_directories(o.out, ec);
@@ -227,6 +261,7 @@ int run_gui() {
     }
 
     const bool demo = o.demo;
+    LockstepLive live_lockstep(session, sim_clock);
     // Lock-stepped calibration mode: wait (bounded) until its worker has checked replay frame
     // `f` (and auto-captured it), so screenshot k shows frame k's board and views.
     auto wait_calibration = [&](std::int64_t f) {
@@ -260,7 +295,7 @@ int run_gui() {
                     if (const auto now = session.replay().latest()) wait_calibration(now->frame);
             }
         } else if (offscreen_live) {
-            lockstep_live(session, sim_clock, frame);
+            live_lockstep.frame(frame);
         }
         adapter.fill(s);
     };

@@ -286,6 +286,7 @@ Expected<RunResult, AppError> run_window(const AppOptions& opt, const SnapshotPr
             gui.view().calib.auto_capture = opt.calibration_auto_capture;
         }
         if (opt.undistort_preview) gui.view().settings.overlay.undistort = true;
+        if (opt.layout) gui.view().settings.layout = *opt.layout;
         GlVideoTexture video_tex;
         GuiSnapshot snap;
         std::vector<unsigned char> pixels;

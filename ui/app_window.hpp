@@ -12,6 +12,7 @@
 
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -32,6 +33,8 @@ struct AppOptions {
     bool open_calibration = false;
     bool calibration_auto_capture = false;
     bool undistort_preview = false;
+    // Start in this layout (instead of the saved one); unset: the saved one.
+    std::optional<LayoutMode> layout;
 };
 
 enum class AppError { NoDisplay, GlfwInit, WindowCreate, OpenGl, Screenshot };

@@ -123,7 +123,7 @@ void ClassifierWindow::draw(const GuiSnapshot& s, ViewState& v, Actions& a) {
             ImGui::TextColored(colors::v4(colors::kDim), "%s",
                                stale ? "video stale" : d.unknown_reason.c_str());
         else if (known(d.score))
-            ImGui::TextColored(colors::v4(colors::kDim), "score %s / thr %s",
+            ImGui::TextColored(colors::v4(colors::kDim), "%s / %s",
                                format_score(d.score, d.threshold).c_str(),
                                format_score(d.threshold, d.threshold).c_str());
         else
@@ -132,8 +132,9 @@ void ClassifierWindow::draw(const GuiSnapshot& s, ViewState& v, Actions& a) {
     ImGui::Separator();
 
     // Parameters, drawn from the generic list; drag to tune live, right-click to reset one.
-    // The name column is as wide as the longest name, as long as the sliders keep room to be
-    // dragged; a name cut short shows in full (with its description) when hovered.
+    // The name column is as wide as the longest name when the sliders keep room to be dragged;
+    // in a narrow window each name goes on its own line above its slider. Hovering a name shows
+    // its description.
     float name_w = 0;
     for (const auto& p : c.params) name_w = std::max(name_w, ImGui::CalcTextSize(p.name.c_str()).x);
     const float min_slider = ImGui::GetFontSize() * 10;
@@ -141,8 +142,15 @@ void ClassifierWindow::draw(const GuiSnapshot& s, ViewState& v, Actions& a) {
     name_w = std::clamp(name_w, ImGui::GetFontSize() * 4, std::max(avail - min_slider, 1.0f));
     bool any_changed = false;
     const float value_w = ImGui::CalcTextSize("-0.0000").x;
-    if (ImGui::BeginTable("params", 3, ImGuiTableFlags_SizingFixedFit | ImGuiTableFlags_RowBg)) {
-        ImGui::TableSetupColumn("name", ImGuiTableColumnFlags_WidthFixed, name_w);
+    // Names in full: beside their slider when the window is wide enough, else above it.
+    float longest = 0;
+    for (const auto& p : c.params)
+        longest = std::max(longest, ImGui::CalcTextSize(p.name.c_str()).x);
+    const bool two_lines = longest + value_w + ImGui::GetFontSize() * 7 > avail;
+    const int slider_col = two_lines ? 0 : 1, value_col = slider_col + 1;
+    if (ImGui::BeginTable("params", two_lines ? 2 : 3,
+                          ImGuiTableFlags_SizingFixedFit | ImGuiTableFlags_RowBg)) {
+        if (!two_lines) ImGui::TableSetupColumn("name", ImGuiTableColumnFlags_WidthFixed, name_w);
         ImGui::TableSetupColumn("slider", ImGuiTableColumnFlags_WidthStretch);
         ImGui::TableSetupColumn("value", ImGuiTableColumnFlags_WidthFixed, value_w);
         for (const auto& p : c.params) {
@@ -162,7 +170,8 @@ void ClassifierWindow::draw(const GuiSnapshot& s, ViewState& v, Actions& a) {
                 ImGui::PopTextWrapPos();
                 ImGui::EndTooltip();
             }
-            ImGui::TableSetColumnIndex(1);
+            if (two_lines) ImGui::TableNextRow();
+            ImGui::TableSetColumnIndex(slider_col);
             ImGui::SetNextItemWidth(-FLT_MIN);
             ImGui::PushID(p.name.c_str());
             bool changed = false;
@@ -185,7 +194,7 @@ void ClassifierWindow::draw(const GuiSnapshot& s, ViewState& v, Actions& a) {
                 ImGui::EndPopup();
             }
             ImGui::PopID();
-            ImGui::TableSetColumnIndex(2);
+            ImGui::TableSetColumnIndex(value_col);
             ImGui::TextUnformatted(p.integer ? std::to_string(static_cast<long long>(val)).c_str()
                                              : format_sig(val, 3).c_str());
             if (changed) {

@@ -98,8 +98,13 @@ ControlState control_state(const GuiSnapshot& s, Control c) {
 FlightStateView flight_state(const GuiSnapshot& s) {
     FlightStateView v;
     const Telemetry& t = s.telemetry;
-    if (!t.valid || !t.state) {
+    if (!t.valid) {
         v.text = s.connection.state == LinkState::Replay ? "NO NAVDATA" : "NO DATA";
+        v.color = colors::kDim;
+        return v;
+    }
+    if (!t.state) {  // attitude and speeds, but no state bits (a dataset that has none)
+        v.text = "STATE UNKNOWN";
         v.color = colors::kDim;
         return v;
     }

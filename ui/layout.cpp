@@ -49,12 +49,15 @@ Rect default_window_rect(const char* w, ImVec2 d, LayoutMode mode) {
         if (r.w() > 0) return r;
     }
     const float fs = ImGui::GetFontSize();
-    const float L = std::round(W * 0.625f);
-    const float half = std::round((W - L) * 0.5f);
     const float video_bottom = top + std::round((H - top) * 0.64f);
+    // The video window as wide as its 16:9 picture at that height (title bar, toggles and frame
+    // line above it), the rest to the panels: a short screen wastes no width around the video.
+    const float picture_h = video_bottom - top - ImGui::GetFrameHeight() * 3.2f;
+    const float L = std::round(std::clamp(picture_h * 16.0f / 9.0f + 20.0f, W * 0.45f, W * 0.625f));
+    const float half = std::round((W - L) * 0.5f);
     // Right column: the connection (source, pilot input) at the top, then "why not flying" beside
     // recording over replay, then the classifier beside telemetry over link.
-    const float conn_h = std::round(fs * 7.6f);
+    const float conn_h = std::round(fs * 10.2f);
     const float row2_top = top + conn_h;
     const float row2_h = std::round(std::max((H - row2_top) * 0.42f, fs * 15.5f));
     const float row3_top = std::min(row2_top + row2_h, H - fs * 6.0f);

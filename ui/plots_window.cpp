@@ -172,12 +172,15 @@ void PlotsWindow::draw(const GuiSnapshot& s, ViewState& v) {
         if (sel) ImGui::PopStyleColor();
     }
     ImGui::SameLine();
-    ImGui::SetNextItemWidth(ImGui::GetFontSize() * 9);
+    ImGui::SetNextItemWidth(ImGui::GetFontSize() * 7);
     float span = static_cast<float>(v.settings.plot_span_s);
-    if (ImGui::SliderFloat("window", &span, 5.0f, 300.0f, "%.0f s", ImGuiSliderFlags_Logarithmic)) {
+    // The value beside the slider, never under its handle.
+    if (ImGui::SliderFloat("##window", &span, 5.0f, 300.0f, "", ImGuiSliderFlags_Logarithmic)) {
         v.settings.plot_span_s = span;
         v.settings_dirty = true;
     }
+    ImGui::SameLine();
+    ImGui::Text("window %.0f s", static_cast<double>(span));
     const ImVec2 avail = ImGui::GetContentRegionAvail();
     auto cell = [&](int cols, int rows) {
         return ImVec2{(avail.x - sp * static_cast<float>(cols - 1)) / static_cast<float>(cols),
@@ -207,7 +210,7 @@ void PlotsWindow::draw(const GuiSnapshot& s, ViewState& v) {
     };
     // A plot needs some height to be read: when two rows would be too short, "All" shows one
     // row of the plots a pilot needs most (the tabs still have every plot).
-    const float min_plot_h = ImGui::GetFontSize() * 8.0f;
+    const float min_plot_h = ImGui::GetFontSize() * 6.5f;
     if (v.plot_tab == 0 && avail.y >= 2 * min_plot_h) {
         const ImVec2 c3 = cell(3, 2), c4 = cell(4, 2);
         classifier_plots(c3);

@@ -95,10 +95,9 @@ void ReplayWindow::draw(const GuiSnapshot& s, ViewState& v, Actions& a) {
         ImGui::SetTooltip("Replay speed, %.2gx to %.0fx: type a value and press Enter",
                           kReplayMinSpeed, kReplayMaxSpeed);
     ImGui::SameLine();
-    char speed_label[16];
-    std::snprintf(speed_label, sizeof speed_label, "%gx", r.speed);
+    // The presets, 0.25x .. 8x; the value is in the field beside (never under the handle).
     ImGui::SetNextItemWidth(-FLT_MIN);
-    if (ImGui::SliderInt("##speed", &si, 0, 5, speed_label)) a.replay_speed = speeds[si];
+    if (ImGui::SliderInt("##speed", &si, 0, 5, "")) a.replay_speed = speeds[si];
 
     if (known(r.fps) && r.fps > 0)
         ImGui::TextColored(colors::v4(colors::kDim), "%s / %s  %.0f fps",
