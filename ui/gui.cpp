@@ -299,7 +299,6 @@ Actions Gui::frame(const GuiSnapshot& s, InputState input, TextureSource* tex) {
 
     draw_menu(s, a);
     const ImVec2 d = io.DisplaySize;
-    begin_layout_frame(d, view_);
     status_.draw(s, view_, a);
     auto place = [&](const char* name) { place_window(name, d, view_); };
     // Where each window was drawn this frame (the offscreen JSON and the tests read it).
@@ -381,7 +380,7 @@ Actions Gui::frame(const GuiSnapshot& s, InputState input, TextureSource* tex) {
         messages_.draw(s, view_);
         report("Messages");
     }
-    end_layout_frame(d, view_);
+    end_layout_frame(view_);
     hold_back_unavailable(s, a);
     calibration_mode(s, a);
     draw_notices();

@@ -95,15 +95,7 @@ Rect keep_inside(const Rect& r, ImVec2 d, float top) {
     return o;
 }
 
-void begin_layout_frame(ImVec2 d, ViewState& v) {
-    v.display_scale = {1, 1};
-    if (v.last_display.x > 0 && v.last_display.y > 0 &&
-        (d.x != v.last_display.x || d.y != v.last_display.y))
-        v.display_scale = {d.x / v.last_display.x, d.y / v.last_display.y};
-}
-
-void end_layout_frame(ImVec2 d, ViewState& v) {
-    v.last_display = d;
+void end_layout_frame(ViewState& v) {
     v.drawn_layout = v.settings.layout;
     if (v.reset_layout_frames > 0) --v.reset_layout_frames;
 }
@@ -117,6 +109,7 @@ void place_window(const char* name, ImVec2 d, ViewState& v) {
     if (fixed || v.reset_layout_frames > 0) {
         ImGui::SetNextWindowPos({def.x0, def.y0}, ImGuiCond_Always);
         ImGui::SetNextWindowSize({def.w(), def.h()}, ImGuiCond_Always);
+        v.window_display.insert_or_assign(std::string(name), d);
         return;
     }
     const ImGuiWindow* w = ImGui::FindWindowByName(name);
@@ -126,16 +119,21 @@ void place_window(const char* name, ImVec2 d, ViewState& v) {
         return;
     }
     Rect r{w->Pos.x, w->Pos.y, w->Pos.x + w->SizeFull.x, w->Pos.y + w->SizeFull.y};
-    const bool rescaled = v.display_scale.x != 1.0f || v.display_scale.y != 1.0f;
+    // The viewport changed since this window was placed (a resize, or it was hidden meanwhile):
+    // it keeps its place relative to the viewport (a window at the right edge stays there),
+    // below the fixed bars, which do not scale.
+    auto seen = v.window_display.find(std::string_view(name));
+    if (seen == v.window_display.end()) seen = v.window_display.emplace(name, d).first;
+    const ImVec2 was = seen->second;
+    const bool rescaled = was.x > 0 && was.y > top && (was.x != d.x || was.y != d.y);
     if (rescaled) {
-        // The viewport changed: the window keeps its place relative to it (a window at the
-        // right edge stays at the right edge), and below the fixed bars.
-        const float last_top = top;  // the bars do not scale with the viewport
-        r.x0 *= v.display_scale.x;
-        r.x1 *= v.display_scale.x;
-        r.y0 = last_top + (r.y0 - last_top) * v.display_scale.y;
-        r.y1 = last_top + (r.y1 - last_top) * v.display_scale.y;
+        const float sx = d.x / was.x, sy = (d.y - top) / (was.y - top);
+        r.x0 *= sx;
+        r.x1 *= sx;
+        r.y0 = top + (r.y0 - top) * sy;
+        r.y1 = top + (r.y1 - top) * sy;
     }
+    seen->second = d;
     const Rect in = keep_inside(r, d, top);
     const bool moved = std::fabs(in.x0 - w->Pos.x) > 0.5f || std::fabs(in.y0 - w->Pos.y) > 0.5f;
     const bool resized =

@@ -33,8 +33,7 @@ Rect keep_inside(const Rect& r, ImVec2 display, float top);
 // changed size and pulled back inside the viewport when it lies outside. Call before Begin.
 void place_window(const char* window, ImVec2 display, ViewState& v);
 
-// Once per frame before the windows: notices a changed viewport (windows scale with it).
-void begin_layout_frame(ImVec2 display, ViewState& v);
-void end_layout_frame(ImVec2 display, ViewState& v);
+// Once per frame after the windows: remembers the layout drawn and counts down a layout reset.
+void end_layout_frame(ViewState& v);
 
 }  // namespace gs::ui

@@ -155,8 +155,9 @@ struct ViewState {
     std::bitset<512> ui_prev_keys;  // keys held in the last frame (edges of the UI's own keys)
 
     // Layout bookkeeping (ui/layout.cpp).
-    ImVec2 last_display{0, 0};    // the viewport of the last frame
-    ImVec2 display_scale{1, 1};   // this frame's viewport / the last one (1 when unchanged)
+    // The viewport each window was last placed in: a window not drawn while the viewport changed
+    // (the other layout's, a closed one) scales with it when it comes back.
+    std::map<std::string, ImVec2, std::less<>> window_display;
     int reset_layout_frames = 0;  // > 0: windows go to their defaults (View -> Reset layout)
     LayoutMode drawn_layout = LayoutMode::Engineering;  // the layout of the last frame
 
