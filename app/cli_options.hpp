@@ -8,9 +8,9 @@
 //                        thesis-style image folder (which has no timestamps)
 //   --classifier, --set  replay, eval: the obstacle classifier and its parameter overrides
 
-#include "drone/calibration.hpp"
+#include "drone/core/calibration.hpp"
 #include "drone/dataset/dataset.hpp"
-#include "drone/expected.hpp"
+#include "drone/core/expected.hpp"
 
 #include <CLI/CLI.hpp>
 

@@ -1,9 +1,9 @@
 // `ardrone-gs inspect navdata FILE [--json]`: decodes one saved navdata datagram and prints every
 // field (grouped by option, units shown), the drone_state bits by name and any skipped options.
 #include "app/command.hpp"
-#include "drone/navdata.hpp"
-#include "drone/navdata_json.hpp"
-#include "drone/navdata_layout.hpp"
+#include "drone/protocol/navdata.hpp"
+#include "drone/protocol/navdata_json.hpp"
+#include "drone/protocol/navdata_layout.hpp"
 
 #include <charconv>
 #include <cstdio>

@@ -2,9 +2,9 @@
 // (bytes as read from port 5555/5553) through the framer and lists every frame, every resync and
 // the trailing partial frame; --decode also decodes the H.264 and writes DIR/NNNNNN.png.
 #include "app/command.hpp"
-#include "drone/h264_decoder.hpp"
-#include "drone/pave.hpp"
-#include "drone/pave_json.hpp"
+#include "drone/video/h264_decoder.hpp"
+#include "drone/protocol/pave.hpp"
+#include "drone/protocol/pave_json.hpp"
 
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>

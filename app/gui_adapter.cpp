@@ -2,8 +2,8 @@
 
 #include "app/gui_adapter.hpp"
 
-#include "drone/at.hpp"
-#include "drone/navdata_layout.hpp"
+#include "drone/protocol/at.hpp"
+#include "drone/protocol/navdata_layout.hpp"
 #include "drone/sim/scenarios.hpp"
 
 #include <algorithm>

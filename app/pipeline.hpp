@@ -4,7 +4,7 @@
 // same decisions wherever it is played.
 
 #include "drone/dataset/dataset.hpp"
-#include "drone/sample.hpp"
+#include "drone/core/sample.hpp"
 #include "vision/classifier.hpp"
 #include "vision/odometry.hpp"
 

@@ -5,7 +5,7 @@
 #include "app/replay_run.hpp"
 #include "drone/dataset/dataset.hpp"
 #include "drone/dataset/scoring.hpp"
-#include "drone/mp4_writer.hpp"
+#include "app/mp4_writer.hpp"
 #include "vision/plot_image.hpp"
 #include "vision/undistort.hpp"
 

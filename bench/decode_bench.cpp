@@ -2,8 +2,8 @@
 // Usage: bench_decode_bench [REPEATS=20]
 // Prints, per capture, framer throughput and per-frame decode time percentiles (decode +
 // colour conversion to BGR, what the live pipeline pays per frame).
-#include "drone/h264_decoder.hpp"
-#include "drone/pave.hpp"
+#include "drone/video/h264_decoder.hpp"
+#include "drone/protocol/pave.hpp"
 
 #include <algorithm>
 #include <chrono>

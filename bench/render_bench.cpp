@@ -3,8 +3,8 @@
 // the H.264 encoder. Usage: bench_render_bench [scene.json] [frames] [png_dir]
 // (png_dir: write every 30th frame there as PNG to look at).
 
-#include "drone/calibration.hpp"
-#include "drone/h264_encoder.hpp"
+#include "drone/core/calibration.hpp"
+#include "drone/video/h264_encoder.hpp"
 #include "drone/sim/renderer.hpp"
 #include "drone/sim/scene.hpp"
 

@@ -4,7 +4,7 @@
 // stream has nothing on one side. Frames come out in the order they went in. Pure: times are
 // stream times (ns from the start of the flight), no clock.
 
-#include "drone/sample.hpp"
+#include "drone/core/sample.hpp"
 
 #include <cstdint>
 #include <deque>

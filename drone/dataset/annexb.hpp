@@ -3,8 +3,8 @@
 // decoding: the boundary rules of H.264 §7.4.1.2.3 (AUD/SPS/PPS/SEI after a slice, or a slice with
 // first_mb_in_slice == 0 after a slice). Pure over bytes; a streaming scanner for large files.
 
-#include "drone/dataset/error.hpp"
-#include "drone/expected.hpp"
+#include "drone/core/file_error.hpp"
+#include "drone/core/expected.hpp"
 
 #include <cstdint>
 #include <filesystem>

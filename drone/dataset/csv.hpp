@@ -3,8 +3,8 @@
 // order, unknown ones ignored), 1-based line/column positions for errors, exact round trips for
 // doubles (shortest representation), empty field = unknown (NaN).
 
-#include "drone/dataset/error.hpp"
-#include "drone/expected.hpp"
+#include "drone/core/file_error.hpp"
+#include "drone/core/expected.hpp"
 
 #include <cstdint>
 #include <limits>

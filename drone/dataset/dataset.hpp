@@ -6,11 +6,11 @@
 // in flight.json nor the fixed names (navdata.csv, labels.*, raw/ ...) may lead out of it through
 // ".." or symlinks. Pixels are not read here: see frame_store.hpp.
 
-#include "drone/calibration.hpp"
+#include "drone/core/calibration.hpp"
 #include "drone/dataset/annexb.hpp"
-#include "drone/dataset/error.hpp"
-#include "drone/expected.hpp"
-#include "drone/sample.hpp"
+#include "drone/core/file_error.hpp"
+#include "drone/core/expected.hpp"
+#include "drone/core/sample.hpp"
 
 #include <array>
 #include <cstdint>

@@ -5,7 +5,7 @@
 
 #include "drone/dataset/dataset.hpp"
 #include "drone/dataset/frame_store.hpp"
-#include "drone/sample_source.hpp"
+#include "drone/core/sample_source.hpp"
 
 #include <memory>
 

@@ -9,8 +9,8 @@
 // t_us is microseconds since the start of the recording on the receiver's monotonic clock.
 // A recording killed mid-write may end in a partial record: readers report it, not fail on it.
 
-#include "drone/dataset/error.hpp"
-#include "drone/expected.hpp"
+#include "drone/core/file_error.hpp"
+#include "drone/core/expected.hpp"
 
 #include <cstdint>
 #include <filesystem>

@@ -1,8 +1,8 @@
 #include "drone/dataset/annexb.hpp"
 #include "drone/dataset/raw_replay.hpp"
-#include "drone/h264_decoder.hpp"
-#include "drone/navdata.hpp"
-#include "drone/pave.hpp"
+#include "drone/video/h264_decoder.hpp"
+#include "drone/protocol/navdata.hpp"
+#include "drone/protocol/pave.hpp"
 
 #include <memory>
 

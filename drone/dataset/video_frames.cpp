@@ -1,6 +1,6 @@
 #include "drone/dataset/video_frames.hpp"
 
-#include "drone/h264_decoder.hpp"
+#include "drone/video/h264_decoder.hpp"
 
 #include <fstream>
 

@@ -6,10 +6,10 @@
 // in an order that keeps the dataset readable if the process is killed: video bytes before the
 // frames.csv rows that describe them, whole lines and whole records only.
 
-#include "drone/clock.hpp"
+#include "drone/core/clock.hpp"
 #include "drone/dataset/dataset.hpp"
-#include "drone/sample.hpp"
-#include "drone/sync.hpp"
+#include "drone/core/sample.hpp"
+#include "drone/core/sync.hpp"
 
 #include <opencv2/core.hpp>
 

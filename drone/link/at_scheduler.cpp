@@ -1,6 +1,6 @@
 #include "drone/link/at_scheduler.hpp"
 
-#include "drone/navdata.hpp"
+#include "drone/protocol/navdata.hpp"
 
 #include <algorithm>
 #include <cmath>

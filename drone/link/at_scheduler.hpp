@@ -19,8 +19,8 @@
 // no REF bit 9 goes to a drone we cannot see (it may have rebooted and would take a replayed
 // take-off bit as a take-off); the intent is adopted again when navdata returns.
 
-#include "drone/at.hpp"
-#include "drone/clock.hpp"
+#include "drone/protocol/at.hpp"
+#include "drone/core/clock.hpp"
 #include "drone/link/commands.hpp"
 #include "drone/link/link_state.hpp"
 

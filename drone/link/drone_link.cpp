@@ -1,10 +1,10 @@
 #include "drone/link/drone_link.hpp"
 
-#include "drone/capture_clock.hpp"
+#include "drone/video/capture_clock.hpp"
 
-#include "drone/h264_decoder.hpp"
-#include "drone/net.hpp"
-#include "drone/pave.hpp"
+#include "drone/video/h264_decoder.hpp"
+#include "drone/transport/net.hpp"
+#include "drone/protocol/pave.hpp"
 
 #include <pthread.h>
 #include <sched.h>

@@ -7,15 +7,15 @@
 // Threads share data only through latest-value slots and bounded queues. Every stream publishes
 // a snapshot and counters; commands are typed values with typed results.
 
-#include "drone/clock.hpp"
-#include "drone/config.hpp"
+#include "drone/core/clock.hpp"
+#include "drone/protocol/config.hpp"
 #include "drone/link/at_scheduler.hpp"
 #include "drone/link/commands.hpp"
 #include "drone/link/link_state.hpp"
-#include "drone/navdata.hpp"
-#include "drone/pave.hpp"
-#include "drone/sample.hpp"
-#include "drone/sync.hpp"
+#include "drone/protocol/navdata.hpp"
+#include "drone/protocol/pave.hpp"
+#include "drone/core/sample.hpp"
+#include "drone/core/sync.hpp"
 
 #include <array>
 #include <atomic>

@@ -7,8 +7,8 @@
 //                → Configuring   (CONFIG_IDS + CONFIG, wait ACK bit, AT*CTRL=…,5,0, wait clear)
 //                → Connected     → LinkLost (no navdata for 500 ms) → Connected / Configuring
 
-#include "drone/clock.hpp"
-#include "drone/config.hpp"
+#include "drone/core/clock.hpp"
+#include "drone/protocol/config.hpp"
 
 #include <cstdint>
 #include <deque>

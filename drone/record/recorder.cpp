@@ -2,7 +2,7 @@
 
 #include "drone/dataset/annexb.hpp"
 #include "drone/dataset/raw_replay.hpp"
-#include "drone/pave.hpp"
+#include "drone/protocol/pave.hpp"
 #include "drone/sim/virtual_drone.hpp"
 
 #include <nlohmann/json.hpp>

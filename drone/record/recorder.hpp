@@ -12,8 +12,8 @@
 
 #include "drone/dataset/writer.hpp"
 #include "drone/link/drone_link.hpp"
-#include "drone/sample.hpp"
-#include "drone/sync.hpp"
+#include "drone/core/sample.hpp"
+#include "drone/core/sync.hpp"
 
 #include <atomic>
 #include <cstdint>

@@ -1,7 +1,7 @@
 #include "drone/sim/drone_core.hpp"
 #include "drone/sim/units.hpp"
 
-#include "drone/navdata_writer.hpp"
+#include "drone/sim/navdata_writer.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -8,11 +8,11 @@
 // blackout, reboot) are applied here from a seeded generator, so a run is reproducible.
 // The sockets and the video live in virtual_drone.hpp.
 
-#include "drone/at_parser.hpp"
-#include "drone/clock.hpp"
-#include "drone/config.hpp"
-#include "drone/endpoint.hpp"
-#include "drone/navdata.hpp"
+#include "drone/sim/at_parser.hpp"
+#include "drone/core/clock.hpp"
+#include "drone/protocol/config.hpp"
+#include "drone/transport/endpoint.hpp"
+#include "drone/protocol/navdata.hpp"
 #include "drone/sim/flight_model.hpp"
 #include "drone/sim/scene.hpp"
 

@@ -2,7 +2,7 @@
 
 #include "drone/dataset/csv.hpp"
 #include "drone/dataset/writer.hpp"
-#include "drone/h264_encoder.hpp"
+#include "drone/video/h264_encoder.hpp"
 #include "drone/sim/drone_core.hpp"
 #include "drone/sim/renderer.hpp"
 #include "drone/sim/rng.hpp"

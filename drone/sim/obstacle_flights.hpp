@@ -14,8 +14,8 @@
 // and heading wobble, lighting and textures. Alternate flights of each kind form the tuning and
 // test splits.
 
-#include "drone/calibration.hpp"
-#include "drone/expected.hpp"
+#include "drone/core/calibration.hpp"
+#include "drone/core/expected.hpp"
 #include "drone/sim/flight_model.hpp"
 #include "drone/sim/scene.hpp"
 

@@ -1,8 +1,8 @@
 #include "drone/sim/virtual_drone.hpp"
 
-#include "drone/h264_encoder.hpp"
-#include "drone/net.hpp"
-#include "drone/pave.hpp"
+#include "drone/video/h264_encoder.hpp"
+#include "drone/transport/net.hpp"
+#include "drone/protocol/pave.hpp"
 
 #include <poll.h>
 #include <sys/socket.h>

@@ -8,7 +8,7 @@
 #include "drone/sim/drone_core.hpp"
 #include "drone/sim/renderer.hpp"
 #include "drone/sim/scene.hpp"
-#include "drone/sync.hpp"
+#include "drone/core/sync.hpp"
 
 #include <atomic>
 #include <cstdint>

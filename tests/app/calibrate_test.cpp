@@ -2,7 +2,7 @@
 // bad input built in /tmp: success writes flight.json's calibration shape; failures exit non-zero
 // with a reason and write no file.
 #include "cli_test_util.hpp"
-#include "drone/h264_encoder.hpp"
+#include "drone/video/h264_encoder.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

@@ -1,6 +1,6 @@
-#include "drone/at_parser.hpp"
+#include "drone/sim/at_parser.hpp"
 
-#include "drone/at.hpp"
+#include "drone/protocol/at.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "drone/at.hpp"
+#include "drone/protocol/at.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 // drone/calibration: the one calibration record: JSON in the flight.json / assets shape, save and
 // load round trip, defaults from assets, scaling, and the distortion helpers.
 
-#include "drone/calibration.hpp"
+#include "drone/core/calibration.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

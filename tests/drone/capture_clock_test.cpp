@@ -1,5 +1,5 @@
 // CaptureClock: frame capture times from the drone's PaVE timestamps, on the receiver's clock.
-#include "drone/capture_clock.hpp"
+#include "drone/video/capture_clock.hpp"
 
 #include <gtest/gtest.h>
 

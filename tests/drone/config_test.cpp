@@ -1,4 +1,4 @@
-#include "drone/config.hpp"
+#include "drone/protocol/config.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
 #include "drone/sim/drone_core.hpp"
-#include "drone/at.hpp"
-#include "drone/navdata.hpp"
+#include "drone/protocol/at.hpp"
+#include "drone/protocol/navdata.hpp"
 
 #include "state_bits.hpp"
 

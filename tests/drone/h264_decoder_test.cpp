@@ -1,8 +1,8 @@
 // H.264 decoding of the real AR.Drone 2 captures: frame counts, IDR gating, gaps, corruption,
 // and pixel agreement with an independent decoder (OpenH264, tests/data/pave_reference/).
-#include "drone/h264_decoder.hpp"
+#include "drone/video/h264_decoder.hpp"
 
-#include "drone/pave.hpp"
+#include "drone/protocol/pave.hpp"
 #include "drone/video_fixtures.hpp"
 
 #include <gtest/gtest.h>

@@ -1,8 +1,8 @@
 // The encoder against libavcodec's own decoder: quality, the IDR grid with SPS/PPS in front of each
 // IDR, one access unit per frame, and a decoder joining mid-stream.
 
-#include "drone/h264_encoder.hpp"
-#include "drone/calibration.hpp"
+#include "drone/video/h264_encoder.hpp"
+#include "drone/core/calibration.hpp"
 #include "drone/sim/renderer.hpp"
 #include "drone/sim/scene.hpp"
 

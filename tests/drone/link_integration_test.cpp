@@ -1,8 +1,8 @@
 // The ground station's link against the virtual drone over real loopback sockets (ephemeral
 // ports): bootstrap, configuration, flight, video, and the faults a Wi-Fi link suffers.
 #include "drone/link/drone_link.hpp"
-#include "drone/net.hpp"
-#include "drone/pave.hpp"
+#include "drone/transport/net.hpp"
+#include "drone/protocol/pave.hpp"
 #include "drone/sim/scenarios.hpp"
 #include "drone/sim/virtual_drone.hpp"
 

@@ -1,8 +1,8 @@
 // parse_navdata against the four real captures (expected values from PROTOCOL.md §7.2/§7.3 and
 // fixtures SOURCES.md), the §7.4 bootstrap bytes, and malformed input.
-#include "drone/navdata.hpp"
+#include "drone/protocol/navdata.hpp"
 
-#include "drone/navdata_layout.hpp"
+#include "drone/protocol/navdata_layout.hpp"
 #include "navdata_test_util.hpp"
 
 #include <gtest/gtest.h>

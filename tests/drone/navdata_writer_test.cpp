@@ -1,8 +1,8 @@
 // write_navdata: byte-exact re-encoding of the real captures, field-by-field round trips of every
 // option, and the §7.4 bootstrap datagram.
-#include "drone/navdata_writer.hpp"
+#include "drone/sim/navdata_writer.hpp"
 
-#include "drone/navdata_layout.hpp"
+#include "drone/protocol/navdata_layout.hpp"
 #include "navdata_test_util.hpp"
 
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-#include "drone/net.hpp"
+#include "drone/transport/net.hpp"
 
 #include <gtest/gtest.h>
 

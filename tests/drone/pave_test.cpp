@@ -1,6 +1,6 @@
 // PaVE header parsing/writing and the streaming framer, against the four real captures
 // (PROTOCOL.md §7.5, fixtures/ardrone/SOURCES.md) and HEIDI's pave_test.py behaviours.
-#include "drone/pave.hpp"
+#include "drone/protocol/pave.hpp"
 
 #include "drone/video_fixtures.hpp"
 

@@ -1,7 +1,7 @@
 // Renderer: geometry against the camera model, determinism, motion cues (expansion, roll),
 // obstacle placement in the image, and that surfaces carry trackable corners.
 
-#include "drone/calibration.hpp"
+#include "drone/core/calibration.hpp"
 #include "drone/sim/renderer.hpp"
 #include "drone/sim/scene.hpp"
 

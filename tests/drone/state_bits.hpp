@@ -2,7 +2,7 @@
 // drone_state masks the link and virtual-drone tests build packets and expectations from, named
 // after drone/navdata.hpp's DroneStateBit (PROTOCOL.md §3.2).
 
-#include "drone/navdata.hpp"
+#include "drone/protocol/navdata.hpp"
 
 #include <cstdint>
 

@@ -1,4 +1,4 @@
-#include "drone/sync.hpp"
+#include "drone/core/sync.hpp"
 
 #include <gtest/gtest.h>
 

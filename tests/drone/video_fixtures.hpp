@@ -2,7 +2,7 @@
 // Shared by the PaVE and H.264 tests: loading the real captures and running them through the
 // framer with a given chunking.
 
-#include "drone/pave.hpp"
+#include "drone/protocol/pave.hpp"
 #include "navdata_test_util.hpp"  // read_fixture
 
 #include <cstdint>

@@ -7,7 +7,7 @@
 #include "app/gui_adapter.hpp"
 #include "app/session.hpp"
 #include "calibration_dataset.hpp"
-#include "drone/calibration.hpp"
+#include "drone/core/calibration.hpp"
 #include "imgui_fixture.hpp"
 
 #include <GLFW/glfw3.h>

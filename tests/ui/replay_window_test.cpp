@@ -4,7 +4,7 @@
 // replays the flight offscreen under Xvfb (lock-stepped: window frame k shows dataset frame k)
 // and the screenshot's region bars must be red on the left and green elsewhere, as decided.
 #include "app/pipeline.hpp"
-#include "drone/calibration.hpp"
+#include "drone/core/calibration.hpp"
 #include "drone/dataset/dataset.hpp"
 #include "drone/dataset/dataset_source.hpp"
 #include "drone/dataset/video_frames.hpp"

@@ -4,7 +4,7 @@
 // waits are bounded polls on the drone's own state, never fixed sleeps standing in for logic.
 #include "app/gui_adapter.hpp"
 #include "app/session.hpp"
-#include "drone/at_parser.hpp"
+#include "drone/sim/at_parser.hpp"
 #include "drone/dataset/dataset.hpp"
 #include "session_fixture.hpp"
 
