@@ -1,4 +1,4 @@
-#include "dataset_test_util.hpp"
+#include "support/dataset_fixtures.hpp"
 
 #include "drone/dataset/annexb.hpp"
 #include "drone/dataset/dataset.hpp"

@@ -2,7 +2,7 @@
 // (PROTOCOL.md §7.5, fixtures/ardrone/SOURCES.md) and HEIDI's pave_test.py behaviours.
 #include "drone/protocol/pave.hpp"
 
-#include "drone/video_fixtures.hpp"
+#include "support/video_fixtures.hpp"
 
 #include <gtest/gtest.h>
 

@@ -6,7 +6,7 @@
 #include "drone/sim/scenarios.hpp"
 #include "drone/sim/virtual_drone.hpp"
 
-#include "state_bits.hpp"
+#include "support/state_bits.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
 // The Recorder on the real stack: the virtual drone flying a scripted approach over loopback
 // sockets, the DroneLink, and the dataset it writes; raw/ replayed through the real parsers.
-#include "dataset_test_util.hpp"
+#include "support/dataset_fixtures.hpp"
 
 #include "drone/dataset/raw.hpp"
 #include "drone/dataset/raw_replay.hpp"

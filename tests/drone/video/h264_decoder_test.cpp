@@ -3,7 +3,7 @@
 #include "drone/video/h264_decoder.hpp"
 
 #include "drone/protocol/pave.hpp"
-#include "drone/video_fixtures.hpp"
+#include "support/video_fixtures.hpp"
 
 #include <gtest/gtest.h>
 #include <opencv2/core.hpp>

@@ -3,7 +3,7 @@
 #include "drone/protocol/navdata.hpp"
 
 #include "drone/protocol/navdata_layout.hpp"
-#include "navdata_test_util.hpp"
+#include "support/navdata_fixtures.hpp"
 
 #include <gtest/gtest.h>
 

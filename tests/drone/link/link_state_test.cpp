@@ -1,6 +1,6 @@
 #include "drone/link/link_state.hpp"
 
-#include "state_bits.hpp"
+#include "support/state_bits.hpp"
 
 #include <gtest/gtest.h>
 

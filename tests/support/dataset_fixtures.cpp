@@ -1,4 +1,4 @@
-#include "dataset_test_util.hpp"
+#include "support/dataset_fixtures.hpp"
 
 #include <opencv2/imgcodecs.hpp>
 

@@ -2,7 +2,7 @@
 // by another helper) is in the tree; until then this file compiles to nothing.
 #if __has_include("drone/h264_decoder.cpp")
 
-#include "dataset_test_util.hpp"
+#include "support/dataset_fixtures.hpp"
 
 #include "drone/dataset/dataset_source.hpp"
 #include "drone/dataset/video_frames.hpp"

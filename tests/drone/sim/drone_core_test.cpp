@@ -2,7 +2,7 @@
 #include "drone/protocol/at.hpp"
 #include "drone/protocol/navdata.hpp"
 
-#include "state_bits.hpp"
+#include "support/state_bits.hpp"
 
 #include <gtest/gtest.h>
 

@@ -3,7 +3,7 @@
 // framer with a given chunking.
 
 #include "drone/protocol/pave.hpp"
-#include "navdata_test_util.hpp"  // read_fixture
+#include "support/navdata_fixtures.hpp"  // read_fixture
 
 #include <cstdint>
 #include <fstream>
