@@ -18,7 +18,7 @@
 namespace gs::app {
 namespace {
 
-using namespace gs::navdata;
+using namespace gs::protocol::navdata;
 
 struct Opts {
     std::string file;
@@ -174,7 +174,7 @@ const CommandRegistration reg(
             "navdata", "Decode one navdata datagram (a UDP 5554 payload saved to a file)");
         cmd->add_option("file", opts->file, "File holding exactly one datagram")->required();
         cmd->add_flag("--json", opts->json, "Print JSON (PROTOCOL.md field names) instead of text");
-        cmd->callback([opts] { run(*opts); });
+        set_action(*cmd, [opts] { run(*opts); });
     });
 
 }  // namespace

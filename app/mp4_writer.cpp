@@ -26,7 +26,7 @@ std::string av_error(int code) {
 struct Mp4Writer::Impl {
     Mp4WriterConfig cfg;
     std::filesystem::path path;
-    std::unique_ptr<H264Encoder> encoder;
+    std::unique_ptr<video::H264Encoder> encoder;
     AVFormatContext* fmt = nullptr;
     AVStream* stream = nullptr;
     AVPacket* pkt = nullptr;
@@ -67,14 +67,14 @@ Expected<std::unique_ptr<Mp4Writer>, std::string> Mp4Writer::create(
     // Frame rate as a rational (29.97 and friends included).
     m->fps_den = 1000;
     m->fps_num = static_cast<int>(std::lround(cfg.fps * 1000));
-    H264EncoderConfig ec;
+    video::H264EncoderConfig ec;
     ec.width = cfg.width;
     ec.height = cfg.height;
     ec.fps = std::max(1, static_cast<int>(std::lround(cfg.fps)));
     ec.gop = cfg.gop;
     ec.bitrate_bps = cfg.bitrate_bps;
     ec.preset = "veryfast";
-    auto enc = H264Encoder::create(ec);
+    auto enc = video::H264Encoder::create(ec);
     if (!enc) return Unexpected("H.264 encoder: " + to_string(enc.error()));
     m->encoder = std::move(*enc);
 

@@ -1,6 +1,6 @@
 #include "drone/core/clock.hpp"
 
-namespace gs {
+namespace gs::inline core {
 
 TimeNs SteadyClock::now_ns() const {
     return std::chrono::duration_cast<std::chrono::nanoseconds>(
@@ -13,4 +13,4 @@ SteadyClock& SteadyClock::instance() {
     return c;
 }
 
-}  // namespace gs
+}  // namespace gs::inline core

@@ -6,7 +6,7 @@
 #include <chrono>
 #include <cstdint>
 
-namespace gs {
+namespace gs::inline core {
 
 using Duration = std::chrono::nanoseconds;
 // Monotonic time point in nanoseconds since an arbitrary epoch (steady clock).
@@ -43,4 +43,4 @@ constexpr double ns_to_ms(TimeNs ns) {
     return static_cast<double>(ns) * 1e-6;
 }
 
-}  // namespace gs
+}  // namespace gs::inline core

@@ -2,29 +2,29 @@
 
 #include <algorithm>
 
-namespace gs {
+namespace gs::inline core {
 
-std::string to_string(DatasetErrorCode c) {
+std::string to_string(FileErrorCode c) {
     switch (c) {
-        case DatasetErrorCode::Missing:
+        case FileErrorCode::Missing:
             return "missing";
-        case DatasetErrorCode::Malformed:
+        case FileErrorCode::Malformed:
             return "malformed";
-        case DatasetErrorCode::Inconsistent:
+        case FileErrorCode::Inconsistent:
             return "inconsistent";
-        case DatasetErrorCode::OutOfRange:
+        case FileErrorCode::OutOfRange:
             return "out of range";
-        case DatasetErrorCode::UnsafePath:
+        case FileErrorCode::UnsafePath:
             return "unsafe path";
-        case DatasetErrorCode::Io:
+        case FileErrorCode::Io:
             return "i/o error";
-        case DatasetErrorCode::Unsupported:
+        case FileErrorCode::Unsupported:
             return "unsupported";
     }
     return "unknown";
 }
 
-std::string to_string(const DatasetError& e) {
+std::string to_string(const FileError& e) {
     std::string s = e.file.empty() ? std::string("<dataset>") : e.file;
     if (e.line > 0) {
         s += ':' + std::to_string(e.line);
@@ -55,4 +55,4 @@ std::pair<int, int> locate_json_key(const std::string& text, const std::string& 
     return text_line_col(text, p);
 }
 
-}  // namespace gs
+}  // namespace gs::inline core

@@ -5,9 +5,9 @@
 #include <string>
 #include <utility>
 
-namespace gs {
+namespace gs::inline core {
 
-enum class DatasetErrorCode {
+enum class FileErrorCode {
     Missing,       // a required file, key or column is absent
     Malformed,     // syntax or type error in a file
     Inconsistent,  // files disagree (row counts, frame indices, ...)
@@ -17,10 +17,10 @@ enum class DatasetErrorCode {
     Unsupported,   // valid but not handled by this build (format version, codec)
 };
 
-std::string to_string(DatasetErrorCode c);
+std::string to_string(FileErrorCode c);
 
-struct DatasetError {
-    DatasetErrorCode code = DatasetErrorCode::Malformed;
+struct FileError {
+    FileErrorCode code = FileErrorCode::Malformed;
     std::string file;  // path relative to the dataset directory ("frames.csv", "frames/000003.png")
     int line = 0;
     int column = 0;
@@ -28,11 +28,11 @@ struct DatasetError {
 };
 
 // "file:line:column: message" (line/column left out when 0).
-std::string to_string(const DatasetError& e);
+std::string to_string(const FileError& e);
 
 // 1-based line and column of byte offset `pos` in `text` (clamped to its end).
 std::pair<int, int> text_line_col(const std::string& text, std::size_t pos);
 // Where a key is first written in a JSON text ("key"), for error positions; {0, 0} if nowhere.
 std::pair<int, int> locate_json_key(const std::string& text, const std::string& key);
 
-}  // namespace gs
+}  // namespace gs::inline core

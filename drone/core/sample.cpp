@@ -1,6 +1,6 @@
 #include "drone/core/sample.hpp"
 
-namespace gs {
+namespace gs::inline core {
 namespace {
 double lerp(double a, double b, double w) {
     if (!known(a)) return b;
@@ -32,4 +32,4 @@ NavState interpolate(const NavState& a, const NavState& b, TimeNs t_ns) {
     return r;
 }
 
-}  // namespace gs
+}  // namespace gs::inline core

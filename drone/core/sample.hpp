@@ -4,6 +4,7 @@
 // NavSamples. The pipeline and the UI never care which source they came from.
 
 #include "drone/core/clock.hpp"
+#include "drone/core/unknown.hpp"
 
 #include <opencv2/core.hpp>
 
@@ -12,12 +13,7 @@
 #include <limits>
 #include <optional>
 
-namespace gs {
-
-inline constexpr double kUnknown = std::numeric_limits<double>::quiet_NaN();
-inline bool known(double v) {
-    return !std::isnan(v);
-}
+namespace gs::inline core {
 
 // Drone state at one instant, in the units of DATASET.md. NaN = unknown (never 0).
 struct NavState {
@@ -52,4 +48,4 @@ struct FrameSample {
     NavState nav;   // attitude etc. at capture time
 };
 
-}  // namespace gs
+}  // namespace gs::inline core

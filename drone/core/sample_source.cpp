@@ -1,6 +1,6 @@
 #include "drone/core/sample_source.hpp"
 
-namespace gs {
+namespace gs::inline core {
 
 std::string to_string(SourceStatus s) {
     switch (s) {
@@ -18,4 +18,4 @@ std::string to_string(SourceStatus s) {
     return "unknown";
 }
 
-}  // namespace gs
+}  // namespace gs::inline core

@@ -11,7 +11,7 @@
 #include <optional>
 #include <string>
 
-namespace gs {
+namespace gs::inline core {
 
 // Playback speed: recorded speed times `speed` (0.25 to 8), or as fast as the consumer pulls.
 struct Pacing {
@@ -58,4 +58,4 @@ public:
     virtual std::string last_error() const = 0;
 };
 
-}  // namespace gs
+}  // namespace gs::inline core

@@ -11,7 +11,7 @@
 #include <mutex>
 #include <optional>
 
-namespace gs {
+namespace gs::inline core {
 
 // Holds the newest value and a generation counter. Writers publish; readers copy only when the
 // generation moved (PX4 uORB-style), so a reader never sees a torn value.
@@ -149,4 +149,4 @@ private:
     std::size_t high_water_ = 0;
 };
 
-}  // namespace gs
+}  // namespace gs::inline core

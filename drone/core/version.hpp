@@ -1,4 +1,4 @@
 #pragma once
-namespace gs {
+namespace gs::inline core {
 inline constexpr const char* kVersion = "0.1.0";
 }

@@ -9,7 +9,7 @@
 #include <cstdint>
 #include <deque>
 
-namespace gs {
+namespace gs::dataset {
 
 class NavAligner {
 public:
@@ -39,4 +39,4 @@ private:
     bool finished_ = false;
 };
 
-}  // namespace gs
+}  // namespace gs::dataset

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <limits>
 
-namespace gs::at {
+namespace gs::protocol::at {
 
 std::string_view to_string(AtError e) {
     switch (e) {
@@ -246,9 +246,8 @@ Expected<std::size_t, AtError> pack_into(std::span<const std::string> commands,
 Expected<std::vector<std::string>, AtError> pack(std::span<const std::string> commands,
                                                  std::size_t max_bytes) {
     std::vector<std::string> out;
-    auto n = pack_into(commands, out, max_bytes);
-    if (!n) return Unexpected{n.error()};
-    out.resize(*n);
+    GS_TRY_ASSIGN(auto n, pack_into(commands, out, max_bytes));
+    out.resize(n);
     return out;
 }
 
@@ -258,4 +257,4 @@ bool valid_command_name(std::string_view s) {
     });
 }
 
-}  // namespace gs::at
+}  // namespace gs::protocol::at

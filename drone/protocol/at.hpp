@@ -13,7 +13,7 @@
 #include <variant>
 #include <vector>
 
-namespace gs::at {
+namespace gs::protocol::at {
 
 // Sequence number carried by every command. The drone parses it as a signed 32-bit int.
 using Seq = std::uint32_t;
@@ -149,4 +149,4 @@ using Arg = std::variant<std::int32_t, float, RawArg, QuotedArg>;
 [[nodiscard]] Expected<std::vector<std::string>, AtError> pack(
     std::span<const std::string> commands, std::size_t max_bytes = kMaxDatagramBytes);
 
-}  // namespace gs::at
+}  // namespace gs::protocol::at

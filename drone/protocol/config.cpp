@@ -5,7 +5,7 @@
 #include <charconv>
 #include <cstdio>
 
-namespace gs {
+namespace gs::protocol {
 namespace {
 constexpr std::size_t kMaxLine = 4096;
 
@@ -165,4 +165,4 @@ bool config_text_ok(std::string_view s) {
     });
 }
 
-}  // namespace gs
+}  // namespace gs::protocol

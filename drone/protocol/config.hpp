@@ -14,7 +14,7 @@
 #include <utility>
 #include <vector>
 
-namespace gs {
+namespace gs::protocol {
 
 // Ordered key/values (the dump order is meaningful to a human reader; keys may repeat per
 // category section, the last one wins in get()).
@@ -71,4 +71,4 @@ std::string config_format_float(double v);                             // as the
 // True when a key or value can be sent in AT*CONFIG (no quote, CR, LF or other control char).
 bool config_text_ok(std::string_view s);
 
-}  // namespace gs
+}  // namespace gs::protocol

@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <string>
 
-namespace gs::navdata {
+namespace gs::protocol::navdata {
 
 const std::array<DroneStateBitInfo, 32> kDroneStateBits = {{
     {"FLY", "flying (0 = landed)"},
@@ -347,4 +347,4 @@ NavState to_nav_state(const Navdata& nd, TimeNs t_ns) {
     return s;
 }
 
-}  // namespace gs::navdata
+}  // namespace gs::protocol::navdata

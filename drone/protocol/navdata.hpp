@@ -16,7 +16,7 @@
 #include <string>
 #include <string_view>
 
-namespace gs::navdata {
+namespace gs::protocol::navdata {
 
 inline constexpr std::uint32_t kMagic = 0x55667788;     // SDK NAVDATA_HEADER
 inline constexpr std::uint32_t kMagicAlt = 0x55667789;  // accepted by NODE; accepted here too
@@ -555,4 +555,4 @@ std::optional<std::string_view> option_name(std::uint16_t tag, std::uint16_t siz
 // altitude in metres from mm (§10.1), battery %. Fields without a demo option stay NaN.
 [[nodiscard]] NavState to_nav_state(const Navdata& nd, TimeNs t_ns);
 
-}  // namespace gs::navdata
+}  // namespace gs::protocol::navdata

@@ -2,7 +2,7 @@
 
 #include "drone/protocol/navdata_layout.hpp"
 
-namespace gs::navdata {
+namespace gs::protocol::navdata {
 
 namespace {
 
@@ -94,4 +94,4 @@ nlohmann::json to_json(const Navdata& nd) {
     return j;
 }
 
-}  // namespace gs::navdata
+}  // namespace gs::protocol::navdata

@@ -7,7 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
-namespace gs::navdata {
+namespace gs::protocol::navdata {
 
 // {"header", "drone_state", "drone_state_bits": {"FLY": false, ...}, "sequence", "vision_defined",
 //  "options": [{"offset","tag","size","name"}], "skipped": [...], "checksum", "checksum_offset",
@@ -18,4 +18,4 @@ namespace gs::navdata {
 // {"raw": n, "FLY": bool, ... all 32 bits}.
 [[nodiscard]] nlohmann::json drone_state_to_json(DroneState s);
 
-}  // namespace gs::navdata
+}  // namespace gs::protocol::navdata

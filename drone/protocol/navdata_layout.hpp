@@ -15,7 +15,7 @@
 #include <tuple>
 #include <type_traits>
 
-namespace gs::navdata::layout {
+namespace gs::protocol::navdata::layout {
 
 template <class T>
 struct Spec;
@@ -595,4 +595,4 @@ void store(std::uint8_t* p, const T& v) {
     }
 }
 
-}  // namespace gs::navdata::layout
+}  // namespace gs::protocol::navdata::layout

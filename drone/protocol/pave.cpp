@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cstring>
 
-namespace gs {
+namespace gs::protocol {
 
 std::string to_string(PaveCodec c) {
     switch (c) {
@@ -301,4 +301,4 @@ void PaveFramer::reset() {
     skip_run_ = 0;
 }
 
-}  // namespace gs
+}  // namespace gs::protocol

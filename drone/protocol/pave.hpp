@@ -15,7 +15,7 @@
 #include <variant>
 #include <vector>
 
-namespace gs {
+namespace gs::protocol {
 
 inline constexpr std::array<std::uint8_t, 4> kPaveSignature = {'P', 'a', 'V', 'E'};
 inline constexpr std::uint8_t kPaveCurrentVersion = 2;  // PAVE_CURRENT_VERSION
@@ -178,4 +178,4 @@ private:
     PaveFramerStats stats_;
 };
 
-}  // namespace gs
+}  // namespace gs::protocol

@@ -2,7 +2,7 @@
 
 #include <string>
 
-namespace gs {
+namespace gs::protocol {
 
 nlohmann::json to_json(const PaveHeader& h) {
     nlohmann::json j;
@@ -50,4 +50,4 @@ nlohmann::json to_json(const PaveFramerStats& s) {
             {"bytes_skipped", s.bytes_skipped}, {"oversize_rejections", s.oversize_rejections}};
 }
 
-}  // namespace gs
+}  // namespace gs::protocol

@@ -6,7 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
-namespace gs {
+namespace gs::protocol {
 
 // Every header field by its SDK name; video_codec/frame_type as numbers plus *_name strings;
 // reserved and extension bytes as arrays (extension only when header_size >= 68).
@@ -16,4 +16,4 @@ namespace gs {
 // {"bytes_in", "frames", "payload_bytes", "resyncs", "bytes_skipped", "oversize_rejections"}
 [[nodiscard]] nlohmann::json to_json(const PaveFramerStats& s);
 
-}  // namespace gs
+}  // namespace gs::protocol

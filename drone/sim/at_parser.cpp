@@ -5,7 +5,7 @@
 #include <charconv>
 #include <limits>
 
-namespace gs::at {
+namespace gs::sim::at {
 
 std::string_view to_string(SkipReason r) {
     switch (r) {
@@ -264,8 +264,7 @@ Expected<std::size_t, DatagramError> parse_datagram_into(std::span<const std::ui
 
 Expected<ParsedDatagram, DatagramError> parse_datagram(std::span<const std::uint8_t> bytes) {
     ParsedDatagram out;
-    auto n = parse_datagram_into(bytes, out);
-    if (!n) return Unexpected{n.error()};
+    GS_TRY(parse_datagram_into(bytes, out));
     return out;
 }
 
@@ -274,7 +273,7 @@ Expected<ParsedDatagram, DatagramError> parse_datagram(std::string_view text) {
         reinterpret_cast<const std::uint8_t*>(text.data()), text.size()));
 }
 
-bool SeqFilter::accept(const net::Endpoint& client, Seq seq) {
+bool SeqFilter::accept(const transport::Endpoint& client, Seq seq) {
     if (!has_client_ || client != client_) {
         if (has_client_) ++restarts_;
         has_client_ = true;
@@ -292,4 +291,4 @@ bool SeqFilter::accept(const net::Endpoint& client, Seq seq) {
     return true;
 }
 
-}  // namespace gs::at
+}  // namespace gs::sim::at

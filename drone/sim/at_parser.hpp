@@ -4,9 +4,9 @@
 // values out. Malformed commands are skipped like the real drone does, but never silently: each
 // one is reported with a reason.
 
+#include "drone/core/expected.hpp"
 #include "drone/protocol/at.hpp"
 #include "drone/transport/endpoint.hpp"
-#include "drone/core/expected.hpp"
 
 #include <cstddef>
 #include <cstdint>
@@ -16,7 +16,10 @@
 #include <variant>
 #include <vector>
 
-namespace gs::at {
+namespace gs::sim::at {
+
+// The drone side of protocol::at: its vocabulary (Seq, the REF bits, ...) is this one's.
+using namespace gs::protocol::at;  // NOLINT(google-build-using-namespace)
 
 struct Ref {
     std::uint32_t input = 0;  // bit field, §2.5
@@ -118,7 +121,7 @@ struct ParsedDatagram {
 // a restarted ground station. The counter starts at 0, so a first command numbered 0 is ignored.
 class SeqFilter {
 public:
-    [[nodiscard]] bool accept(const net::Endpoint& client, Seq seq);
+    [[nodiscard]] bool accept(const transport::Endpoint& client, Seq seq);
 
     [[nodiscard]] Seq last_accepted() const { return last_; }
     [[nodiscard]] std::uint64_t accepted() const { return accepted_; }
@@ -128,9 +131,9 @@ public:
 
 private:
     bool has_client_ = false;
-    net::Endpoint client_{};
+    transport::Endpoint client_{};
     Seq last_ = 0;
     std::uint64_t accepted_ = 0, rejected_ = 0, restarts_ = 0;
 };
 
-}  // namespace gs::at
+}  // namespace gs::sim::at

@@ -4,7 +4,7 @@
 
 #include <algorithm>
 
-namespace gs::navdata {
+namespace gs::sim::navdata {
 
 namespace {
 
@@ -88,4 +88,4 @@ void write_bootstrap(const Header& h, std::vector<std::uint8_t>& out) {
     (void)write_bootstrap(h, std::span<std::uint8_t>(out));
 }
 
-}  // namespace gs::navdata
+}  // namespace gs::sim::navdata

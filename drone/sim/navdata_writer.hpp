@@ -13,7 +13,10 @@
 #include <string_view>
 #include <vector>
 
-namespace gs::navdata {
+namespace gs::sim::navdata {
+
+// The drone side of protocol::navdata: it writes the decoder's types from the same layout table.
+using namespace gs::protocol::navdata;  // NOLINT(google-build-using-namespace)
 
 enum class WriteErrc : std::uint8_t {
     BufferTooSmall,  // `out` is smaller than navdata_size() (at most ~2.4 kB with every option)
@@ -37,4 +40,4 @@ inline constexpr std::size_t kBootstrapSize = kHeaderSize + kChecksumSize;
                                                                std::span<std::uint8_t> out);
 void write_bootstrap(const Header& h, std::vector<std::uint8_t>& out);
 
-}  // namespace gs::navdata
+}  // namespace gs::sim::navdata

@@ -7,7 +7,7 @@
 // procedural textures once per pixel. Deterministic: the same pose gives the same bytes.
 // Preallocated buffers: no allocation per frame once the output image has its size.
 
-#include "drone/core/calibration.hpp"
+#include "drone/core/camera_calibration.hpp"
 #include "drone/core/expected.hpp"
 #include "drone/sim/scene.hpp"
 

@@ -2,7 +2,7 @@
 
 #include <charconv>
 
-namespace gs::net {
+namespace gs::transport {
 
 std::string_view to_string(EndpointError e) {
     switch (e) {
@@ -64,4 +64,4 @@ std::string Endpoint::to_string() const {
     return address_string() + ':' + std::to_string(port);
 }
 
-}  // namespace gs::net
+}  // namespace gs::transport

@@ -9,7 +9,7 @@
 #include <string>
 #include <string_view>
 
-namespace gs::net {
+namespace gs::transport {
 
 enum class EndpointError {
     MissingPort,  // no ':' separating address and port
@@ -39,4 +39,4 @@ struct Endpoint {
     friend constexpr auto operator<=>(const Endpoint&, const Endpoint&) = default;
 };
 
-}  // namespace gs::net
+}  // namespace gs::transport

@@ -11,7 +11,7 @@
 #include <cerrno>
 #include <cstring>
 
-namespace gs::net {
+namespace gs::transport {
 
 std::string_view to_string(NetErrc c) {
     switch (c) {
@@ -138,21 +138,21 @@ Expected<Fd, NetError> open_socket(int type) {
     return fd;
 }
 
-Expected<Ok, NetError> bind_to(const Fd& fd, const Endpoint& local) {
+Expected<void, NetError> bind_to(const Fd& fd, const Endpoint& local) {
     const sockaddr_in a = to_sockaddr(local);
     if (::bind(fd.get(), reinterpret_cast<const sockaddr*>(&a), sizeof a) != 0) {
         const int err = errno;
         return Unexpected{sys_error(NetErrc::Bind, "bind " + local.to_string(), err)};
     }
-    return Ok{};
+    return {};
 }
 
-Expected<Ok, NetError> set_int_option(int fd, int level, int name, int value, const char* what) {
+Expected<void, NetError> set_int_option(int fd, int level, int name, int value, const char* what) {
     if (fd < 0) return Unexpected{not_open(what)};
     if (::setsockopt(fd, level, name, &value, sizeof value) != 0) {
         return Unexpected{sys_error(NetErrc::Socket, what)};
     }
-    return Ok{};
+    return {};
 }
 
 }  // namespace
@@ -181,11 +181,9 @@ void Fd::reset() {
 // ---- UdpSocket ------------------------------------------------------------------------------
 
 Expected<UdpSocket, NetError> UdpSocket::bind(const Endpoint& local) {
-    auto fd = open_socket(SOCK_DGRAM);
-    if (!fd) return Unexpected{fd.error()};
-    auto b = bind_to(*fd, local);
-    if (!b) return Unexpected{b.error()};
-    return UdpSocket(std::move(*fd));
+    GS_TRY_ASSIGN(auto fd, open_socket(SOCK_DGRAM));
+    GS_TRY(bind_to(fd, local));
+    return UdpSocket(std::move(fd));
 }
 
 Expected<Endpoint, NetError> UdpSocket::local_endpoint() const {
@@ -256,23 +254,22 @@ Expected<UdpSocket::Received, NetError> UdpSocket::recv_from(std::span<std::uint
     }
 }
 
-Expected<Ok, NetError> UdpSocket::set_send_buffer(int bytes) {
+Expected<void, NetError> UdpSocket::set_send_buffer(int bytes) {
     return set_int_option(fd_.get(), SOL_SOCKET, SO_SNDBUF, bytes, "setsockopt SO_SNDBUF");
 }
 
 // ---- TcpStream ------------------------------------------------------------------------------
 
 Expected<TcpStream, NetError> TcpStream::connect(const Endpoint& remote, Millis timeout) {
-    auto fd = open_socket(SOCK_STREAM);
-    if (!fd) return Unexpected{fd.error()};
+    GS_TRY_ASSIGN(auto fd, open_socket(SOCK_STREAM));
     const std::string what = "connect " + remote.to_string();
     const sockaddr_in a = to_sockaddr(remote);
-    int r = ::connect(fd->get(), reinterpret_cast<const sockaddr*>(&a), sizeof a);
+    int r = ::connect(fd.get(), reinterpret_cast<const sockaddr*>(&a), sizeof a);
     if (r != 0 && errno != EINPROGRESS && errno != EINTR) {
         return Unexpected{sys_error(NetErrc::Connect, what)};
     }
     if (r != 0) {
-        switch (wait_for(fd->get(), POLLOUT, deadline_after(timeout))) {
+        switch (wait_for(fd.get(), POLLOUT, deadline_after(timeout))) {
             case Wait::Ready:
                 break;
             case Wait::Timeout:
@@ -282,12 +279,12 @@ Expected<TcpStream, NetError> TcpStream::connect(const Endpoint& remote, Millis 
         }
         int err = 0;
         socklen_t len = sizeof err;
-        if (::getsockopt(fd->get(), SOL_SOCKET, SO_ERROR, &err, &len) != 0) {
+        if (::getsockopt(fd.get(), SOL_SOCKET, SO_ERROR, &err, &len) != 0) {
             return Unexpected{sys_error(NetErrc::Connect, what)};
         }
         if (err != 0) return Unexpected{sys_error(NetErrc::Connect, what, err)};
     }
-    return TcpStream(std::move(*fd));
+    return TcpStream(std::move(fd));
 }
 
 Expected<Endpoint, NetError> TcpStream::local_endpoint() const {
@@ -320,7 +317,7 @@ Expected<std::size_t, NetError> TcpStream::read_some(std::span<std::uint8_t> buf
     }
 }
 
-Expected<Ok, NetError> TcpStream::write_all(std::span<const std::uint8_t> bytes, Millis timeout) {
+Expected<void, NetError> TcpStream::write_all(std::span<const std::uint8_t> bytes, Millis timeout) {
     if (!fd_.valid()) return Unexpected{not_open("write")};
     const auto deadline = deadline_after(timeout);
     while (!bytes.empty()) {
@@ -344,16 +341,16 @@ Expected<Ok, NetError> TcpStream::write_all(std::span<const std::uint8_t> bytes,
                 return Unexpected{sys_error(NetErrc::Send, "poll")};
         }
     }
-    return Ok{};
+    return {};
 }
 
-Expected<Ok, NetError> TcpStream::write_all(std::string_view text, Millis timeout) {
+Expected<void, NetError> TcpStream::write_all(std::string_view text, Millis timeout) {
     return write_all(std::span<const std::uint8_t>(
                          reinterpret_cast<const std::uint8_t*>(text.data()), text.size()),
                      timeout);
 }
 
-Expected<Ok, NetError> TcpStream::set_no_delay(bool on) {
+Expected<void, NetError> TcpStream::set_no_delay(bool on) {
     return set_int_option(fd_.get(), IPPROTO_TCP, TCP_NODELAY, on ? 1 : 0,
                           "setsockopt TCP_NODELAY");
 }
@@ -369,17 +366,14 @@ void TcpStream::shutdown() {
 // ---- TcpListener ----------------------------------------------------------------------------
 
 Expected<TcpListener, NetError> TcpListener::listen(const Endpoint& local, int backlog) {
-    auto fd = open_socket(SOCK_STREAM);
-    if (!fd) return Unexpected{fd.error()};
-    auto opt = set_int_option(fd->get(), SOL_SOCKET, SO_REUSEADDR, 1, "setsockopt SO_REUSEADDR");
-    if (!opt) return Unexpected{opt.error()};
-    auto b = bind_to(*fd, local);
-    if (!b) return Unexpected{b.error()};
-    if (::listen(fd->get(), backlog) != 0) {
+    GS_TRY_ASSIGN(auto fd, open_socket(SOCK_STREAM));
+    GS_TRY(set_int_option(fd.get(), SOL_SOCKET, SO_REUSEADDR, 1, "setsockopt SO_REUSEADDR"));
+    GS_TRY(bind_to(fd, local));
+    if (::listen(fd.get(), backlog) != 0) {
         const int err = errno;
         return Unexpected{sys_error(NetErrc::Listen, "listen " + local.to_string(), err)};
     }
-    return TcpListener(std::move(*fd));
+    return TcpListener(std::move(fd));
 }
 
 Expected<Endpoint, NetError> TcpListener::local_endpoint() const {
@@ -407,4 +401,4 @@ Expected<TcpStream, NetError> TcpListener::accept(Millis timeout) {
     }
 }
 
-}  // namespace gs::net
+}  // namespace gs::transport

@@ -4,8 +4,8 @@
 // thread looping on them notices a stop flag within one timeout. Errors are values (NetError with
 // the errno text), never exceptions. The protocol codecs never see these: they get bytes.
 
-#include "drone/transport/endpoint.hpp"
 #include "drone/core/expected.hpp"
+#include "drone/transport/endpoint.hpp"
 
 #include <chrono>
 #include <cstddef>
@@ -15,7 +15,7 @@
 #include <string_view>
 #include <variant>
 
-namespace gs::net {
+namespace gs::transport {
 
 using Millis = std::chrono::milliseconds;
 
@@ -39,9 +39,6 @@ struct NetError {
     // "connect 127.0.0.1:5555: Connection refused"
     [[nodiscard]] std::string message() const;
 };
-
-// Success without a value.
-using Ok = std::monostate;
 
 // Owns one file descriptor; closes it on destruction. Move-only.
 class Fd {
@@ -91,7 +88,7 @@ public:
     [[nodiscard]] Expected<Received, NetError> recv_from(std::span<std::uint8_t> buf,
                                                          Millis timeout);
     // SO_SNDBUF (the SDK uses 256 on the AT socket to keep latency low).
-    [[nodiscard]] Expected<Ok, NetError> set_send_buffer(int bytes);
+    [[nodiscard]] Expected<void, NetError> set_send_buffer(int bytes);
     void close() { fd_.reset(); }
     [[nodiscard]] int native_handle() const { return fd_.get(); }
 
@@ -115,11 +112,11 @@ public:
     [[nodiscard]] Expected<std::size_t, NetError> read_some(std::span<std::uint8_t> buf,
                                                             Millis timeout);
     // Writes every byte within `timeout` overall (NetErrc::Timeout if the peer does not drain).
-    [[nodiscard]] Expected<Ok, NetError> write_all(std::span<const std::uint8_t> bytes,
-                                                   Millis timeout);
-    [[nodiscard]] Expected<Ok, NetError> write_all(std::string_view text, Millis timeout);
+    [[nodiscard]] Expected<void, NetError> write_all(std::span<const std::uint8_t> bytes,
+                                                     Millis timeout);
+    [[nodiscard]] Expected<void, NetError> write_all(std::string_view text, Millis timeout);
     // TCP_NODELAY: send small writes at once (control channel).
-    [[nodiscard]] Expected<Ok, NetError> set_no_delay(bool on);
+    [[nodiscard]] Expected<void, NetError> set_no_delay(bool on);
     // Ends the sending direction (the peer reads end of stream), keeps reading possible.
     void shutdown_write();
     // Ends both directions; a read_some blocked in another thread returns promptly.
@@ -152,4 +149,4 @@ private:
     Fd fd_;
 };
 
-}  // namespace gs::net
+}  // namespace gs::transport

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cstdlib>
 
-namespace gs {
+namespace gs::video {
 
 TimeNs CaptureClock::map(std::uint32_t drone_ms, TimeNs recv_ns) {
     bool anchor = !have_;
@@ -37,4 +37,4 @@ TimeNs CaptureClock::map(std::uint32_t drone_ms, TimeNs recv_ns) {
     return last_out_ns_;
 }
 
-}  // namespace gs
+}  // namespace gs::video

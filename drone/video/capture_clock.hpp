@@ -13,7 +13,7 @@
 
 #include <cstdint>
 
-namespace gs {
+namespace gs::video {
 
 struct CaptureClockParams {
     // How fast the offset may grow (drone clock slower than ours): 200 µs per second (200 ppm,
@@ -46,4 +46,4 @@ private:
     std::uint64_t anchors_ = 0;
 };
 
-}  // namespace gs
+}  // namespace gs::video

@@ -14,7 +14,7 @@ extern "C" {
 #include <mutex>
 #include <vector>
 
-namespace gs {
+namespace gs::video {
 
 std::string to_string(DecodeError e) {
     switch (e) {
@@ -249,4 +249,4 @@ Expected<DecodeStatus, DecodeError> H264Decoder::decode(const AccessUnit& au, cv
     return DecodeStatus::Frame;
 }
 
-}  // namespace gs
+}  // namespace gs::video

@@ -12,7 +12,7 @@
 #include <span>
 #include <string>
 
-namespace gs {
+namespace gs::video {
 
 struct H264DecoderStats {
     std::uint64_t access_units = 0;         // access units fed
@@ -71,4 +71,4 @@ private:
 // Splits raw .h264 files into decoder inputs; PaVE payloads are already one access unit each.
 [[nodiscard]] std::size_t access_unit_size(std::span<const std::uint8_t> annexb);
 
-}  // namespace gs
+}  // namespace gs::video

@@ -11,7 +11,7 @@ extern "C" {
 
 #include <cstring>
 
-namespace gs {
+namespace gs::video {
 
 std::string to_string(H264EncodeError e) {
     switch (e) {
@@ -132,4 +132,4 @@ std::int64_t H264Encoder::frames_encoded() const {
     return impl_->pts;
 }
 
-}  // namespace gs
+}  // namespace gs::video

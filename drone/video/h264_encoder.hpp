@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-namespace gs {
+namespace gs::video {
 
 struct H264EncoderConfig {
     int width = 640;
@@ -56,4 +56,4 @@ private:
     std::unique_ptr<Impl> impl_;
 };
 
-}  // namespace gs
+}  // namespace gs::video

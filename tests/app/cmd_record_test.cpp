@@ -63,7 +63,7 @@ protected:
 TEST_F(RecordCommand, FourSecondsOfTheVirtualDroneMakeADatasetWithLabels) {
     EXPECT_NE(result_->out.find("recorded "), std::string::npos) << result_->out;
     EXPECT_NE(result_->out.find(" 0 drops"), std::string::npos) << result_->out;
-    auto d = gs::Dataset::open(dir());
+    auto d = gs::dataset::Dataset::open(dir());
     ASSERT_TRUE(d) << gs::to_string(d.error());
     // 30 fps for 4 s; the virtual drone renders in real time and falls behind on a loaded machine
     // (ctest -j2 beside the other programs), so only a few seconds of frames are required here.
@@ -74,7 +74,7 @@ TEST_F(RecordCommand, FourSecondsOfTheVirtualDroneMakeADatasetWithLabels) {
     EXPECT_FALSE(d->calibration_is_default());
     EXPECT_TRUE(d->has_navdata());
     ASSERT_TRUE(d->labels());
-    EXPECT_EQ(d->labels()->scenario, gs::Scenario::Left);
+    EXPECT_EQ(d->labels()->scenario, gs::dataset::Scenario::Left);
     ASSERT_TRUE(d->label_rows());
     const auto& labels = *d->label_rows();
     ASSERT_EQ(labels.size(), static_cast<std::size_t>(d->frame_count()));
@@ -85,7 +85,7 @@ TEST_F(RecordCommand, FourSecondsOfTheVirtualDroneMakeADatasetWithLabels) {
 }
 
 TEST_F(RecordCommand, FrameAttitudeIsTheNavdataInterpolation) {
-    auto d = gs::Dataset::open(dir());
+    auto d = gs::dataset::Dataset::open(dir());
     ASSERT_TRUE(d) << gs::to_string(d.error());
     const auto& navs = d->navdata();
     std::size_t checked = 0;
@@ -104,10 +104,10 @@ TEST_F(RecordCommand, FrameAttitudeIsTheNavdataInterpolation) {
 }
 
 TEST_F(RecordCommand, RawReplayReproducesFramesCsv) {
-    auto d = gs::Dataset::open(dir());
+    auto d = gs::dataset::Dataset::open(dir());
     ASSERT_TRUE(d) << gs::to_string(d.error());
-    auto dec = gs::make_protocol_replay_decoders();
-    auto rows = gs::replay_raw(dir() / "raw", dec);
+    auto dec = gs::dataset::make_protocol_replay_decoders();
+    auto rows = gs::dataset::replay_raw(dir() / "raw", dec);
     ASSERT_TRUE(rows) << gs::to_string(rows.error());
     ASSERT_EQ(rows->size(), d->frames().size());
     auto same = [](double a, double b) { return (std::isnan(a) && std::isnan(b)) || a == b; };
@@ -122,34 +122,25 @@ TEST_F(RecordCommand, RawReplayReproducesFramesCsv) {
 // The classifier re-run over the recorded dataset (pixels from video.h264, time and attitude
 // from frames.csv: what replay does) decides exactly what the live run logged.
 TEST_F(RecordCommand, LiveDecisionsAreReproducedFromTheDataset) {
-    auto d = gs::Dataset::open(dir());
+    auto d = gs::dataset::Dataset::open(dir());
     ASSERT_TRUE(d) << gs::to_string(d.error());
-    auto live = gs::csv::Table::parse(gs::test::read_text(dir() / "live_decisions.csv"),
-                                      "live_decisions.csv");
+    auto live = gs::dataset::csv::Table::parse(gs::test::read_text(dir() / "live_decisions.csv"),
+                                               "live_decisions.csv");
     ASSERT_TRUE(live) << gs::to_string(live.error());
     const std::vector<std::string> cols = {"frame", "t_ms",       "left",         "center",
                                            "right", "left_score", "center_score", "right_score"};
     ASSERT_EQ(live->header(), cols);
     ASSERT_EQ(live->rows(), static_cast<std::size_t>(d->frame_count()));
 
-    const gs::CameraCalibration& c = d->calibration();
-    gs::vision::CameraCalibration vc;
-    vc.width = c.width;
-    vc.height = c.height;
-    vc.fx = c.fx;
-    vc.fy = c.fy;
-    vc.cx = c.cx;
-    vc.cy = c.cy;
-    vc.dist = c.dist;
-    auto classifier = gs::vision::make_classifier("thesis", vc);
+    auto classifier = gs::vision::make_classifier("thesis", d->calibration());
     ASSERT_TRUE(classifier);
-    auto store = gs::open_video_frames(*d);
+    auto store = gs::dataset::open_video_frames(*d);
     ASSERT_TRUE(store) << gs::to_string(store.error());
     cv::Mat image;
     int unsafe_frames = 0;
     for (std::int64_t i = 0; i < d->frame_count(); ++i) {
         ASSERT_FALSE((*store)->read(i, image)) << i;
-        const gs::FrameRow& row = d->frames()[static_cast<std::size_t>(i)];
+        const gs::dataset::FrameRow& row = d->frames()[static_cast<std::size_t>(i)];
         gs::vision::FrameInput in;
         in.image = image;
         in.t_ns = row.nav.t_ns;
@@ -162,11 +153,11 @@ TEST_F(RecordCommand, LiveDecisionsAreReproducedFromTheDataset) {
         const auto& res = classifier->process(in);
         const auto r = static_cast<std::size_t>(i);
         EXPECT_EQ(live->field(r, 0), std::to_string(i));
-        EXPECT_EQ(live->field(r, 1), gs::csv::format_ms(row.nav.t_ns)) << i;
+        EXPECT_EQ(live->field(r, 1), gs::dataset::csv::format_ms(row.nav.t_ns)) << i;
         for (std::size_t k = 0; k < 3; ++k) {
             const auto& reg = res.regions[k];
             EXPECT_EQ(live->field(r, 2 + k), reg.unsafe ? "1" : "0") << "frame " << i << " " << k;
-            EXPECT_EQ(live->field(r, 5 + k), gs::csv::format_number(reg.score))
+            EXPECT_EQ(live->field(r, 5 + k), gs::dataset::csv::format_number(reg.score))
                 << "frame " << i << " " << k;
             unsafe_frames += reg.unsafe ? 1 : 0;
         }
@@ -210,7 +201,7 @@ TEST(Record, KilledRecordingIsReadableToWithinOneSecond) {
     ::waitpid(pid, &status, 0);
     ASSERT_TRUE(WIFSIGNALED(status));
 
-    auto d = gs::Dataset::open(out);
+    auto d = gs::dataset::Dataset::open(out);
     ASSERT_TRUE(d) << gs::to_string(d.error());
     ASSERT_GT(d->frame_count(), 0);
     EXPECT_FALSE(d->info().frames);  // never finalised

@@ -28,27 +28,27 @@ inline std::vector<std::uint8_t> read_bytes(const std::string& path) {
 struct OwnedFrame {
     std::uint64_t index = 0;
     std::uint64_t stream_offset = 0;
-    PaveHeader header;
+    protocol::PaveHeader header;
     std::vector<std::uint8_t> payload;
     bool operator==(const OwnedFrame&) const = default;
 };
 
 struct FramerRun {
     std::vector<OwnedFrame> frames;
-    std::vector<PaveResync> resyncs;
+    std::vector<protocol::PaveResync> resyncs;
     std::vector<int> order;  // 0 = frame, 1 = resync, in event order
-    PaveFramerStats stats;
-    PavePending pending;
+    protocol::PaveFramerStats stats;
+    protocol::PavePending pending;
 };
 
-inline void drain(PaveFramer& framer, FramerRun& run) {
+inline void drain(protocol::PaveFramer& framer, FramerRun& run) {
     while (auto ev = framer.next()) {
-        if (const auto* f = std::get_if<PaveFrame>(&*ev)) {
+        if (const auto* f = std::get_if<protocol::PaveFrame>(&*ev)) {
             run.frames.push_back(OwnedFrame{
                 f->index, f->stream_offset, f->header, {f->payload.begin(), f->payload.end()}});
             run.order.push_back(0);
         } else {
-            run.resyncs.push_back(std::get<PaveResync>(*ev));
+            run.resyncs.push_back(std::get<protocol::PaveResync>(*ev));
             run.order.push_back(1);
         }
     }
@@ -57,8 +57,8 @@ inline void drain(PaveFramer& framer, FramerRun& run) {
 // Pushes `bytes` in chunks of `chunk` bytes (0 = all at once; negative = random sizes 1..-chunk
 // from a fixed seed) and collects everything the framer reports.
 inline FramerRun run_framer(const std::vector<std::uint8_t>& bytes, int chunk,
-                            PaveFramerConfig config = {}) {
-    PaveFramer framer(config);
+                            protocol::PaveFramerConfig config = {}) {
+    protocol::PaveFramer framer(config);
     FramerRun run;
     std::mt19937 rng(12345);
     std::size_t pos = 0;

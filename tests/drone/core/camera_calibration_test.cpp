@@ -1,7 +1,8 @@
-// drone/calibration: the one calibration record: JSON in the flight.json / assets shape, save and
-// load round trip, defaults from assets, scaling, and the distortion helpers.
+// drone/core/camera_calibration: the one calibration record and its file codec: JSON in the
+// flight.json / assets / `calibrate` shape, save and load round trip with the notes, whole
+// flight.json files, defaults from assets, scaling, and the distortion helpers.
 
-#include "drone/core/calibration.hpp"
+#include "drone/core/camera_calibration.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -50,10 +51,10 @@ TEST(Calibration, RejectsBadObjectsNamingTheKey) {
     auto a = parse(R"({"fx": 1, "fy": 1, "cx": 0})");
     ASSERT_FALSE(a);
     EXPECT_EQ(a.error().key, "cy");
-    EXPECT_EQ(a.error().code, DatasetErrorCode::Missing);
+    EXPECT_EQ(a.error().code, FileErrorCode::Missing);
     auto b = parse(R"({"fx": -1, "fy": 1, "cx": 0, "cy": 0})");
     ASSERT_FALSE(b);
-    EXPECT_EQ(b.error().code, DatasetErrorCode::OutOfRange);
+    EXPECT_EQ(b.error().code, FileErrorCode::OutOfRange);
     auto d = parse(R"({"fx": 1, "fy": 1, "cx": 0, "cy": 0, "dist": [1, 2, 3]})");
     ASSERT_FALSE(d);
     EXPECT_EQ(d.error().key, "dist");
@@ -63,14 +64,15 @@ TEST(Calibration, RejectsBadObjectsNamingTheKey) {
     auto s = parse(R"({"fx": 1, "fy": 1, "cx": "0", "cy": 0})");
     ASSERT_FALSE(s);
     EXPECT_EQ(s.error().key, "cx");
-    EXPECT_EQ(s.error().code, DatasetErrorCode::Malformed);
+    EXPECT_EQ(s.error().code, FileErrorCode::Malformed);
 }
 
 TEST(Calibration, SaveLoadRoundTrip) {
     TempFile f("cam.json");
     CameraCalibration c = builtin_calibration(CameraId::Front);
     c.source = "test \"quoted\"";
-    ASSERT_FALSE(save_calibration_file(f.path, c));
+    auto saved = save_calibration_file(f.path, c);
+    ASSERT_TRUE(saved) << to_string(saved.error());
     auto back = load_calibration_file(f.path);
     ASSERT_TRUE(back) << to_string(back.error());
     EXPECT_EQ(back->fx, c.fx);
@@ -83,6 +85,95 @@ TEST(Calibration, SaveLoadRoundTrip) {
     EXPECT_EQ(back->source, c.source);
 }
 
+TEST(Calibration, NotesRoundTripAndUnknownNotesStayUnknown) {
+    TempFile f("notes.json");
+    CameraCalibration c = builtin_calibration(CameraId::Bottom);
+    CalibrationInfo info;
+    info.camera = "bottom";
+    info.rms_px = 0.31;
+    info.std_dev = {1.5, 1.25, 0.5, 0.75, 0.01, 0.02, kUnknown, 0.004, kUnknown};
+    info.views = 17;
+    ASSERT_TRUE(save_calibration_file(f.path, c, info));
+    auto back = load_calibration_document(f.path);
+    ASSERT_TRUE(back) << to_string(back.error());
+    EXPECT_EQ(back->camera.fx, c.fx);
+    EXPECT_EQ(back->camera.source, c.source);
+    EXPECT_EQ(back->info.camera, "bottom");
+    EXPECT_EQ(back->info.rms_px, 0.31);
+    EXPECT_EQ(back->info.views, 17);
+    EXPECT_EQ(back->info.std_dev[0], 1.5);
+    EXPECT_EQ(back->info.std_dev[7], 0.004);
+    EXPECT_FALSE(known(back->info.std_dev[6]));  // written as null, read back as unknown
+    EXPECT_FALSE(known(back->info.std_dev[8]));
+    // Without notes nothing unknown is written.
+    TempFile g("plain.json");
+    ASSERT_TRUE(save_calibration_file(g.path, c));
+    auto plain = load_calibration_document(g.path);
+    ASSERT_TRUE(plain);
+    EXPECT_FALSE(known(plain->info.rms_px));
+    EXPECT_EQ(plain->info.views, 0);
+    EXPECT_TRUE(plain->info.camera.empty());
+}
+
+TEST(Calibration, ReadsAWholeFlightJson) {
+    // DATASET.md's example flight.json: the size is at the top level.
+    const char* flight = R"({ "format": "ardrone-dataset", "version": 1, "camera": "front",
+      "width": 640, "height": 360, "fps": 30, "frames": 190,
+      "calibration": { "fx": 571.37, "fy": 569.36, "cx": 329.85, "cy": 177.76,
+                       "dist": [-0.5176, 0.2687, 0.0001, 0.0013, 0.0] },
+      "source": "recorded" })";
+    auto d = parse_calibration(flight, "flight.json");
+    ASSERT_TRUE(d) << to_string(d.error());
+    EXPECT_EQ(d->camera.width, 640);
+    EXPECT_EQ(d->camera.height, 360);
+    EXPECT_DOUBLE_EQ(d->camera.fx, 571.37);
+    EXPECT_DOUBLE_EQ(d->camera.dist[1], 0.2687);
+    EXPECT_EQ(d->info.camera, "front");
+    // A 4-coefficient file: k3 = 0.
+    auto four = parse_calibration(
+        R"({"width":640,"height":360,"fx":1,"fy":1,"cx":0,"cy":0,"dist":[0.1,0.2,0.3,0.4]})",
+        "four.json");
+    ASSERT_TRUE(four);
+    EXPECT_DOUBLE_EQ(four->camera.dist[3], 0.4);
+    EXPECT_DOUBLE_EQ(four->camera.dist[4], 0.0);
+    // A bad key inside flight.json's object is named with its path.
+    auto bad = parse_calibration(R"({"width": 640, "height": 360,
+      "calibration": {"fx": -1, "fy": 1, "cx": 0, "cy": 0}})",
+                                 "flight.json");
+    ASSERT_FALSE(bad);
+    EXPECT_EQ(bad.error().code, FileErrorCode::OutOfRange);
+    EXPECT_EQ(to_string(bad.error()),
+              "flight.json:2:23: 'calibration.fx': focal lengths must be positive");
+}
+
+TEST(Calibration, BadTextsGiveTypedErrors) {
+    auto code = [](const char* text) {
+        auto r = parse_calibration(text, "c.json");
+        return r ? std::string("ok") : to_string(r.error().code);
+    };
+    const std::string malformed = to_string(FileErrorCode::Malformed);
+    EXPECT_EQ(code("{"), malformed);
+    EXPECT_EQ(code("[1,2]"), malformed);
+    EXPECT_EQ(code(R"({"width":640,"height":360,"fy":1,"cx":0,"cy":0,"dist":[0,0,0,0,0]})"),
+              to_string(FileErrorCode::Missing));  // no fx
+    EXPECT_EQ(code(R"({"width":640,"height":360,"fx":1,"fy":1,"cx":0,"cy":0,"dist":[0,0,0]})"),
+              malformed);
+    EXPECT_EQ(code(R"({"width":640,"height":360,"fx":-5,"fy":1,"cx":0,"cy":0,"dist":[0,0,0,0,0]})"),
+              to_string(FileErrorCode::OutOfRange));
+    EXPECT_EQ(code(R"({"width":64.5,"height":360,"fx":5,"fy":1,"cx":0,"cy":0,"dist":[0,0,0,0,0]})"),
+              malformed);
+    // The size is optional (the flight's), but never half of it.
+    EXPECT_EQ(code(R"({"fx":1,"fy":1,"cx":0,"cy":0,"dist":[0,0,0,0,0]})"), "ok");
+    EXPECT_EQ(code(R"({"width":640,"fx":1,"fy":1,"cx":0,"cy":0})"),
+              to_string(FileErrorCode::Missing));
+    // Saving refuses an invalid calibration and reports a directory it cannot write.
+    EXPECT_FALSE(save_calibration_file("/tmp/gs_never_written.json", CameraCalibration{}));
+    auto unwritable =
+        save_calibration_file("/nonexistent/dir/x.json", builtin_calibration(CameraId::Front));
+    ASSERT_FALSE(unwritable);
+    EXPECT_EQ(unwritable.error().code, FileErrorCode::Io);
+}
+
 TEST(Calibration, FileErrorsNameFileAndLine) {
     TempFile f("bad.json");
     f.write("{\n  \"fx\": 1, \"fy\": 1, \"cx\": 0, \"cy\": 0,\n  \"dist\": [1]\n}\n");
@@ -93,7 +184,7 @@ TEST(Calibration, FileErrorsNameFileAndLine) {
         f.path.string() + ":3:3: 'dist': expected an array of 4 or 5 numbers (k1, k2, p1, p2, k3)");
     auto missing = load_calibration_file(f.path.parent_path() / "nope.json");
     ASSERT_FALSE(missing);
-    EXPECT_EQ(missing.error().code, DatasetErrorCode::Missing);
+    EXPECT_EQ(missing.error().code, FileErrorCode::Missing);
 }
 
 TEST(Calibration, DefaultsComeFromTheAssets) {
@@ -118,7 +209,7 @@ TEST(Calibration, ScaledToKeepsPixelCentres) {
     c.width = 640;
     c.height = 360;
     c.dist = {-0.5, 0.2, 0, 0, 0};
-    const CameraCalibration h = scaled_to(c, 320, 180);
+    const CameraCalibration h = c.scaled_to(320, 180);
     EXPECT_EQ(h.fx, 280);
     EXPECT_EQ(h.fy, 250);
     EXPECT_EQ(h.cx, 159.5);  // (319.5 + 0.5) / 2 - 0.5: still the image centre
@@ -127,7 +218,7 @@ TEST(Calibration, ScaledToKeepsPixelCentres) {
     EXPECT_EQ(h.width, 320);
     // an unknown source size is taken as the target size
     c.width = c.height = 0;
-    const CameraCalibration u = scaled_to(c, 320, 180);
+    const CameraCalibration u = c.scaled_to(320, 180);
     EXPECT_EQ(u.fx, 560);
     EXPECT_EQ(u.width, 320);
 }

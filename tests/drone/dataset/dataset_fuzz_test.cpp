@@ -9,6 +9,8 @@
 namespace gs {
 namespace {
 
+using namespace dataset;
+
 // Every prefix and a few thousand random mutations of valid files: the parsers return a value or
 // an error, never crash or read out of bounds (run under ASan/UBSan in the sanitizer build).
 TEST(DatasetFuzz, ParsersSurviveTruncationAndGarbage) {

@@ -10,6 +10,8 @@
 namespace gs {
 namespace {
 
+using namespace dataset;
+
 // Stand-in parsers (the real navdata parser and PaVE framer are bound after merge): a navdata
 // datagram is a little-endian double roll; every video chunk completes one frame captured 1 ms
 // before it arrived.

@@ -13,6 +13,8 @@
 
 namespace gs {
 namespace {
+
+using namespace dataset;
 namespace fs = std::filesystem;
 using test::TempDir;
 using test::write_file;
@@ -236,7 +238,7 @@ TEST(DatasetReader, RawFilesThatLinkOutsideAreRefused) {
     ASSERT_TRUE(d->raw_dir());
     auto at = read_at_log(*d->raw_dir());
     ASSERT_FALSE(at);
-    EXPECT_EQ(at.error().code, DatasetErrorCode::UnsafePath);
+    EXPECT_EQ(at.error().code, FileErrorCode::UnsafePath);
     EXPECT_NE(to_string(at.error()).find("raw/at.log"), std::string::npos) << to_string(at.error());
     // The thesis layout's IMU file too.
     const fs::path thesis = t / "thesis";

@@ -8,6 +8,8 @@
 
 namespace gs {
 namespace {
+
+using namespace dataset;
 namespace fs = std::filesystem;
 using test::TempDir;
 

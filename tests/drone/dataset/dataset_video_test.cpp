@@ -12,6 +12,8 @@
 
 namespace gs {
 namespace {
+
+using namespace dataset;
 namespace fs = std::filesystem;
 
 // Re-records the PaVE fixture's H.264 access units as a dataset, then decodes it back.

@@ -14,6 +14,8 @@
 
 namespace gs {
 namespace {
+
+using namespace dataset;
 namespace fs = std::filesystem;
 using test::TempDir;
 
@@ -210,7 +212,7 @@ TEST(DatasetWriter, RefusesANonEmptyDirectory) {
     FakeClock clock(0);
     auto w = DatasetWriter::create(t / "rec", {}, clock);
     ASSERT_FALSE(w);
-    EXPECT_EQ(w.error().code, DatasetErrorCode::Io);
+    EXPECT_EQ(w.error().code, FileErrorCode::Io);
 }
 
 TEST(RawFiles, TruncatedTailAndAbsurdLengths) {
@@ -238,8 +240,8 @@ TEST(RawFiles, TruncatedTailAndAbsurdLengths) {
     bad[9] = '\xFF';
     bad[10] = '\xFF';
     bad[11] = '\x7F';
-    auto r =
-        parse_navdata_bin(std::span(reinterpret_cast<const std::uint8_t*>(bad.data()), bad.size()));
+    auto r = parse_navdata_bin(
+        std::span(reinterpret_cast<const std::uint8_t*>(bad.data()), bad.size()));
     ASSERT_FALSE(r);
     EXPECT_EQ(to_string(r.error()),
               "raw/navdata.bin: record 0 at byte 0 claims 2147483647 bytes (limit 65507)");

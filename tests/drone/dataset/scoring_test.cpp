@@ -8,6 +8,8 @@
 namespace gs {
 namespace {
 
+using namespace dataset;
+
 std::vector<LabelRow> labels(const std::vector<double>& d) {
     std::vector<LabelRow> v;
     for (std::size_t i = 0; i < d.size(); ++i)
@@ -22,7 +24,8 @@ constexpr RegionFlags kR{false, false, true};
 
 TEST(Scoring, LeftFlightDetectedAtTheFirstFlagAtOrBeyondTheStoppingDistance) {
     const auto l = labels({5, 4, 3, 2, 1, 0.5, -0.5});
-    const FlightScore s = score_flight(Scenario::Left, l, {kNone, kNone, kNone, kL, kL, kL, kNone});
+    const FlightScore s =
+        score_flight(Scenario::Left, l, {kNone, kNone, kNone, kL, kL, kL, kNone});
     EXPECT_EQ(s.tp, 1);
     EXPECT_EQ(s.fn, 0);
     EXPECT_EQ(s.fp, 0);
@@ -37,14 +40,15 @@ TEST(Scoring, LeftFlightDetectedAtTheFirstFlagAtOrBeyondTheStoppingDistance) {
 }
 
 TEST(Scoring, ExactlyTheStoppingDistanceCounts) {
-    const FlightScore s = score_flight(Scenario::Center, labels({1.5, 0.7, 0.5}), {kNone, kC, kC});
+    const FlightScore s =
+        score_flight(Scenario::Center, labels({1.5, 0.7, 0.5}), {kNone, kC, kC});
     EXPECT_EQ(s.tp, 1);
     EXPECT_DOUBLE_EQ(*s.detection_distance_m, 0.7);
 }
 
 TEST(Scoring, FlaggedOnlyTooLateIsAMissWithItsDistanceReported) {
-    const FlightScore s =
-        score_flight(Scenario::Right, labels({3, 2, 1, 0.6, 0.3}), {kNone, kNone, kNone, kR, kR});
+    const FlightScore s = score_flight(
+        Scenario::Right, labels({3, 2, 1, 0.6, 0.3}), {kNone, kNone, kNone, kR, kR});
     EXPECT_EQ(s.tp, 0);
     EXPECT_EQ(s.fn, 1);
     EXPECT_FALSE(s.detection_distance_m);
@@ -54,17 +58,20 @@ TEST(Scoring, FlaggedOnlyTooLateIsAMissWithItsDistanceReported) {
 
 TEST(Scoring, OppositeSideIsAFalsePositiveButNotOncePassedAndTheCentreIsNeither) {
     // Right flagged while the obstacle is ahead: a wrong-side alarm.
-    FlightScore s = score_flight(Scenario::Left, labels({4, 3, 2, -0.2}), {kR, kNone, kL, kNone});
+    FlightScore s = score_flight(Scenario::Left, labels({4, 3, 2, -0.2}),
+                                                   {kR, kNone, kL, kNone});
     EXPECT_EQ(s.tp, 1);
     EXPECT_EQ(s.fp, 1);
     EXPECT_TRUE(s.false_regions[2]);
     EXPECT_EQ(s.false_regions_text(), "right");
     EXPECT_EQ(*s.first_false_frame, 0);
     // Right flagged only after passing: not scored.
-    s = score_flight(Scenario::Left, labels({4, 3, 2, -0.2}), {kNone, kNone, kL, kR});
+    s = score_flight(Scenario::Left, labels({4, 3, 2, -0.2}),
+                              {kNone, kNone, kL, kR});
     EXPECT_EQ(s.fp, 0);
     // Centre flagged during a side flight: neither rewarded nor punished, but counted.
-    s = score_flight(Scenario::Left, labels({4, 3, 2, 1}), {kC, kC, kNone, kNone});
+    s = score_flight(Scenario::Left, labels({4, 3, 2, 1}),
+                              {kC, kC, kNone, kNone});
     EXPECT_EQ(s.fp, 0);
     EXPECT_EQ(s.fn, 1);
     EXPECT_EQ(s.other_flag_frames[1], 2);
@@ -72,11 +79,13 @@ TEST(Scoring, OppositeSideIsAFalsePositiveButNotOncePassedAndTheCentreIsNeither)
 
 TEST(Scoring, OpenSpaceAnyFlagAnywhereIsAFalsePositive) {
     const std::vector<LabelRow> none;
-    FlightScore s = score_flight(Scenario::None, none, {kNone, kNone, kNone});
+    FlightScore s =
+        score_flight(Scenario::None, none, {kNone, kNone, kNone});
     EXPECT_EQ(s.tn, 1);
     EXPECT_EQ(s.fp, 0);
     EXPECT_EQ(s.scored_frames, 3);
-    s = score_flight(Scenario::None, none, {kNone, kC, RegionFlags{false, true, true}});
+    s = score_flight(Scenario::None, none,
+                              {kNone, kC, RegionFlags{false, true, true}});
     EXPECT_EQ(s.tn, 0);
     EXPECT_EQ(s.fp, 1);
     EXPECT_EQ(s.false_regions_text(), "center+right");
@@ -94,12 +103,15 @@ TEST(Scoring, FramesWithoutADistanceAreNotScored) {
 
 TEST(Scoring, SummaryRatesAndDistances) {
     ScoreSummary sum;
-    sum.add(score_flight(Scenario::Left, labels({3, 2}), {kL, kNone}));      // TP at 3
-    sum.add(score_flight(Scenario::Right, labels({3, 2}), {kL, kR}));        // TP at 2 + FP
+    sum.add(
+        score_flight(Scenario::Left, labels({3, 2}), {kL, kNone}));  // TP at 3
+    sum.add(
+        score_flight(Scenario::Right, labels({3, 2}), {kL, kR}));  // TP at 2 + FP
     sum.add(score_flight(Scenario::Right, labels({3, 2}), {kNone, kNone}));  // FN
-    sum.add(score_flight(Scenario::Center, labels({2, 1}), {kNone, kC}));    // TP at 1
-    sum.add(score_flight(Scenario::None, {}, {kNone, kNone}));               // TN
-    sum.add(score_flight(Scenario::None, {}, {kNone, kC}));                  // FP centre
+    sum.add(
+        score_flight(Scenario::Center, labels({2, 1}), {kNone, kC}));  // TP at 1
+    sum.add(score_flight(Scenario::None, {}, {kNone, kNone}));         // TN
+    sum.add(score_flight(Scenario::None, {}, {kNone, kC}));  // FP centre
     EXPECT_EQ(sum.flights, 6);
     EXPECT_EQ(sum.side_flights, 3);
     EXPECT_EQ(sum.side_tp, 2);

@@ -1,4 +1,5 @@
 #include "drone/link/at_scheduler.hpp"
+#include "support/state_bits.hpp"
 
 #include <gtest/gtest.h>
 
@@ -6,11 +7,11 @@ using namespace gs;
 using namespace gs::link;
 
 namespace {
-constexpr std::uint32_t kEmergencyBit = 1u << 31;
-constexpr std::uint32_t kLanded = 0x0F800000;  // threads running, FLY clear
-constexpr std::uint32_t kFlying = kLanded | 1u;
-constexpr std::uint32_t kWatchdogBit = 1u << 30;
-constexpr std::uint32_t kBootstrapBit = 1u << 11;
+constexpr std::uint32_t kEmergencyBit = test::kEmergency;
+constexpr std::uint32_t kLanded = test::kThreads;  // threads running, FLY clear
+constexpr std::uint32_t kFlying = kLanded | test::kFly;
+constexpr std::uint32_t kWatchdogBit = test::kComWdg;
+constexpr std::uint32_t kBootstrapBit = test::kBootstrap;
 const std::string kRefLand = "290717696", kRefFly = "290718208", kRefToggle = "290717952";
 
 bool has(const std::string& cycle_text, const std::string& what) {

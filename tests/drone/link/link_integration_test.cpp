@@ -1,10 +1,12 @@
 // The ground station's link against the virtual drone over real loopback sockets (ephemeral
 // ports): bootstrap, configuration, flight, video, and the faults a Wi-Fi link suffers.
 #include "drone/link/drone_link.hpp"
-#include "drone/transport/net.hpp"
 #include "drone/protocol/pave.hpp"
 #include "drone/sim/scenarios.hpp"
 #include "drone/sim/virtual_drone.hpp"
+#include "drone/transport/net.hpp"
+#include "support/virtual_drone.hpp"
+#include "support/wait.hpp"
 
 #include "support/state_bits.hpp"
 
@@ -17,24 +19,13 @@
 #include <thread>
 
 using namespace gs;
+using namespace gs::protocol;
 using namespace gs::link;
 using namespace std::chrono_literals;
 
 namespace {
 
-// Waits (polling, bounded) until `pred` holds; returns how long it took, or nullopt on timeout.
-std::optional<std::chrono::milliseconds> wait_for(const std::function<bool()>& pred,
-                                                  std::chrono::milliseconds timeout) {
-    const auto t0 = std::chrono::steady_clock::now();
-    while (std::chrono::steady_clock::now() - t0 < timeout) {
-        if (pred()) {
-            return std::chrono::duration_cast<std::chrono::milliseconds>(
-                std::chrono::steady_clock::now() - t0);
-        }
-        std::this_thread::sleep_for(5ms);
-    }
-    return std::nullopt;
-}
+using test::wait_until;
 
 struct Rig {
     std::unique_ptr<sim::VirtualDrone> drone;
@@ -43,27 +34,18 @@ struct Rig {
     explicit Rig(double battery = 100.0, bool video = true, bool autopilot = false) {
         auto scene = sim::resolve_scene("thesis_pillar_center");
         EXPECT_TRUE(scene) << (scene ? "" : sim::to_string(scene.error()));
-        sim::VirtualDroneOptions vo;
-        vo.bind_address = "127.0.0.1";
-        vo.at_port = vo.navdata_port = vo.video_port = vo.control_port = 0;
-        vo.scene = *scene;
+        sim::VirtualDroneOptions vo = test::loopback_drone_options(*scene);
         vo.video = video;
         vo.core.battery_pct = battery;
         vo.autopilot = autopilot;
         drone = std::make_unique<sim::VirtualDrone>(vo);
         auto s = drone->start();
-        EXPECT_TRUE(s) << (s ? "" : s.error());
-        LinkConfig lc;
-        lc.drone_address = "127.0.0.1";
-        lc.bind_address = "127.0.0.1";
-        lc.at_port = drone->at_port();
-        lc.navdata_port = drone->navdata_port();
-        lc.video_port = drone->video_port();
-        lc.control_port = drone->control_port();
+        EXPECT_TRUE(s) << (s ? "" : s.error().message);
+        LinkConfig lc = test::link_config_for(*drone);
         lc.video = video;
         link = std::make_unique<DroneLink>(lc);
         auto l = link->start();
-        EXPECT_TRUE(l) << (l ? "" : l.error());
+        EXPECT_TRUE(l) << (l ? "" : l.error().message);
     }
     ~Rig() {
         link->stop();
@@ -95,13 +77,13 @@ struct Rig {
 
 TEST(LinkIntegration, BootstrapsConfiguresTakesOffFliesForwardAndLands) {
     Rig rig;
-    ASSERT_TRUE(wait_for([&] { return rig.connected(); }, 5s)) << rig.link->status().reason;
+    ASSERT_TRUE(wait_until([&] { return rig.connected(); }, 5s)) << rig.link->status().reason;
     EXPECT_EQ(rig.drone->status().counters.configs, 1u);  // general:navdata_demo
     EXPECT_TRUE(rig.link->status().machine.configs_sent >= 1);
 
     auto r = rig.link->execute(Takeoff{}, 1s);
     ASSERT_EQ(r.code, ResultCode::Sent) << r.reason;
-    ASSERT_TRUE(wait_for([&] { return rig.major() == 4; }, 6s)) << "never hovering";
+    ASSERT_TRUE(wait_until([&] { return rig.major() == 4; }, 6s)) << "never hovering";
     const double x0 = rig.drone->ground_truth().pose.x_m;
 
     ASSERT_TRUE(rig.link->execute(Move{0, -0.5f, 0, 0}, 1s).ok());
@@ -117,7 +99,7 @@ TEST(LinkIntegration, BootstrapsConfiguresTakesOffFliesForwardAndLands) {
     EXPECT_NEAR(nav->state.altitude_m, rig.drone->ground_truth().pose.z_m, 0.1);
 
     ASSERT_TRUE(rig.link->execute(Land{}, 1s).ok());
-    ASSERT_TRUE(wait_for([&] { return rig.major() == 2; }, 6s)) << "never landed";
+    ASSERT_TRUE(wait_until([&] { return rig.major() == 2; }, 6s)) << "never landed";
 
     // Video: decoded frames at the display size, in order, without errors.
     auto frame = rig.link->video().latest();
@@ -135,7 +117,7 @@ TEST(LinkIntegration, BootstrapsConfiguresTakesOffFliesForwardAndLands) {
 
 TEST(LinkIntegration, WritesAreVerifiedAndIgnoredKeysReported) {
     Rig rig(100.0, false);
-    ASSERT_TRUE(wait_for([&] { return rig.connected(); }, 5s));
+    ASSERT_TRUE(wait_until([&] { return rig.connected(); }, 5s));
     auto ok = rig.link->execute(SetConfig{"control:altitude_max", "2500", true}, 5s);
     EXPECT_EQ(ok.code, ResultCode::Sent) << ok.reason;
     auto ignored = rig.link->execute(SetConfig{"video:no_such_key", "1", true}, 5s);
@@ -152,8 +134,8 @@ TEST(LinkIntegration, WritesAreVerifiedAndIgnoredKeysReported) {
 
 TEST(LinkIntegration, TakeOffIsRefusedBelowTwentyPercentBattery) {
     Rig rig(15.0, false);
-    ASSERT_TRUE(wait_for([&] { return rig.connected(); }, 5s));
-    ASSERT_TRUE(wait_for([&] { return rig.link->navdata().latest().has_value(); }, 2s));
+    ASSERT_TRUE(wait_until([&] { return rig.connected(); }, 5s));
+    ASSERT_TRUE(wait_until([&] { return rig.link->navdata().latest().has_value(); }, 2s));
     auto r = rig.link->execute(Takeoff{}, 1s);
     EXPECT_EQ(r.code, ResultCode::Rejected);
     EXPECT_NE(r.reason.find("battery 15 %"), std::string::npos) << r.reason;
@@ -161,7 +143,7 @@ TEST(LinkIntegration, TakeOffIsRefusedBelowTwentyPercentBattery) {
 
 TEST(LinkIntegration, ThirtyPercentNavdataLossKeepsTheLinkConnectedAndCountsGaps) {
     Rig rig(100.0, false);
-    ASSERT_TRUE(wait_for([&] { return rig.connected(); }, 5s));
+    ASSERT_TRUE(wait_until([&] { return rig.connected(); }, 5s));
     sim::NavdataFaults f;
     f.loss = 0.3;
     rig.drone->inject(sim::FaultNavdata{f});
@@ -183,15 +165,15 @@ TEST(LinkIntegration, ThirtyPercentNavdataLossKeepsTheLinkConnectedAndCountsGaps
 
 TEST(LinkIntegration, ABlackoutIsLinkLostWithinHalfASecondAndRecoveredWithinOne) {
     Rig rig(100.0, false);
-    ASSERT_TRUE(wait_for([&] { return rig.connected(); }, 5s));
+    ASSERT_TRUE(wait_until([&] { return rig.connected(); }, 5s));
     rig.drone->inject(sim::FaultBlackout{1000});
-    auto lost = wait_for([&] { return rig.link->state() == ConnectionState::LinkLost; }, 2s);
+    auto lost = wait_until([&] { return rig.link->state() == ConnectionState::LinkLost; }, 2s);
     ASSERT_TRUE(lost);
     // 500 ms of silence plus at most one demo period (65 ms) and polling slack.
     EXPECT_LE(lost->count(), 500 + 65 + 100);
     EXPECT_GE(lost->count(), 400);
     // Navdata returns 1000 ms after the blackout started.
-    auto back = wait_for([&] { return rig.connected(); }, 2s);
+    auto back = wait_until([&] { return rig.connected(); }, 2s);
     ASSERT_TRUE(back);
     EXPECT_LE(lost->count() + back->count(), 1000 + 1000);
     EXPECT_EQ(rig.link->status().machine.link_losses, 1u);
@@ -199,14 +181,14 @@ TEST(LinkIntegration, ABlackoutIsLinkLostWithinHalfASecondAndRecoveredWithinOne)
 
 TEST(LinkIntegration, AVideoResetMidFrameReconnectsAndResumesAtTheNextIdr) {
     Rig rig;
-    ASSERT_TRUE(wait_for([&] { return rig.connected(); }, 5s));
-    ASSERT_TRUE(wait_for([&] { return rig.link->status().video.decoded > 5; }, 5s));
+    ASSERT_TRUE(wait_until([&] { return rig.connected(); }, 5s));
+    ASSERT_TRUE(wait_until([&] { return rig.link->status().video.decoded > 5; }, 5s));
     const auto waits_before = rig.link->status().video.idr_waits;
     // Cut inside an IDR frame: the new connection starts with P-frames of the same GOP.
     rig.drone->inject(sim::FaultVideoReset{true});
-    ASSERT_TRUE(wait_for([&] { return rig.link->status().video.disconnects >= 1; }, 3s));
+    ASSERT_TRUE(wait_until([&] { return rig.link->status().video.disconnects >= 1; }, 3s));
     const auto before = rig.link->status().video.decoded;
-    ASSERT_TRUE(wait_for([&] { return rig.link->status().video.decoded > before + 5; }, 5s));
+    ASSERT_TRUE(wait_until([&] { return rig.link->status().video.decoded > before + 5; }, 5s));
     const auto st = rig.link->status();
     EXPECT_GE(st.video.connects, 2u);
     EXPECT_EQ(rig.drone->status().video_resets, 1u);
@@ -220,7 +202,7 @@ TEST(LinkIntegration, VideoFramesCarryThePaveFrameNumberAndTimestampTheDroneSent
     auto raw = rig.link->subscribe_raw(4096);
     auto frames = rig.link->subscribe_frames(256);
     auto units = rig.link->subscribe_access_units(256);
-    ASSERT_TRUE(wait_for([&] { return rig.link->status().video.decoded > 20; }, 8s));
+    ASSERT_TRUE(wait_until([&] { return rig.link->status().video.decoded > 20; }, 8s));
     rig.link->unsubscribe(raw.get());
     rig.link->unsubscribe(frames.get());
     rig.link->unsubscribe(units.get());
@@ -276,15 +258,16 @@ TEST(LinkVideo, OnlyH264IsAcceptedOtherCodecsAreCountedWithTheReason) {
     EXPECT_FALSE(accept_video_codec(h, st));
     EXPECT_EQ(st.unsupported_codec_frames, 2u);
     EXPECT_NE(st.last_error.find("frame 7"), std::string::npos) << st.last_error;
-    EXPECT_NE(st.last_error.find(to_string(PaveCodec::Vlib)), std::string::npos) << st.last_error;
+    EXPECT_NE(st.last_error.find(to_string(PaveCodec::Vlib)), std::string::npos)
+        << st.last_error;
 }
 
 TEST(LinkIntegration, PaveFramesInAnotherCodecAreCountedNotDecoded) {
     // A crafted stream on a loopback video port: MPEG-4 frames (what 5555 carries in the record
     // codec modes, PROTOCOL.md §4.5) between two ends of nothing else.
-    auto listener = net::TcpListener::listen(net::Endpoint::loopback(0));
+    auto listener = transport::TcpListener::listen(transport::Endpoint::loopback(0));
     ASSERT_TRUE(listener);
-    auto quiet = net::UdpSocket::bind(net::Endpoint::loopback(0));  // a navdata/AT sink
+    auto quiet = transport::UdpSocket::bind(transport::Endpoint::loopback(0));  // a navdata/AT sink
     ASSERT_TRUE(quiet);
     LinkConfig lc;
     lc.drone_address = "127.0.0.1";
@@ -294,7 +277,7 @@ TEST(LinkIntegration, PaveFramesInAnotherCodecAreCountedNotDecoded) {
     lc.control = false;
     DroneLink link(lc);
     ASSERT_TRUE(link.start());
-    auto client = listener->accept(net::Millis{2000});
+    auto client = listener->accept(transport::Millis{2000});
     ASSERT_TRUE(client);
     std::vector<std::uint8_t> stream;
     for (std::uint32_t n = 1; n <= 5; ++n) {
@@ -310,8 +293,8 @@ TEST(LinkIntegration, PaveFramesInAnotherCodecAreCountedNotDecoded) {
         stream.resize(at + h.header_size + h.payload_size, 0x55);
         ASSERT_TRUE(write_pave_header(h, std::span<std::uint8_t>(stream).subspan(at)));
     }
-    ASSERT_TRUE(client->write_all(std::span<const std::uint8_t>(stream), net::Millis{1000}));
-    ASSERT_TRUE(wait_for([&] { return link.status().video.unsupported_codec_frames == 5; }, 2s))
+    ASSERT_TRUE(client->write_all(std::span<const std::uint8_t>(stream), transport::Millis{1000}));
+    ASSERT_TRUE(wait_until([&] { return link.status().video.unsupported_codec_frames == 5; }, 2s))
         << link.status().video.unsupported_codec_frames;
     const auto st = link.status().video;
     EXPECT_EQ(st.pave_frames, 5u);
@@ -323,15 +306,15 @@ TEST(LinkIntegration, PaveFramesInAnotherCodecAreCountedNotDecoded) {
 
 TEST(LinkIntegration, ADroneRebootMidFlightIsRecoveredAndTheDroneStaysOnTheGround) {
     Rig rig(100.0, false);
-    ASSERT_TRUE(wait_for([&] { return rig.connected(); }, 5s));
+    ASSERT_TRUE(wait_until([&] { return rig.connected(); }, 5s));
     ASSERT_TRUE(rig.link->execute(Takeoff{}, 1s).ok());
-    ASSERT_TRUE(wait_for([&] { return rig.drone->ground_truth().pose.z_m > 0.5; }, 6s));
+    ASSERT_TRUE(wait_until([&] { return rig.drone->ground_truth().pose.z_m > 0.5; }, 6s));
     rig.drone->inject(sim::FaultReboot{1000});
-    ASSERT_TRUE(wait_for([&] { return !rig.connected(); }, 2s));
+    ASSERT_TRUE(wait_until([&] { return !rig.connected(); }, 2s));
     // Until the link noticed, its take-off bit went to a drone still booting (deaf); then the
     // link sends hover alone (no REF) until navdata returns and shows the restart.
     bool flew = false;
-    ASSERT_TRUE(wait_for(
+    ASSERT_TRUE(wait_until(
         [&] {
             flew |= rig.drone_flying();
             return rig.connected();
@@ -350,35 +333,35 @@ TEST(LinkIntegration, ADroneRebootMidFlightIsRecoveredAndTheDroneStaysOnTheGroun
     EXPECT_EQ(st.at.intent, FlyIntent::Land);
     EXPECT_EQ(st.machine.drone_restarts, 1u);
     ASSERT_TRUE(rig.link->execute(Takeoff{}, 1s).ok());
-    EXPECT_TRUE(wait_for([&] { return rig.drone_flying(); }, 2s));
+    EXPECT_TRUE(wait_until([&] { return rig.drone_flying(); }, 2s));
 }
 
 TEST(LinkIntegration, CuttingTheMotorsThenResettingTheEmergencyDoesNotTakeOffAgain) {
     Rig rig(100.0, false);
-    ASSERT_TRUE(wait_for([&] { return rig.connected(); }, 5s));
+    ASSERT_TRUE(wait_until([&] { return rig.connected(); }, 5s));
     ASSERT_TRUE(rig.link->execute(Takeoff{}, 1s).ok());
-    ASSERT_TRUE(wait_for([&] { return rig.drone->ground_truth().pose.z_m > 0.3; }, 4s));
+    ASSERT_TRUE(wait_until([&] { return rig.drone->ground_truth().pose.z_m > 0.3; }, 4s));
     ASSERT_TRUE(rig.link->execute(Emergency{}, 1s).ok());  // cut the motors
-    ASSERT_TRUE(wait_for([&] { return (rig.drone_bits() & test::kEmergency) != 0; }, 2s));
-    ASSERT_TRUE(wait_for([&] { return rig.drone->ground_truth().pose.z_m == 0.0; }, 2s));
+    ASSERT_TRUE(wait_until([&] { return (rig.drone_bits() & test::kEmergency) != 0; }, 2s));
+    ASSERT_TRUE(wait_until([&] { return rig.drone->ground_truth().pose.z_m == 0.0; }, 2s));
     // The link must see the emergency before it can ask to leave it.
-    ASSERT_TRUE(wait_for(
+    ASSERT_TRUE(wait_until(
         [&] {
             auto n = rig.link->navdata().latest();
             return n && (n->data.header.drone_state.raw & test::kEmergency);
         },
         1s));
     ASSERT_TRUE(rig.link->execute(Emergency{}, 1s).ok());  // reset it
-    ASSERT_TRUE(wait_for([&] { return (rig.drone_bits() & test::kEmergency) == 0; }, 2s));
+    ASSERT_TRUE(wait_until([&] { return (rig.drone_bits() & test::kEmergency) == 0; }, 2s));
     EXPECT_TRUE(rig.stays_on_the_ground(1500ms));
     EXPECT_EQ(rig.link->status().at.intent, FlyIntent::Land);
 }
 
 TEST(LinkIntegration, TheLinkAdoptsAnAutopilotedFlightAndLandLandsIt) {
     Rig rig(100.0, false, true);
-    ASSERT_TRUE(wait_for([&] { return rig.connected(); }, 5s));
+    ASSERT_TRUE(wait_until([&] { return rig.connected(); }, 5s));
     // Connected to a drone already flying: it keeps flying (REF carries the take-off bit).
-    ASSERT_TRUE(wait_for([&] { return rig.link->status().at.intent == FlyIntent::Fly; }, 1s));
+    ASSERT_TRUE(wait_until([&] { return rig.link->status().at.intent == FlyIntent::Fly; }, 1s));
     EXPECT_EQ(rig.link->status().at.counters.flying_adopted, 1u);
     std::this_thread::sleep_for(700ms);
     auto st = rig.drone->status();
@@ -387,7 +370,7 @@ TEST(LinkIntegration, TheLinkAdoptsAnAutopilotedFlightAndLandLandsIt) {
     EXPECT_NEAR(st.flight.z_m, 1.0, 0.1);
     // The pilot wins: Land clears the take-off bit and the autopilot yields.
     ASSERT_TRUE(rig.link->execute(Land{}, 1s).ok());
-    ASSERT_TRUE(wait_for([&] { return rig.major() == 2; }, 5s)) << "never landed";
+    ASSERT_TRUE(wait_until([&] { return rig.major() == 2; }, 5s)) << "never landed";
     st = rig.drone->status();
     EXPECT_FALSE(st.autopilot_active);
     EXPECT_EQ(st.counters.autopilot_yields, 1u);
@@ -398,13 +381,13 @@ TEST(LinkIntegration, FlightAnimationsGoAsConfigAndLedAnimationsAsAtLed) {
     // PROTOCOL.md §2.4/§2.9: firmware 2 takes flight animations as CONFIG control:flight_anim
     // (SDK 2.0 no longer sends AT*ANIM); AT*LED is what SDK 2.0 still emits for the LEDs.
     Rig rig(100.0, false);
-    ASSERT_TRUE(wait_for([&] { return rig.connected(); }, 5s));
+    ASSERT_TRUE(wait_until([&] { return rig.connected(); }, 5s));
     auto raw = rig.link->subscribe_raw(4096);
     auto r = rig.link->execute(Anim{8, 2000}, 3s);
     EXPECT_EQ(r.code, ResultCode::Sent) << r.reason;  // after the drone's ACK
     auto led = rig.link->execute(Led{1, 3.0f, 3}, 1s);
     EXPECT_EQ(led.code, ResultCode::Sent) << led.reason;
-    ASSERT_TRUE(wait_for([&] { return rig.drone->status().counters.leds == 1; }, 1s));
+    ASSERT_TRUE(wait_until([&] { return rig.drone->status().counters.leds == 1; }, 1s));
     EXPECT_EQ(rig.drone->status().counters.anims, 1u);
     auto bad = rig.link->execute(Anim{20, 1000}, 1s);
     EXPECT_EQ(bad.code, ResultCode::Rejected);
@@ -439,12 +422,13 @@ TEST(LinkIntegration, FlightAnimationsGoAsConfigAndLedAnimationsAsAtLed) {
 
 TEST(LinkIntegration, CorruptChecksumsAreCountedAndDropped) {
     Rig rig(100.0, false);
-    ASSERT_TRUE(wait_for([&] { return rig.connected(); }, 5s));
+    ASSERT_TRUE(wait_until([&] { return rig.connected(); }, 5s));
     const auto before = rig.link->status();
     sim::NavdataFaults f;
     f.corrupt_checksum = 0.4;
     rig.drone->inject(sim::FaultNavdata{f});
-    ASSERT_TRUE(wait_for([&] { return rig.drone->status().counters.navdata_corrupted >= 4; }, 3s));
+    ASSERT_TRUE(
+        wait_until([&] { return rig.drone->status().counters.navdata_corrupted >= 4; }, 3s));
     rig.drone->inject(sim::FaultNavdata{});
     std::this_thread::sleep_for(300ms);
     const auto corrupted = rig.drone->status().counters.navdata_corrupted;
@@ -461,13 +445,13 @@ TEST(LinkIntegration, CorruptChecksumsAreCountedAndDropped) {
 
 TEST(LinkIntegration, ReorderedAndDuplicatedNavdataIsDroppedAsOutOfOrder) {
     Rig rig(100.0, false);
-    ASSERT_TRUE(wait_for([&] { return rig.connected(); }, 5s));
+    ASSERT_TRUE(wait_until([&] { return rig.connected(); }, 5s));
     const auto gaps_before = rig.link->status().machine.sequence_gaps;
     sim::NavdataFaults f;
     f.reorder = 0.3;
     f.duplicate = 0.3;
     rig.drone->inject(sim::FaultNavdata{f});
-    ASSERT_TRUE(wait_for(
+    ASSERT_TRUE(wait_until(
         [&] {
             const auto c = rig.drone->status().counters;
             return c.navdata_reordered >= 3 && c.navdata_duplicated >= 3;
@@ -489,12 +473,12 @@ TEST(LinkIntegration, ReorderedAndDuplicatedNavdataIsDroppedAsOutOfOrder) {
 
 TEST(LinkIntegration, PacketsFromAnyOtherAddressAreDroppedAndCounted) {
     Rig rig(100.0, false);
-    ASSERT_TRUE(wait_for([&] { return rig.connected(); }, 5s));
-    auto intruder = net::UdpSocket::bind(net::Endpoint::loopback(0));
+    ASSERT_TRUE(wait_until([&] { return rig.connected(); }, 5s));
+    auto intruder = transport::UdpSocket::bind(transport::Endpoint::loopback(0));
     ASSERT_TRUE(intruder);
-    auto to = net::Endpoint::loopback(rig.link->navdata_local_port());
+    auto to = transport::Endpoint::loopback(rig.link->navdata_local_port());
     for (int i = 0; i < 5; ++i) ASSERT_TRUE(intruder->send_to("spoofed navdata", to));
-    ASSERT_TRUE(wait_for([&] { return rig.link->status().navdata.foreign_dropped == 5; }, 2s));
+    ASSERT_TRUE(wait_until([&] { return rig.link->status().navdata.foreign_dropped == 5; }, 2s));
     std::this_thread::sleep_for(200ms);
     const auto st = rig.link->status();
     EXPECT_EQ(st.navdata.foreign_dropped, 5u);  // those five, and the drone's packets none

@@ -5,12 +5,12 @@
 #include <gtest/gtest.h>
 
 using namespace gs;
+using namespace gs::protocol;
 using namespace gs::link;
 
 namespace {
 using namespace gs::test;
 constexpr std::uint32_t kBootstrapState = 0x4F800C10;  // PROTOCOL.md §7.4, a real bootstrap packet
-constexpr std::uint32_t kThreads = 0x0F800000;         // bits 23-27 as a running drone reports
 
 // Drives a state machine with a fake time line and a scripted drone.
 struct Harness {

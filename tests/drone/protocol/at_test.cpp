@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-namespace at = gs::at;
+namespace at = gs::protocol::at;
 
 // ---- §7.1 test vectors ----------------------------------------------------------------------
 
@@ -66,19 +66,24 @@ TEST(AtEncoder, HoverIsFlagZeroAllZeros) {
 }
 
 TEST(AtEncoder, PcmdFlagsCombine) {
-    EXPECT_EQ(at::kPcmdProgressive | at::kPcmdCombinedYaw | at::kPcmdAbsoluteControl, 7);
-    EXPECT_EQ(at::pcmd(1, at::kPcmdProgressive | at::kPcmdCombinedYaw, 0.5f, -0.5f, 1.0f, -1.0f),
+    EXPECT_EQ(at::kPcmdProgressive | at::kPcmdCombinedYaw |
+                  at::kPcmdAbsoluteControl,
+              7);
+    EXPECT_EQ(at::pcmd(1, at::kPcmdProgressive | at::kPcmdCombinedYaw,
+                                 0.5f, -0.5f, 1.0f, -1.0f),
               "AT*PCMD=1,3,1056964608,-1090519040,1065353216,-1082130432\r");
 }
 
 TEST(AtEncoder, PcmdClampsOutOfRangeAndNan) {
     const float nan = std::numeric_limits<float>::quiet_NaN();
-    EXPECT_EQ(at::pcmd(1, 1, 2.0f, -3.0f, nan, -0.0f), "AT*PCMD=1,1,1065353216,-1082130432,0,0\r");
+    EXPECT_EQ(at::pcmd(1, 1, 2.0f, -3.0f, nan, -0.0f),
+              "AT*PCMD=1,1,1065353216,-1082130432,0,0\r");
 }
 
 TEST(AtEncoder, PcmdMagHasSixFloats) {
-    EXPECT_EQ(at::pcmd_mag(9, at::kPcmdProgressive | at::kPcmdAbsoluteControl, 0.0f, -0.8f, 0.0f,
-                           0.0f, 0.5f, 0.1f),
+    EXPECT_EQ(at::pcmd_mag(
+                  9, at::kPcmdProgressive | at::kPcmdAbsoluteControl, 0.0f,
+                  -0.8f, 0.0f, 0.0f, 0.5f, 0.1f),
               "AT*PCMD_MAG=9,5,0,-1085485875,0,0,1056964608,1036831949\r");
 }
 
@@ -111,7 +116,8 @@ TEST(AtEncoder, LedsAnimValueMatchesNode) {
 
 TEST(AtEncoder, FlightAnimValueMatchesNode) {
     EXPECT_EQ(at::flight_anim_value(8, 2000), "8,2000");
-    auto cmd = at::config(9, "control:flight_anim", at::flight_anim_value(8, 2000));
+    auto cmd =
+        at::config(9, "control:flight_anim", at::flight_anim_value(8, 2000));
     ASSERT_TRUE(cmd);
     EXPECT_EQ(*cmd, "AT*CONFIG=9,\"control:flight_anim\",\"8,2000\"\r");
 }
@@ -164,7 +170,8 @@ TEST(AtSeqCounter, StartsAtOneAndGivesOneNumberPerCommand) {
     EXPECT_EQ(c.peek(), 1u);
     const at::Seq a = c.next();
     const at::Seq b = c.next();
-    EXPECT_EQ(at::ref(a, at::kRefBase) + at::hover(b), "AT*REF=1,290717696\rAT*PCMD=2,0,0,0,0,0\r");
+    EXPECT_EQ(at::ref(a, at::kRefBase) + at::hover(b),
+              "AT*REF=1,290717696\rAT*PCMD=2,0,0,0,0,0\r");
     EXPECT_EQ(c.peek(), 3u);
     c.reset();
     EXPECT_EQ(c.next(), 1u);
@@ -238,11 +245,13 @@ TEST(AtEncoder, GenericCommandRejectsBadNamesAndArgs) {
     EXPECT_EQ(at::command(1, "", none).error(), at::AtError::BadName);
     EXPECT_EQ(at::command(1, "A=B", none).error(), at::AtError::BadName);
     const std::array<at::Arg, 1> comma{at::RawArg{"1,2"}};
-    EXPECT_EQ(at::command(1, "MISC", comma).error(), at::AtError::ForbiddenCharacter);
+    EXPECT_EQ(at::command(1, "MISC", comma).error(),
+              at::AtError::ForbiddenCharacter);
     const std::array<at::Arg, 1> cr{at::QuotedArg{"a\r"}};
-    EXPECT_EQ(at::command(1, "MISC", cr).error(), at::AtError::ForbiddenCharacter);
-    const std::array<at::Arg, 4> misc{std::int32_t{2}, std::int32_t{20}, std::int32_t{2000},
-                                      std::int32_t{3000}};
+    EXPECT_EQ(at::command(1, "MISC", cr).error(),
+              at::AtError::ForbiddenCharacter);
+    const std::array<at::Arg, 4> misc{std::int32_t{2}, std::int32_t{20},
+                                                std::int32_t{2000}, std::int32_t{3000}};
     auto ok = at::command(4, "MISC", misc);
     ASSERT_TRUE(ok);
     EXPECT_EQ(*ok, "AT*MISC=4,2,20,2000,3000\r");
@@ -251,8 +260,9 @@ TEST(AtEncoder, GenericCommandRejectsBadNamesAndArgs) {
 }
 
 TEST(AtErrors, EveryErrorHasText) {
-    for (auto e : {at::AtError::ForbiddenCharacter, at::AtError::BadName, at::AtError::BadConfigId,
-                   at::AtError::CommandTooLong, at::AtError::Unterminated}) {
+    for (auto e : {at::AtError::ForbiddenCharacter, at::AtError::BadName,
+                   at::AtError::BadConfigId, at::AtError::CommandTooLong,
+                   at::AtError::Unterminated}) {
         EXPECT_FALSE(at::to_string(e).empty());
         EXPECT_NE(at::to_string(e), "unknown AT error");
     }
@@ -261,7 +271,8 @@ TEST(AtErrors, EveryErrorHasText) {
 // ---- Packing --------------------------------------------------------------------------------
 
 TEST(AtPack, ConcatenatesSmallCommandsInOrder) {
-    const std::vector<std::string> cmds{at::ref(1, at::kRefBase), at::hover(2), at::comwdg(3)};
+    const std::vector<std::string> cmds{at::ref(1, at::kRefBase),
+                                        at::hover(2), at::comwdg(3)};
     auto d = at::pack(cmds);
     ASSERT_TRUE(d);
     ASSERT_EQ(d->size(), 1u);
@@ -272,7 +283,12 @@ TEST(AtPack, NeverExceedsLimitNorSplitsCommands) {
     // 100 CONFIGs of 100 bytes each: 10 per datagram at 1024 (1000 bytes), 10 datagrams.
     std::vector<std::string> cmds;
     for (at::Seq s = 1; s <= 100; ++s) {
-        auto c = at::config(s, "k", std::string(100 - 19 - (s < 10 ? 0 : s < 100 ? 1 : 2), 'v'));
+        auto c = at::config(s, "k",
+                                      std::string(100 - 19 -
+                                                      (s < 10    ? 0
+                                                       : s < 100 ? 1
+                                                                 : 2),
+                                                  'v'));
         ASSERT_TRUE(c);
         ASSERT_EQ(c->size(), 100u);
         cmds.push_back(*c);
@@ -308,7 +324,8 @@ TEST(AtPack, ExactFitStaysInOneDatagram) {
 }
 
 TEST(AtPack, SmallerLimitIsHonoured) {
-    const std::vector<std::string> cmds{at::hover(1), at::hover(2), at::hover(3)};  // 21 B each
+    const std::vector<std::string> cmds{at::hover(1), at::hover(2),
+                                        at::hover(3)};  // 21 B each
     auto d = at::pack(cmds, 42);
     ASSERT_TRUE(d);
     ASSERT_EQ(d->size(), 2u);
@@ -317,7 +334,8 @@ TEST(AtPack, SmallerLimitIsHonoured) {
 }
 
 TEST(AtPack, SingleCommandOverLimitIsAnError) {
-    const std::vector<std::string> cmds{at::hover(1), "AT*X=1," + std::string(1020, '1') + "\r"};
+    const std::vector<std::string> cmds{at::hover(1),
+                                        "AT*X=1," + std::string(1020, '1') + "\r"};
     auto d = at::pack(cmds);
     ASSERT_FALSE(d);
     EXPECT_EQ(d.error(), at::AtError::CommandTooLong);
@@ -340,7 +358,8 @@ TEST(AtPack, EmptyInputGivesNoDatagram) {
 
 TEST(AtPack, PackIntoReusesOutput) {
     std::vector<std::string> out;
-    const std::vector<std::string> three{at::hover(1), at::hover(2), at::hover(3)};
+    const std::vector<std::string> three{at::hover(1), at::hover(2),
+                                         at::hover(3)};
     auto n = at::pack_into(three, out, 21);
     ASSERT_TRUE(n);
     EXPECT_EQ(*n, 3u);

@@ -5,6 +5,7 @@
 #include <random>
 
 using namespace gs;
+using namespace gs::protocol;
 
 namespace {
 // Lines quoted in PROTOCOL.md §5.2 from a real AR.Drone dump.

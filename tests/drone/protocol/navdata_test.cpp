@@ -13,7 +13,7 @@
 #include <set>
 #include <vector>
 
-namespace gs::navdata {
+namespace gs::protocol::navdata {
 namespace {
 
 using test::read_fixture;
@@ -656,4 +656,4 @@ TEST(NavdataFuzz, RandomBytesAndBitFlipsNeverCrash) {
 }
 
 }  // namespace
-}  // namespace gs::navdata
+}  // namespace gs::protocol::navdata

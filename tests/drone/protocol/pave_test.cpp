@@ -14,6 +14,8 @@
 namespace gs {
 namespace {
 
+using namespace protocol;
+
 using test::FramerRun;
 using test::read_fixture;
 using test::run_framer;
@@ -191,7 +193,8 @@ TEST(PaveHeader, RejectsBadFieldsWithTypedErrors) {
     EXPECT_EQ(with(7, 1).error(), PaveError::BadHeaderSize);     // 64 + 256
     EXPECT_EQ(with(11, 1).error(), PaveError::PayloadTooLarge);  // 2632 + 16 MiB
     // payload 2632: a cap one below rejects it, the exact value passes.
-    EXPECT_EQ(parse_pave_header(as_span(good), 2631).error(), PaveError::PayloadTooLarge);
+    EXPECT_EQ(parse_pave_header(as_span(good), 2631).error(),
+              PaveError::PayloadTooLarge);
     EXPECT_TRUE(parse_pave_header(as_span(good), 2632).has_value());
     // header_size 68 needs 68 bytes even though 64 are a whole SDK struct.
     auto h68 = std::vector<std::uint8_t>(node_pave68().begin(), node_pave68().begin() + 67);
@@ -236,7 +239,9 @@ TEST(PaveFramer, NodeCaptureGivesTwentyFramesAndNothingLeft) {
         // Frame 0 is 17368, then the capture jumps to 17563 and counts up by one.
         EXPECT_EQ(f.header.frame_number, i == 0 ? 17368u : 17562u + i);
         const bool idr = i == 3 || i == 18;
-        EXPECT_EQ(f.header.frame_type, idr ? PaveFrameType::Idr : PaveFrameType::P) << i;
+        EXPECT_EQ(f.header.frame_type,
+                  idr ? PaveFrameType::Idr : PaveFrameType::P)
+            << i;
         EXPECT_EQ(f.header.header1_size, idr ? 14 : 0);
         EXPECT_EQ(f.header.header2_size, idr ? 10 : 0);
         if (i >= 2) {
@@ -288,7 +293,8 @@ TEST(PaveFramer, UavDumpHoldsTheTruncatedLastFrame) {
         EXPECT_EQ(h.frame_number, 17081u + i);
         EXPECT_EQ(h.header_size, 68);
         EXPECT_EQ(h.stream_id, 1);
-        EXPECT_EQ(h.frame_type, (i == 0 || i == 15) ? PaveFrameType::Idr : PaveFrameType::P);
+        EXPECT_EQ(h.frame_type,
+                  (i == 0 || i == 15) ? PaveFrameType::Idr : PaveFrameType::P);
         payload_total += h.payload_size;
         if (i > 0) {
             const auto& prev = run.frames[i - 1].header;
@@ -431,7 +437,8 @@ TEST(PaveFramer, FalseSignatureInGarbageIsSkippedWithItsReason) {
     ASSERT_EQ(run.frames.size(), 1u);
     ASSERT_EQ(run.resyncs.size(), 1u);
     EXPECT_EQ(run.resyncs[0].bytes_skipped, junk.size());
-    EXPECT_EQ(run.resyncs[0].reason, PaveError::BadSignature);  // the first skipped byte was 'x'
+    EXPECT_EQ(run.resyncs[0].reason,
+              PaveError::BadSignature);  // the first skipped byte was 'x'
     const FramerRun direct = run_framer(concat({bytes_of("PaVE"), {9}, make_frame(8, 12)}), 0);
     ASSERT_EQ(direct.resyncs.size(), 1u);
     EXPECT_EQ(direct.resyncs[0].reason, PaveError::BadVersion);

@@ -8,6 +8,8 @@
 #include "drone/record/recorder.hpp"
 #include "drone/sim/scenarios.hpp"
 #include "drone/sim/virtual_drone.hpp"
+#include "support/virtual_drone.hpp"
+#include "support/wait.hpp"
 
 #include <gtest/gtest.h>
 
@@ -21,14 +23,7 @@ namespace gs {
 namespace {
 using namespace std::chrono_literals;
 
-bool wait_for(const std::function<bool()>& pred, std::chrono::milliseconds timeout) {
-    const auto t0 = std::chrono::steady_clock::now();
-    while (std::chrono::steady_clock::now() - t0 < timeout) {
-        if (pred()) return true;
-        std::this_thread::sleep_for(5ms);
-    }
-    return false;
-}
+using test::wait_until;
 
 bool same(double a, double b) {
     return (std::isnan(a) && std::isnan(b)) || a == b;
@@ -46,30 +41,21 @@ struct Flight {
             error = sim::to_string(scene.error());
             return;
         }
-        sim::VirtualDroneOptions vo;
-        vo.bind_address = "127.0.0.1";
-        vo.at_port = vo.navdata_port = vo.video_port = vo.control_port = 0;
-        vo.scene = *scene;
+        sim::VirtualDroneOptions vo = test::loopback_drone_options(*scene);
         vo.autopilot = true;
         drone = std::make_unique<sim::VirtualDrone>(vo);
         if (auto s = drone->start(); !s) {
-            error = s.error();
+            error = s.error().message;
             return;
         }
-        link::LinkConfig lc;
-        lc.drone_address = lc.bind_address = "127.0.0.1";
-        lc.at_port = drone->at_port();
-        lc.navdata_port = drone->navdata_port();
-        lc.video_port = drone->video_port();
-        lc.control_port = drone->control_port();
-        link = std::make_unique<link::DroneLink>(lc);
+        link = std::make_unique<link::DroneLink>(test::link_config_for(*drone));
         if (auto s = link->start(); !s) {
-            error = s.error();
+            error = s.error().message;
             return;
         }
-        if (!wait_for([&] { return link->state() == link::ConnectionState::Connected; }, 10s))
+        if (!wait_until([&] { return link->state() == link::ConnectionState::Connected; }, 10s))
             error = "no connection: " + link->status().reason;
-        else if (!wait_for([&] { return link->video().latest().has_value(); }, 10s))
+        else if (!wait_until([&] { return link->video().latest().has_value(); }, 10s))
             error = "no video";
     }
     ~Flight() {
@@ -87,7 +73,7 @@ protected:
         record::Recorder rec(*flight_->link, flight_->drone.get());
         auto s = rec.start(*dir_ / "rec");
         if (!s) {
-            flight_->error = s.error();
+            flight_->error = s.error().message;
             return;
         }
         const auto during = rec.status();
@@ -113,7 +99,7 @@ protected:
 TEST_F(RecorderFlight, WritesADatasetTheReaderOpensWithGroundTruth) {
     EXPECT_TRUE(recording_seen_);
     EXPECT_FALSE(final_.recording);
-    auto d = Dataset::open(*dir_ / "rec");
+    auto d = dataset::Dataset::open(*dir_ / "rec");
     ASSERT_TRUE(d) << to_string(d.error());
     // 2.5 s at 30 fps: up to ~75 frames. The virtual drone renders slower on a loaded machine
     // (or under the sanitizers), so what counts is that every frame the link received is there,
@@ -134,7 +120,7 @@ TEST_F(RecorderFlight, WritesADatasetTheReaderOpensWithGroundTruth) {
     EXPECT_TRUE(final_.error.empty()) << final_.error;
 
     ASSERT_TRUE(d->labels());
-    EXPECT_EQ(d->labels()->scenario, Scenario::Left);
+    EXPECT_EQ(d->labels()->scenario, dataset::Scenario::Left);
     ASSERT_TRUE(d->label_rows());
     ASSERT_EQ(d->label_rows()->size(), static_cast<std::size_t>(d->frame_count()));
     const auto& labels = *d->label_rows();
@@ -153,12 +139,12 @@ TEST_F(RecorderFlight, WritesADatasetTheReaderOpensWithGroundTruth) {
 }
 
 TEST_F(RecorderFlight, FrameAttitudeIsTheNavdataInterpolatedAtCapture) {
-    auto d = Dataset::open(*dir_ / "rec");
+    auto d = dataset::Dataset::open(*dir_ / "rec");
     ASSERT_TRUE(d) << to_string(d.error());
     const auto& navs = d->navdata();
     ASSERT_GE(navs.size(), 2u);
     std::size_t bracketed = 0, outside = 0;
-    for (const FrameRow& f : d->frames()) {
+    for (const dataset::FrameRow& f : d->frames()) {
         const TimeNs t = f.nav.t_ns;
         auto after = std::lower_bound(navs.begin(), navs.end(), t,
                                       [](const NavState& s, TimeNs v) { return s.t_ns < v; });
@@ -179,20 +165,20 @@ TEST_F(RecorderFlight, FrameAttitudeIsTheNavdataInterpolatedAtCapture) {
     EXPECT_LE(outside, 6u);
     // the drone pitches nose-down to fly forward in this flight: the attitude is real navdata
     double min_pitch = 0;
-    for (const FrameRow& f : d->frames()) min_pitch = std::min(min_pitch, f.nav.pitch_deg);
+    for (const dataset::FrameRow& f : d->frames()) min_pitch = std::min(min_pitch, f.nav.pitch_deg);
     EXPECT_LT(min_pitch, -1.0);
 }
 
 TEST_F(RecorderFlight, RawReplayThroughTheProtocolParsersReproducesFramesCsv) {
-    auto d = Dataset::open(*dir_ / "rec");
+    auto d = dataset::Dataset::open(*dir_ / "rec");
     ASSERT_TRUE(d) << to_string(d.error());
-    auto dec = make_protocol_replay_decoders();
-    auto replayed = replay_raw(*dir_ / "rec/raw", dec);
+    auto dec = dataset::make_protocol_replay_decoders();
+    auto replayed = dataset::replay_raw(*dir_ / "rec/raw", dec);
     ASSERT_TRUE(replayed) << to_string(replayed.error());
     ASSERT_EQ(replayed->size(), d->frames().size());
     for (std::size_t i = 0; i < replayed->size(); ++i) {
-        const FrameRow& a = (*replayed)[i];
-        const FrameRow& b = d->frames()[i];
+        const dataset::FrameRow& a = (*replayed)[i];
+        const dataset::FrameRow& b = d->frames()[i];
         EXPECT_EQ(a.frame, b.frame);
         EXPECT_EQ(a.nav.t_ns, b.nav.t_ns) << i;
         EXPECT_TRUE(same(a.nav.roll_deg, b.nav.roll_deg)) << i;
@@ -202,7 +188,7 @@ TEST_F(RecorderFlight, RawReplayThroughTheProtocolParsersReproducesFramesCsv) {
         EXPECT_TRUE(same(a.nav.altitude_m, b.nav.altitude_m)) << i;
     }
     // every AT datagram sent went into raw/at.log (the link sends at least every 30 ms)
-    auto at = read_at_log(*dir_ / "rec/raw");
+    auto at = dataset::read_at_log(*dir_ / "rec/raw");
     ASSERT_TRUE(at) << to_string(at.error());
     EXPECT_GE(at->size(), 60u);
     EXPECT_EQ(final_.at, at->size());
@@ -254,7 +240,7 @@ TEST(Recorder, TinyQueuesStillGiveAConsistentDatasetAndHonestCounts) {
     const auto st = rec.stop();
     EXPECT_EQ(st.drops, st.dropped_link + st.dropped_writer + st.dropped_tap);
     EXPECT_EQ(flight.link->state(), link::ConnectionState::Connected);
-    auto d = Dataset::open(t / "rec");
+    auto d = dataset::Dataset::open(t / "rec");
     ASSERT_TRUE(d) << to_string(d.error());
     EXPECT_EQ(st.frames, static_cast<std::uint64_t>(d->frame_count()));
     EXPECT_EQ(st.navdata, d->navdata().size());

@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-namespace at = gs::at;
-using gs::net::Endpoint;
+namespace at = gs::sim::at;
+using gs::transport::Endpoint;
 
 namespace {
 
@@ -21,7 +21,8 @@ at::ParsedDatagram parse_ok(std::string_view text) {
 }
 
 // Encodes, parses, and expects exactly one command equal to `expected` with the same seq.
-void expect_round_trip(const std::string& encoded, at::Seq seq, const at::CommandBody& expected) {
+void expect_round_trip(const std::string& encoded, at::Seq seq,
+                       const at::CommandBody& expected) {
     auto p = parse_ok(encoded);
     ASSERT_EQ(p.commands.size(), 1u) << encoded;
     EXPECT_TRUE(p.skipped.empty()) << encoded;
@@ -34,7 +35,8 @@ void expect_round_trip(const std::string& encoded, at::Seq seq, const at::Comman
 // ---- Round trips: encoder -> parser, one per command ----------------------------------------
 
 TEST(AtRoundTrip, Ref) {
-    expect_round_trip(at::ref(26, at::ref_input(true, false)), 26, at::Ref{290718208u});
+    expect_round_trip(at::ref(26, at::ref_input(true, false)), 26,
+                      at::Ref{290718208u});
     expect_round_trip(at::ref(3, 0x80000000u), 3, at::Ref{0x80000000u});
 }
 
@@ -88,7 +90,8 @@ TEST(AtRoundTrip, Anim) {
 
 TEST(AtRoundTrip, PackedDatagramKeepsOrderAndSeqs) {
     at::SeqCounter seq;
-    std::vector<std::string> cmds{at::ref(seq.next(), at::kRefBase), at::hover(seq.next()),
+    std::vector<std::string> cmds{at::ref(seq.next(), at::kRefBase),
+                                  at::hover(seq.next()),
                                   *at::config_ids(seq.next(), "00000000", "00000000", "00000000"),
                                   *at::config(seq.next(), "general:navdata_demo", "TRUE"),
                                   at::ctrl(seq.next(), at::CtrlMode::Ack)};
@@ -101,7 +104,8 @@ TEST(AtRoundTrip, PackedDatagramKeepsOrderAndSeqs) {
     EXPECT_TRUE(std::holds_alternative<at::Ref>(p.commands[0].body));
     EXPECT_TRUE(std::holds_alternative<at::Pcmd>(p.commands[1].body));
     EXPECT_TRUE(std::holds_alternative<at::ConfigIds>(p.commands[2].body));
-    EXPECT_EQ(p.commands[3].body, (at::CommandBody{at::Config{"general:navdata_demo", "TRUE"}}));
+    EXPECT_EQ(p.commands[3].body,
+              (at::CommandBody{at::Config{"general:navdata_demo", "TRUE"}}));
     EXPECT_EQ(p.commands[4].body, (at::CommandBody{at::Ctrl{5, 0}}));
 }
 
@@ -222,19 +226,21 @@ TEST(AtParser, CountsUnterminatedTail) {
 TEST(AtParser, QuotedCommaDoesNotSplitValue) {
     auto p = parse_ok("AT*CONFIG=3,\"control:flight_anim\",\"8,2000\"\r");
     ASSERT_EQ(p.commands.size(), 1u);
-    EXPECT_EQ(p.commands[0].body, (at::CommandBody{at::Config{"control:flight_anim", "8,2000"}}));
+    EXPECT_EQ(p.commands[0].body,
+              (at::CommandBody{at::Config{"control:flight_anim", "8,2000"}}));
 }
 
 TEST(AtParser, ParseIntoReusesAndClears) {
     at::ParsedDatagram out;
     const std::string a = "AT*COMWDG=1\rAT*COMWDG=2\rbad\r";
-    auto n =
-        at::parse_datagram_into({reinterpret_cast<const std::uint8_t*>(a.data()), a.size()}, out);
+    auto n = at::parse_datagram_into(
+        {reinterpret_cast<const std::uint8_t*>(a.data()), a.size()}, out);
     ASSERT_TRUE(n);
     EXPECT_EQ(*n, 2u);
     EXPECT_EQ(out.skipped.size(), 1u);
     const std::string b = "AT*FTRIM=3\r";
-    n = at::parse_datagram_into({reinterpret_cast<const std::uint8_t*>(b.data()), b.size()}, out);
+    n = at::parse_datagram_into({reinterpret_cast<const std::uint8_t*>(b.data()), b.size()},
+                                     out);
     ASSERT_TRUE(n);
     EXPECT_EQ(*n, 1u);
     EXPECT_EQ(out.commands.size(), 1u);
@@ -254,9 +260,10 @@ TEST(AtParserFuzz, RandomAndMutatedBytesNeverCrashAndAccountForEveryLine) {
     // Random bytes from an AT-ish alphabet or any byte, and valid datagrams with a few bytes
     // mutated, so both the shallow and the deep parsing paths are exercised.
     const std::string alphabet = "AT*REFPCMD_GONFIWLX=,\"\r\n0123456789-";
-    const std::string valid = at::ref(1, at::kRefBase) + at::pcmd(2, 1, 0.1f, 0.2f, 0.3f, 0.4f) +
-                              *at::config(3, "general:navdata_demo", "TRUE") + at::ftrim(4) +
-                              at::ctrl(5, at::CtrlMode::Ack) + at::led(6, 1, 3.0f, 3);
+    const std::string valid =
+        at::ref(1, at::kRefBase) + at::pcmd(2, 1, 0.1f, 0.2f, 0.3f, 0.4f) +
+        *at::config(3, "general:navdata_demo", "TRUE") + at::ftrim(4) +
+        at::ctrl(5, at::CtrlMode::Ack) + at::led(6, 1, 3.0f, 3);
     std::vector<std::uint8_t> buf;
     std::size_t total_commands = 0, total_skipped = 0;
     for (int iter = 0; iter < 20000; ++iter) {

@@ -14,8 +14,8 @@ using namespace gs::sim;
 namespace {
 using namespace gs::test;
 
-net::Endpoint client(std::uint16_t port = 40000) {
-    return *net::Endpoint::parse("127.0.0.1:" + std::to_string(port));
+transport::Endpoint client(std::uint16_t port = 40000) {
+    return *transport::Endpoint::parse("127.0.0.1:" + std::to_string(port));
 }
 
 std::span<const std::uint8_t> bytes(const std::string& s) {
@@ -32,16 +32,16 @@ struct Station {
     // Extra commands for the next datagram, numbered when sent (after REF and PCMD).
     std::vector<std::function<std::string(at::SeqCounter&)>> extra;
     std::vector<OutDatagram> out;
-    std::vector<navdata::Navdata> received;
+    std::vector<protocol::navdata::Navdata> received;
     bool keepalive = true;
 
     explicit Station(DroneCoreOptions o = {}) : core(std::move(o)) { core.advance(now, out); }
 
     void send_now() {
         std::string d = at::ref(seq.next(), at::ref_input(fly, emergency));
-        d += pcmd.flags
-                 ? at::pcmd(seq.next(), pcmd.flags, pcmd.roll, pcmd.pitch, pcmd.gaz, pcmd.yaw)
-                 : at::hover(seq.next());
+        d += pcmd.flags ? at::pcmd(seq.next(), pcmd.flags, pcmd.roll, pcmd.pitch,
+                                             pcmd.gaz, pcmd.yaw)
+                        : at::hover(seq.next());
         for (auto& e : extra) d += e(seq);
         extra.clear();
         core.on_at(bytes(d), client(), now);
@@ -54,7 +54,7 @@ struct Station {
             core.advance(now, out);
             for (auto& d : out) {
                 EXPECT_EQ(d.to, client());
-                auto nd = navdata::parse_navdata(d.bytes);
+                auto nd = protocol::navdata::parse_navdata(d.bytes);
                 if (nd) received.push_back(std::move(*nd));
             }
         }
@@ -63,8 +63,9 @@ struct Station {
         extra.push_back([](at::SeqCounter& sq) {
             return *at::config_ids(sq.next(), "00000000", "00000000", "00000000");
         });
-        extra.push_back(
-            [key, value](at::SeqCounter& sq) { return *at::config(sq.next(), key, value); });
+        extra.push_back([key, value](at::SeqCounter& sq) {
+            return *at::config(sq.next(), key, value);
+        });
     }
     std::uint32_t last_state() const {
         if (received.empty()) {
@@ -79,7 +80,9 @@ struct Station {
         config("general:navdata_demo", "TRUE");
         run(100);
         ASSERT_TRUE(last_state() & kAck);
-        extra.push_back([](at::SeqCounter& sq) { return at::ctrl(sq.next(), at::CtrlMode::Ack); });
+        extra.push_back([](at::SeqCounter& sq) {
+            return at::ctrl(sq.next(), at::CtrlMode::Ack);
+        });
         run(100);
         ASSERT_FALSE(last_state() & kAck);
     }
@@ -124,11 +127,15 @@ TEST(DroneCore, FullModeSendsTheRequestedOptionsAt200Hz) {
     s.wake();
     s.config("general:navdata_demo", "FALSE");
     s.run(50);
-    s.extra.push_back([](at::SeqCounter& sq) { return at::ctrl(sq.next(), at::CtrlMode::Ack); });
+    s.extra.push_back([](at::SeqCounter& sq) {
+        return at::ctrl(sq.next(), at::CtrlMode::Ack);
+    });
     s.config("general:navdata_options",
              std::to_string((1 << 0) | (1 << 1) | (1 << 10) | (1 << 19)));
     s.run(50);
-    s.extra.push_back([](at::SeqCounter& sq) { return at::ctrl(sq.next(), at::CtrlMode::Ack); });
+    s.extra.push_back([](at::SeqCounter& sq) {
+        return at::ctrl(sq.next(), at::CtrlMode::Ack);
+    });
     s.run(50);
     s.received.clear();
     s.run(1000);
@@ -166,13 +173,15 @@ TEST(DroneCore, CommandsWithOldSequenceNumbersAreIgnoredUntilTheCounterResets) {
     Station s;
     s.configure_demo();
     s.keepalive = false;
-    const net::Endpoint c = client();
+    const transport::Endpoint c = client();
     s.core.on_at(bytes(at::ref(1000, at::ref_input(false, false))), c, s.now);
-    s.core.on_at(bytes(at::ref(999, at::ref_input(true, false))), c, s.now);  // stale: ignored
+    s.core.on_at(bytes(at::ref(999, at::ref_input(true, false))), c,
+                 s.now);  // stale: ignored
     s.run(10);
     EXPECT_FALSE(s.core.flight().user_start);
     EXPECT_EQ(s.core.counters().at_rejected_seq, 1u);
-    s.core.on_at(bytes(at::ref(1, at::ref_input(true, false))), c, s.now);  // 1 restarts
+    s.core.on_at(bytes(at::ref(1, at::ref_input(true, false))), c,
+                 s.now);  // 1 restarts
     s.run(10);
     EXPECT_TRUE(s.core.flight().user_start);
 }
@@ -215,12 +224,14 @@ TEST(DroneCore, ConfigDumpOnRequestAndUnknownKeysAreAckedButIgnored) {
     s.configure_demo();
     s.config("control:altitude_max", "2500");
     s.config("video:no_such_key", "1");
-    s.extra.push_back([](at::SeqCounter& sq) { return at::ctrl(sq.next(), at::CtrlMode::CfgGet); });
+    s.extra.push_back([](at::SeqCounter& sq) {
+        return at::ctrl(sq.next(), at::CtrlMode::CfgGet);
+    });
     s.run(60);
     auto dump = s.core.take_config_dump();
     ASSERT_TRUE(dump);
     EXPECT_EQ(dump->back(), '\0');
-    auto parsed = parse_config_dump(*dump);
+    auto parsed = protocol::parse_config_dump(*dump);
     ASSERT_TRUE(parsed);
     EXPECT_EQ(parsed->get("control:altitude_max"), "2500");
     EXPECT_EQ(parsed->get("general:navdata_demo"), "TRUE");
@@ -343,7 +354,7 @@ TEST(DroneCore, AManualMoveMakesTheAutopilotYieldForGood) {
     s.configure_demo();
     s.fly = true;
     s.run(2000);
-    ASSERT_GT(s.core.flight().vx_body_mps(), 0.5);   // the script flies forward
+    ASSERT_GT(s.core.flight().vx_body_mps(), 0.5);             // the script flies forward
     s.pcmd = {at::kPcmdProgressive, 0.5f, 0, 0, 0};  // the pilot banks right
     s.run(2000);
     EXPECT_FALSE(s.core.autopilot_active());
@@ -367,7 +378,8 @@ TEST(DroneCore, AFlightAnimationOrACalibrationMakesTheAutopilotYield) {
         s.configure_demo();
         s.fly = true;
         s.run(1000);
-        s.extra.push_back([](at::SeqCounter& sq) { return at::led(sq.next(), 1, 2.0f, 1); });
+        s.extra.push_back(
+            [](at::SeqCounter& sq) { return at::led(sq.next(), 1, 2.0f, 1); });
         s.run(300);
         EXPECT_TRUE(s.core.autopilot_active());
         s.config("control:flight_anim", "8,2000");
@@ -382,7 +394,8 @@ TEST(DroneCore, AFlightAnimationOrACalibrationMakesTheAutopilotYield) {
         s.configure_demo();
         s.fly = true;
         s.run(1000);
-        s.extra.push_back([](at::SeqCounter& sq) { return at::anim(sq.next(), 3, 1000); });
+        s.extra.push_back(
+            [](at::SeqCounter& sq) { return at::anim(sq.next(), 3, 1000); });
         s.run(100);
         EXPECT_EQ(s.core.autopilot_yield_reason(), "animation");
     }
@@ -391,7 +404,8 @@ TEST(DroneCore, AFlightAnimationOrACalibrationMakesTheAutopilotYield) {
         s.configure_demo();
         s.fly = true;
         s.run(1000);
-        s.extra.push_back([](at::SeqCounter& sq) { return at::calib(sq.next()); });
+        s.extra.push_back(
+            [](at::SeqCounter& sq) { return at::calib(sq.next()); });
         s.run(100);
         EXPECT_FALSE(s.core.autopilot_active());
         EXPECT_EQ(s.core.autopilot_yield_reason(), "calibration");

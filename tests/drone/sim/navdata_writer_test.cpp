@@ -10,7 +10,8 @@
 #include <random>
 #include <vector>
 
-namespace gs::navdata {
+namespace gs::protocol::navdata {
+using namespace gs::sim::navdata;  // the writer under test
 namespace {
 
 using test::read_fixture;
@@ -171,4 +172,4 @@ TEST(NavdataWriter, SpanOverloadChecksSizeAndVectorReusesCapacity) {
 }
 
 }  // namespace
-}  // namespace gs::navdata
+}  // namespace gs::protocol::navdata

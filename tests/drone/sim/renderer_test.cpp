@@ -1,8 +1,8 @@
 // Renderer: geometry against the camera model, determinism, motion cues (expansion, roll),
 // obstacle placement in the image, and that surfaces carry trackable corners.
 
-#include "drone/core/calibration.hpp"
 #include "drone/sim/renderer.hpp"
+#include "drone/core/camera_calibration.hpp"
 #include "drone/sim/scene.hpp"
 
 #include <gtest/gtest.h>
@@ -228,7 +228,7 @@ TEST(SimRender, BottomCameraSeesTheFloorScaleWithHeight) {
     std::vector<double> dy;
     for (std::size_t i = 0; i < p0.size(); ++i)
         if (st[i] && std::abs(p0[i].x - 320) < 120 && std::abs(p0[i].y - 219) < 80)
-            dy.push_back(p1[i].y - p0[i].y);
+            dy.push_back(static_cast<double>(p1[i].y - p0[i].y));
     ASSERT_GE(dy.size(), 10u);
     std::nth_element(dy.begin(), dy.begin() + long(dy.size() / 2), dy.end());
     EXPECT_NEAR(dy[dy.size() / 2], 70.2, 4.0);  // fy 701.65 x 0.1 m / 1 m
@@ -251,8 +251,8 @@ TEST(SimRender, TopCameraSeesTheCeilingMirroredAcross) {
     std::vector<double> dx, dy;
     for (std::size_t i = 0; i < p0.size(); ++i)
         if (st[i] && std::abs(p0[i].x - 320) < 120 && std::abs(p0[i].y - 219) < 80) {
-            dx.push_back(p1[i].x - p0[i].x);
-            dy.push_back(p1[i].y - p0[i].y);
+            dx.push_back(static_cast<double>(p1[i].x - p0[i].x));
+            dy.push_back(static_cast<double>(p1[i].y - p0[i].y));
         }
     ASSERT_GE(dx.size(), 10u);
     auto median = [](std::vector<double> v) {

@@ -9,7 +9,7 @@
 #include <thread>
 #include <vector>
 
-using namespace gs::net;
+using namespace gs::transport;
 using namespace std::chrono_literals;
 
 namespace {
@@ -252,7 +252,7 @@ TEST(TcpStream, ReadTimeoutReturnsPromptly) {
 TEST(TcpStream, WriteTimesOutWhenPeerDoesNotRead) {
     TcpPair p = connected_pair();
     const std::string chunk(64 << 20, 'x');  // far more than loopback socket buffers hold
-    gs::Expected<Ok, NetError> w = Ok{};
+    gs::Expected<void, NetError> w;
     const auto took = timed([&] { w = p.client.write_all(chunk, 200ms); });
     ASSERT_FALSE(w);
     EXPECT_EQ(w.error().code, NetErrc::Timeout);

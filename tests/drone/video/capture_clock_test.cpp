@@ -10,6 +10,8 @@
 namespace gs {
 namespace {
 
+using namespace video;
+
 constexpr TimeNs kMs = kNsPerMs;
 
 // 30 fps frames captured at 33 ms steps (drone clock starting at `drone0_ms`), received after a

@@ -18,6 +18,8 @@
 namespace gs {
 namespace {
 
+using namespace video;
+
 using test::OwnedFrame;
 using test::read_fixture;
 using test::run_framer;
@@ -290,7 +292,8 @@ TEST(H264Decoder, EmptyAccessUnitIsAnError) {
 TEST(H264Annexb, ContainsIdrMatchesPaveFrameType) {
     const auto frames = run_framer(read_fixture("node-ar-drone_pave.bin"), 0).frames;
     for (const auto& f : frames) {
-        EXPECT_EQ(contains_idr(f.payload), f.header.frame_type == PaveFrameType::Idr)
+        EXPECT_EQ(contains_idr(f.payload),
+                  f.header.frame_type == protocol::PaveFrameType::Idr)
             << f.header.frame_number;
     }
     const std::vector<std::uint8_t> three_byte = {0, 0, 1, 0x65, 0x88};

@@ -2,7 +2,7 @@
 // IDR, one access unit per frame, and a decoder joining mid-stream.
 
 #include "drone/video/h264_encoder.hpp"
-#include "drone/core/calibration.hpp"
+#include "drone/core/camera_calibration.hpp"
 #include "drone/sim/renderer.hpp"
 #include "drone/sim/scene.hpp"
 
@@ -19,6 +19,8 @@ extern "C" {
 
 namespace gs {
 namespace {
+
+using namespace video;
 
 // NAL unit types of an Annex-B buffer, in order.
 std::vector<int> nal_types(const std::vector<std::uint8_t>& b) {

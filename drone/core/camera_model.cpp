@@ -1,10 +1,11 @@
-#include "vision/camera_model.hpp"
+// The camera-model operations of CameraCalibration (camera_calibration.hpp).
+#include "drone/core/camera_calibration.hpp"
 
 #include <opencv2/calib3d.hpp>
 
 #include <cmath>
 
-namespace gs::vision {
+namespace gs::inline core {
 
 bool CameraCalibration::has_distortion() const {
     for (double d : dist)
@@ -14,14 +15,24 @@ bool CameraCalibration::has_distortion() const {
 
 CameraCalibration CameraCalibration::scaled_to(int w, int h) const {
     CameraCalibration c = *this;
-    const double sx = static_cast<double>(w) / width;
-    const double sy = static_cast<double>(h) / height;
     c.width = w;
     c.height = h;
+    if (width <= 0 || height <= 0 || (width == w && height == h)) return c;
+    const double sx = static_cast<double>(w) / width;
+    const double sy = static_cast<double>(h) / height;
     c.fx *= sx;
     c.cx = (cx + 0.5) * sx - 0.5;
     c.fy *= sy;
     c.cy = (cy + 0.5) * sy - 0.5;
+    return c;
+}
+
+CameraCalibration CameraCalibration::with_size_if_unknown(int w, int h) const {
+    CameraCalibration c = *this;
+    if (c.width <= 0 || c.height <= 0) {
+        c.width = w;
+        c.height = h;
+    }
     return c;
 }
 
@@ -64,4 +75,4 @@ cv::Point2f CameraCalibration::distort_point(cv::Point2f u) const {
     return {static_cast<float>(xd * fx + cx), static_cast<float>(yd * fy + cy)};
 }
 
-}  // namespace gs::vision
+}  // namespace gs::inline core
