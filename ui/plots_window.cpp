@@ -176,7 +176,7 @@ void PlotsWindow::draw(const GuiSnapshot& s, ViewState& v) {
     float span = static_cast<float>(v.settings.plot_span_s);
     // The value beside the slider, never under its handle.
     if (ImGui::SliderFloat("##window", &span, 5.0f, 300.0f, "", ImGuiSliderFlags_Logarithmic)) {
-        v.settings.plot_span_s = span;
+        v.settings.plot_span_s = static_cast<double>(span);
         v.settings_dirty = true;
     }
     ImGui::SameLine();
