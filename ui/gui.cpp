@@ -88,7 +88,9 @@ void Gui::read_ui_keys(const InputState& in, Actions& a, const GuiSnapshot& s) {
     }
     const bool ctrl =
         in.keys.test(GLFW_KEY_LEFT_CONTROL) || in.keys.test(GLFW_KEY_RIGHT_CONTROL) || io.KeyCtrl;
-    if (ctrl && pressed(GLFW_KEY_Q) && request_close(s)) a.quit = true;
+    if (((ctrl && pressed(GLFW_KEY_Q)) || in.pressed_with_ctrl.test(GLFW_KEY_Q)) &&
+        request_close(s))
+        a.quit = true;
 }
 
 // Escape closes what is open, one level per press, and never touches the drone: an open menu,

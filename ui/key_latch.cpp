@@ -1,5 +1,7 @@
 #include "ui/key_latch.hpp"
 
+#include <GLFW/glfw3.h>
+
 namespace gs::ui {
 
 void KeyLatch::on_key(int key, Event e) {
@@ -9,6 +11,8 @@ void KeyLatch::on_key(int key, Event e) {
         case Event::Press:
             down_.set(k);
             pressed_.set(k);
+            if (down_.test(GLFW_KEY_LEFT_CONTROL) || down_.test(GLFW_KEY_RIGHT_CONTROL))
+                pressed_with_ctrl_.set(k);
             ++presses_;
             break;
         case Event::Release:
@@ -22,7 +26,9 @@ void KeyLatch::on_key(int key, Event e) {
 void KeyLatch::take(InputState& in) {
     in.keys |= down_;
     in.pressed |= pressed_;
+    in.pressed_with_ctrl |= pressed_with_ctrl_;
     pressed_.reset();
+    pressed_with_ctrl_.reset();
 }
 
 }  // namespace gs::ui

@@ -18,7 +18,8 @@ class KeyLatch {
 public:
     enum class Event { Press, Release, Repeat };
 
-    // One key event, in the order the window system delivered them (on the UI thread).
+    // One key event, in the order the window system delivered them (on the UI thread). A press
+    // while a Ctrl key is down is also latched as a Ctrl chord.
     void on_key(int key, Event e);
     // Adds the keys held now and the presses since the last call to `in`, and forgets the
     // presses (each is handed out once).
@@ -27,7 +28,7 @@ public:
     std::uint64_t presses() const { return presses_; }  // every press seen (diagnostics, tests)
 
 private:
-    std::bitset<512> down_, pressed_;
+    std::bitset<512> down_, pressed_, pressed_with_ctrl_;
     std::uint64_t presses_ = 0;
 };
 

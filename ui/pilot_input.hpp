@@ -95,6 +95,9 @@ struct InputState {
     // Keys pressed since the previous frame (KeyLatch: from the key callback), held or already
     // released: a tap shorter than a frame is still one press.
     std::bitset<512> pressed;
+    // Of those, the ones pressed while Ctrl was held (Ctrl+Q tapped inside one frame: by the
+    // frame, Ctrl may already be released).
+    std::bitset<512> pressed_with_ctrl;
     bool window_focused = true;
     bool text_input_active = false;  // a text field owns the keyboard: only emergency passes
     GamepadState gamepad;

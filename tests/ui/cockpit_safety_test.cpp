@@ -196,6 +196,33 @@ TEST_F(CockpitSafety, APressAndReleaseInsideOneFrameActsExactlyOnce) {
     EXPECT_EQ(latch.presses(), 7u);
 }
 
+// Ctrl+Q as a fast typist (or xdotool) sends it: Ctrl down, Q down, Q up, Ctrl up, all inside one
+// frame. By the frame Ctrl is no longer held, yet the chord asks to quit (the drone is flying).
+TEST_F(CockpitSafety, ACtrlQChordInsideOneFrameAsksToQuit) {
+    Gui gui;
+    const GuiSnapshot s = flying();
+    KeyLatch latch;
+    auto latched_frame = [&] {
+        InputState in;
+        latch.take(in);
+        return frame(gui, s, in);
+    };
+    // Q alone is no quit.
+    latch.on_key(GLFW_KEY_Q, KeyLatch::Event::Press);
+    latch.on_key(GLFW_KEY_Q, KeyLatch::Event::Release);
+    latched_frame();
+    latched_frame();
+    EXPECT_FALSE(gui.view().quit_dialog_open);
+    latch.on_key(GLFW_KEY_LEFT_CONTROL, KeyLatch::Event::Press);
+    latch.on_key(GLFW_KEY_Q, KeyLatch::Event::Press);
+    latch.on_key(GLFW_KEY_Q, KeyLatch::Event::Release);
+    latch.on_key(GLFW_KEY_LEFT_CONTROL, KeyLatch::Event::Release);
+    const Actions a = latched_frame();
+    EXPECT_FALSE(a.quit);  // flying: it asks first
+    for (int i = 0; i < 2; ++i) EXPECT_FALSE(touches_drone(latched_frame()));
+    EXPECT_TRUE(gui.view().quit_dialog_open);
+}
+
 // Point 2: every way of leaving a flying drone asks, and "Land, then ..." does it once landed.
 TEST_F(CockpitSafety, DisconnectWhileFlyingAsksLandThenDisconnect) {
     Gui gui;
