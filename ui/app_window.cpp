@@ -39,6 +39,12 @@ const char* to_string(AppError e) {
     return "?";
 }
 
+WindowSize initial_window_size(int work_w, int work_h, WindowSize fallback) {
+    if (work_w <= 0 || work_h <= 0) return fallback;
+    constexpr int kDecorations = 40;  // title bar and borders the window manager adds
+    return {work_w, std::max(240, work_h - kDecorations)};
+}
+
 bool display_available() {
     const char* x = std::getenv("DISPLAY");
     const char* w = std::getenv("WAYLAND_DISPLAY");
@@ -221,20 +227,18 @@ Expected<RunResult, AppError> run_window(const AppOptions& opt, const SnapshotPr
     glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
     glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
     if (opt.offscreen) glfwWindowHint(GLFW_VISIBLE, GLFW_FALSE);
-    // On screen, the window fits the monitor's work area (the desktop minus its panels): on a
-    // 1280x720 screen it opens maximised instead of running off the edges.
+    // On screen, the window fills the monitor's work area (the desktop minus its panels) and is
+    // maximised: a small screen never has its controls off the edges, a big one is used.
     int width = opt.width, height = opt.height;
     bool maximize = false;
     int wa_x = 0, wa_y = 0, wa_w = 0, wa_h = 0;  // the work area
     if (!opt.offscreen) {
         if (GLFWmonitor* mon = glfwGetPrimaryMonitor()) {
             glfwGetMonitorWorkarea(mon, &wa_x, &wa_y, &wa_w, &wa_h);
-            constexpr int kDecorations = 40;  // title bar and borders the window manager adds
-            if (wa_w > 0 && wa_h > 0 && (width > wa_w || height > wa_h - kDecorations)) {
-                width = std::min(width, wa_w);
-                height = std::min(height, std::max(240, wa_h - kDecorations));
-                maximize = true;
-            }
+            const WindowSize fit = initial_window_size(wa_w, wa_h, {width, height});
+            maximize = wa_w > 0 && wa_h > 0;
+            width = fit.width;
+            height = fit.height;
         }
     }
     GLFWwindow* win = glfwCreateWindow(width, height, opt.title.c_str(), nullptr, nullptr);

@@ -52,6 +52,14 @@ using SnapshotProvider = std::function<void(GuiSnapshot& out, int frame)>;
 // it must only enqueue, never block).
 using ActionsConsumer = std::function<void(const Actions& a)>;
 
+// The on-screen window's first size for a monitor work area (the desktop minus its panels) of
+// `work_w` x `work_h`: all of it but the title bar and borders a window manager adds (the window
+// is then maximised too). {0, 0} work area (none known): `fallback`.
+struct WindowSize {
+    int width = 0, height = 0;
+};
+WindowSize initial_window_size(int work_w, int work_h, WindowSize fallback);
+
 // True when an X11 or Wayland display is named in the environment.
 bool display_available();
 // What to tell a user with no display.

@@ -200,11 +200,19 @@ void Hud::draw(ImDrawList* dl, ImVec2 p0, ImVec2 p1, const GuiSnapshot& s, ViewS
     v.layout.battery_warning = bat_low;
     x = g1.x + 8 + text_size("100%").x + 18;
 
+    // A field is drawn whole or not at all (the status bar above has them all): never cut at the
+    // picture's edge.
+    float strip_end = x;
+    auto fits = [&](const char* label, const std::string& value) {
+        return x + text_size(label).x + 5 + text_size(value.c_str()).x <= s1.x - 8;
+    };
     auto field = [&](const char* label, const std::string& value, std::uint32_t col) {
+        if (!fits(label, value)) return;
         text(dl, {x, cy - fs * 0.5f}, colors::kDim, label);
         x += text_size(label).x + 5;
         text(dl, {x, cy - fs * 0.5f}, col, value.c_str());
-        x += text_size(value.c_str()).x + 18;
+        strip_end = x + text_size(value.c_str()).x;
+        x = strip_end + 18;
     };
     field("STATE", s.telemetry.ctrl_state.empty() ? "---" : s.telemetry.ctrl_state,
           s.telemetry.state && s.telemetry.state->flying ? colors::kInfo : kHud);
@@ -230,16 +238,21 @@ void Hud::draw(ImDrawList* dl, ImVec2 p0, ImVec2 p1, const GuiSnapshot& s, ViewS
             val = known(s.video.fps) ? buf : "-- fps";
             if (known(s.video.latency_ms)) {
                 std::snprintf(buf, sizeof buf, "  %.0f ms", s.video.latency_ms);
-                val += buf;
+                if (fits("VIDEO", val + buf)) val += buf;  // the latency goes first when narrow
             }
         }
         field("VIDEO", val, s.video.bgr.empty() ? colors::kWarn : kHud);
     }
     if (s.recording.active) {
-        dl->AddCircleFilled({x + 6, cy}, 6.0f, colors::kBad);
+        const std::string rec = format_duration(s.recording.duration_s);
         x += 16;
-        field("REC", format_duration(s.recording.duration_s), colors::kBad);
+        if (fits("REC", rec)) {
+            dl->AddCircleFilled({x - 10, cy}, 6.0f, colors::kBad);
+            field("REC", rec, colors::kBad);
+        }
     }
+    v.layout.labels.push_back({"hud.strip", {s0.x, s0.y, s1.x, s1.y}});
+    v.layout.labels.push_back({"hud.strip_end", {strip_end, s0.y, strip_end, s1.y}});
 
     // ---- Warnings, centre-top, largest type -------------------------------------------------
     std::vector<std::pair<std::string, std::uint32_t>> warnings;

@@ -36,16 +36,25 @@ void VideoWindow::draw(const GuiSnapshot& s, ViewState& v, Actions& a, TextureSo
     OverlayToggles& t = v.settings.overlay;
     bool changed = false;
     if (!fixed) {
+        // Each checkbox on the same line as the last when it fits, else on the next one (a narrow
+        // window wraps them instead of clipping the last).
+        const ImGuiStyle& st = ImGui::GetStyle();
+        const float right_edge = ImGui::GetWindowPos().x + ImGui::GetWindowContentRegionMax().x;
+        auto same_line_if_fits = [&](const char* next) {
+            const float w =
+                ImGui::GetFrameHeight() + st.ItemInnerSpacing.x + ImGui::CalcTextSize(next).x;
+            if (ImGui::GetItemRectMax().x + st.ItemSpacing.x + w <= right_edge) ImGui::SameLine();
+        };
         changed |= ImGui::Checkbox("Regions", &t.regions);
-        ImGui::SameLine();
+        same_line_if_fits("Trajectories");
         changed |= ImGui::Checkbox("Trajectories", &t.trajectories);
-        ImGui::SameLine();
+        same_line_if_fits("Centre points");
         changed |= ImGui::Checkbox("Centre points", &t.center_points);
-        ImGui::SameLine();
+        same_line_if_fits("Boundaries");
         changed |= ImGui::Checkbox("Boundaries", &t.boundaries);
-        ImGui::SameLine();
+        same_line_if_fits("HUD");
         changed |= ImGui::Checkbox("HUD", &t.hud);
-        ImGui::SameLine();
+        same_line_if_fits("Undistort");
         // Undistortion preview: the adapter remaps the frame with the calibration in use and moves
         // the overlay onto it, so straight lines come out straight.
         changed |= ImGui::Checkbox("Undistort", &t.undistort);

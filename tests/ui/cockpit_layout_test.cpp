@@ -3,6 +3,7 @@
 // emergency always inside the viewport, no window outside it (a saved layout from a bigger screen,
 // a resize, a window dragged away), View -> Reset layout, the flight layout, readability.
 #include "imgui_fixture.hpp"
+#include "ui/app_window.hpp"
 #include "ui/demo_snapshot.hpp"
 
 #include <GLFW/glfw3.h>
@@ -229,6 +230,18 @@ TEST_F(CockpitLayout, ReadableAt1280x720) {
     }
     ASSERT_TRUE(info && toggles);
     EXPECT_TRUE(info->x0 >= toggles->x0 || info->y0 >= toggles->y1) << str(*info);
+    // The HUD's bottom strip draws its fields whole, inside the picture (no "VIDEO 39.3 fp").
+    const Rect* strip = nullptr;
+    const Rect* strip_end = nullptr;
+    for (const auto& [n, r] : l.labels) {
+        if (n == "hud.strip") strip = &r;
+        if (n == "hud.strip_end") strip_end = &r;
+    }
+    ASSERT_TRUE(strip && strip_end);
+    EXPECT_LE(strip_end->x1, strip->x1) << str(*strip_end) << " in " << str(*strip);
+    // The last checkbox (Undistort) ends inside the Video window: the toggles wrap, never clip.
+    const Rect video = window(gui, "Video");
+    EXPECT_LE(toggles->x1, video.x1) << str(*toggles) << " in " << str(video);
     // Every region bar keeps a label, the centre's too.
     for (const auto& b : l.region_bars) EXPECT_FALSE(b.label.empty()) << b.name;
     // The Replay window's seek slider is in view, inside its window.
@@ -248,6 +261,21 @@ TEST(ScoreFormat, TwoSignificantDigitsOfTheThresholdNoExponent) {
     EXPECT_EQ(format_score(3.71, 3.5), "3.7");
     EXPECT_EQ(format_score(-1e-9, 0.3), "0.00");
     EXPECT_EQ(format_score(std::nan(""), 0.3), "-");
+}
+
+// Point 3: on screen the window takes the monitor's work area (less a window manager's title bar),
+// on a small screen and a big one alike, never the fixed 1600x900.
+TEST(WindowSize, FillsTheWorkAreaOfAnyScreen) {
+    const WindowSize fallback{1600, 900};
+    const WindowSize small = initial_window_size(1280, 720, fallback);
+    EXPECT_EQ(small.width, 1280);
+    EXPECT_EQ(small.height, 680);
+    const WindowSize big = initial_window_size(1920, 1080, fallback);
+    EXPECT_EQ(big.width, 1920);
+    EXPECT_EQ(big.height, 1040);
+    const WindowSize none = initial_window_size(0, 0, fallback);
+    EXPECT_EQ(none.width, 1600);
+    EXPECT_EQ(none.height, 900);
 }
 
 }  // namespace
