@@ -5,6 +5,7 @@
 #include "drone/link/drone_link.hpp"
 #include "drone/sim/scenarios.hpp"
 #include "drone/sim/virtual_drone.hpp"
+#include "support/virtual_drone.hpp"
 
 #include <gtest/gtest.h>
 
@@ -27,24 +28,15 @@ struct Step {
 // clock; `slow` makes each step take real time as a loaded machine would.
 std::vector<Step> lockstepped_flight(int steps, bool slow) {
     FakeClock clock(0);
-    sim::VirtualDroneOptions vo;
-    vo.bind_address = "127.0.0.1";
-    vo.at_port = vo.navdata_port = vo.video_port = vo.control_port = 0;
     auto scene = sim::resolve_scene("thesis_pillar_left");
     EXPECT_TRUE(scene);
     if (!scene) return {};
-    vo.scene = std::move(*scene);
+    sim::VirtualDroneOptions vo = loopback_drone_options(std::move(*scene));
     vo.autopilot = true;
     vo.clock = &clock;
     sim::VirtualDrone drone(std::move(vo));
     EXPECT_TRUE(drone.start());
-    link::LinkConfig lc;
-    lc.drone_address = lc.bind_address = "127.0.0.1";
-    lc.at_port = drone.at_port();
-    lc.navdata_port = drone.navdata_port();
-    lc.video_port = drone.video_port();
-    lc.control_port = drone.control_port();
-    link::DroneLink link(lc, clock);
+    link::DroneLink link(link_config_for(drone), clock);
     EXPECT_TRUE(link.start());
     // The video connection comes first (real time), then the flight (simulated time).
     const auto deadline = std::chrono::steady_clock::now() + 10s;

@@ -240,6 +240,30 @@ TEST(DroneCore, ConfigDumpOnRequestAndUnknownKeysAreAckedButIgnored) {
     EXPECT_FALSE(s.core.take_config_dump());  // handed out once
 }
 
+// What the firmware bounds stays in its range, a codec it cannot stream is refused, and switching
+// to outdoor loads the outdoor maxima (issue 13, point 11): the read-back shows what it took.
+TEST(DroneCore, ConfigKeepsFirmwareBoundsRefusesUnknownCodecsAndLoadsOutdoorMaxima) {
+    Station s;
+    s.configure_demo();
+    s.config("control:altitude_max", "20000");  // above the firmware's 10 m
+    s.config("video:bitrate", "100");           // below its 250 kbit/s
+    s.config("video:video_codec", "130");       // MP4 360p + H.264 720p: not streamable here
+    s.config("video:video_codec", "131");       // H.264 720p
+    s.config("control:outdoor", "TRUE");
+    s.run(60);
+    EXPECT_EQ(s.core.config().get("control:altitude_max"), "10000");
+    EXPECT_EQ(s.core.config().get("video:bitrate"), "250");
+    EXPECT_EQ(s.core.video_bitrate_kbps(), 250);
+    EXPECT_EQ(s.core.config().get("video:video_codec"), "131");
+    EXPECT_EQ(s.core.video_codec(), 131);
+    EXPECT_EQ(s.core.counters().configs_clamped, 2u);
+    EXPECT_EQ(s.core.counters().configs_refused, 1u);
+    EXPECT_EQ(s.core.config().get("control:euler_angle_max"),
+              s.core.config().get("control:outdoor_euler_angle_max"));
+    EXPECT_EQ(s.core.config().get("control:control_vz_max"),
+              s.core.config().get("control:outdoor_control_vz_max"));
+}
+
 TEST(DroneCore, EmergencyCutsTheMotorsAndShowsInTheState) {
     Station s;
     s.configure_demo();
