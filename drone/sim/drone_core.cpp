@@ -266,11 +266,13 @@ void DroneCore::apply_config(const std::string& key, const std::string& value) {
         }
         video_codec_ = *codec;
     }
-    if (key == "video:bitrate") video_bitrate_kbps_ = static_cast<int>(*protocol::config_float(stored));
+    if (key == "video:bitrate")
+        video_bitrate_kbps_ = static_cast<int>(*protocol::config_float(stored));
     config_.set(key, stored);
     // Switching indoor/outdoor loads that mode's maxima, as the firmware does.
     if (key == "control:outdoor") {
-        const std::string mode = *protocol::config_bool(value) ? "control:outdoor_" : "control:indoor_";
+        const std::string mode =
+            *protocol::config_bool(value) ? "control:outdoor_" : "control:indoor_";
         for (const char* k : {"euler_angle_max", "control_vz_max", "control_yaw"})
             if (auto m = config_.get(mode + k)) config_.set(std::string("control:") + k, *m);
     }
