@@ -8,8 +8,11 @@
 
 namespace gs {
 
+// A constructor, not an aggregate: Unexpected(e) is then valid C++20 for Clang 14 too (it does
+// not implement parenthesised aggregate initialisation).
 template <class E>
 struct Unexpected {
+    explicit Unexpected(E e) : error(std::move(e)) {}
     E error;
 };
 
