@@ -1,6 +1,7 @@
 #include "drone/calibration.hpp"
 
 #include "drone/dataset/dataset.hpp"
+#include "drone/dataset/json_text.hpp"
 #include "drone/dataset/writer.hpp"
 
 #include <nlohmann/json.hpp>
@@ -109,14 +110,9 @@ Expected<CameraCalibration, DatasetError> load_calibration_file(const fs::path& 
     const std::string name = file.string();
     auto text = read_text_file(file, name, 1u << 20);
     if (!text) return Unexpected(text.error());
-    json j;
-    try {
-        j = json::parse(*text);
-    } catch (const json::parse_error& e) {
-        return Unexpected(DatasetError{DatasetErrorCode::Malformed, name, 0, 0,
-                                       std::string("invalid JSON: ") + e.what()});
-    }
-    auto c = calibration_from_json(j);
+    auto j = parse_json_text(*text, name);
+    if (!j) return Unexpected(j.error());
+    auto c = calibration_from_json(*j);  // checks every type before reading: nothing throws
     if (!c) {
         const CalibrationIssue& i = c.error();
         if (i.code == DatasetErrorCode::Missing)

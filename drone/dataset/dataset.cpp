@@ -2,6 +2,7 @@
 
 #include "drone/dataset/annexb.hpp"
 #include "drone/dataset/csv.hpp"
+#include "drone/dataset/json_text.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -35,19 +36,6 @@ namespace {
 DatasetError err(DatasetErrorCode code, std::string file, std::string msg, int line = 0,
                  int col = 0) {
     return DatasetError{code, std::move(file), line, col, std::move(msg)};
-}
-
-Expected<json, DatasetError> parse_json(const std::string& text, const std::string& file) {
-    try {
-        return json::parse(text);
-    } catch (const json::parse_error& e) {
-        auto [l, c] = text_line_col(text, e.byte > 0 ? e.byte - 1 : 0);
-        std::string what = e.what();
-        // nlohmann's message repeats the position; keep the part after "syntax error ".
-        const auto k = what.find("syntax error");
-        if (k != std::string::npos) what = what.substr(k);
-        return Unexpected(err(DatasetErrorCode::Malformed, file, "invalid JSON: " + what, l, c));
-    }
 }
 
 class JsonFields {
@@ -210,11 +198,12 @@ Expected<DatasetLabels, DatasetError> read_labels(const fs::path& dir, const Dat
     return out;
 }
 
-Expected<DatasetInfo, DatasetError> parse_flight_json(const std::string& text,
-                                                      const DatasetLimits& limits,
-                                                      std::vector<std::string>* warnings) {
+namespace {
+Expected<DatasetInfo, DatasetError> read_flight_json(const std::string& text,
+                                                     const DatasetLimits& limits,
+                                                     std::vector<std::string>* warnings) {
     const std::string file = "flight.json";
-    auto jr = parse_json(text, file);
+    auto jr = parse_json_text(text, file);
     if (!jr) return Unexpected(jr.error());
     const json& j = *jr;
     if (!j.is_object())
@@ -302,6 +291,14 @@ Expected<DatasetInfo, DatasetError> parse_flight_json(const std::string& text,
     if (!unknown.empty() && warnings)
         warnings->push_back("flight.json: unknown keys ignored: " + unknown);
     return info;
+}
+
+}  // namespace
+
+Expected<DatasetInfo, DatasetError> parse_flight_json(const std::string& text,
+                                                      const DatasetLimits& limits,
+                                                      std::vector<std::string>* warnings) {
+    return json_boundary("flight.json", [&] { return read_flight_json(text, limits, warnings); });
 }
 
 namespace {
@@ -398,10 +395,12 @@ Expected<std::vector<FrameRow>, DatasetError> parse_frames_csv(std::string text)
     return rows;
 }
 
-Expected<std::vector<NavState>, DatasetError> parse_navdata_csv(std::string text) {
-    auto tr = csv::Table::parse(std::move(text), "navdata.csv");
+Expected<std::vector<NavState>, DatasetError> parse_navdata_csv(std::string text,
+                                                               std::vector<std::string>* warnings) {
+    auto tr = csv::Table::parse(std::move(text), "navdata.csv", /*tolerate_cut_tail=*/true);
     if (!tr) return Unexpected(tr.error());
     const csv::Table& t = *tr;
+    if (warnings && !t.cut_tail_warning().empty()) warnings->push_back(t.cut_tail_warning());
     if (auto e = require_columns(t, {"t_ms"})) return Unexpected(*e);
     const NavColumns nc = nav_columns(t);
     const auto seq = t.column("seq"), state = t.column("state"), ctrl = t.column("ctrl_state"),
@@ -409,28 +408,51 @@ Expected<std::vector<NavState>, DatasetError> parse_navdata_csv(std::string text
     std::vector<NavState> rows;
     rows.reserve(t.rows());
     TimeNs prev = 0;
+    // A recording cut short may end inside its last line; when that line is refused it is
+    // left out with a warning rather than failing the whole file (DATASET.md 1.1).
+    auto cut_tail = [&](std::size_t r, const DatasetError& e) {
+        if (r + 1 != t.rows() || !t.last_row_unterminated()) return false;
+        if (warnings)
+            warnings->push_back(to_string(e) + " (incomplete last line, no newline: ignored)");
+        return true;
+    };
     for (std::size_t r = 0; r < t.rows(); ++r) {
         NavState s;
-        if (auto e = read_nav(t, nc, r, s, prev)) return Unexpected(*e);
+        if (auto e = read_nav(t, nc, r, s, prev)) {
+            if (cut_tail(r, *e)) break;
+            return Unexpected(*e);
+        }
         prev = s.t_ns;
         if (seq) {
             auto v = t.u32(r, *seq, false, false);
-            if (!v) return Unexpected(v.error());
+            if (!v) {
+                if (cut_tail(r, v.error())) break;
+                return Unexpected(v.error());
+            }
             s.seq = *v;
         }
         if (state) {
             auto v = t.u32(r, *state, true, true);
-            if (!v) return Unexpected(v.error());
+            if (!v) {
+                if (cut_tail(r, v.error())) break;
+                return Unexpected(v.error());
+            }
             s.drone_state = *v;
         }
         if (ctrl) {
             auto v = t.u32(r, *ctrl, true, false);
-            if (!v) return Unexpected(v.error());
+            if (!v) {
+                if (cut_tail(r, v.error())) break;
+                return Unexpected(v.error());
+            }
             s.ctrl_state = *v;
         }
         if (batt) {
             auto v = t.number(r, *batt);
-            if (!v) return Unexpected(v.error());
+            if (!v) {
+                if (cut_tail(r, v.error())) break;
+                return Unexpected(v.error());
+            }
             s.battery_pct = *v;
         }
         rows.push_back(s);
@@ -438,9 +460,10 @@ Expected<std::vector<NavState>, DatasetError> parse_navdata_csv(std::string text
     return rows;
 }
 
-Expected<FlightLabels, DatasetError> parse_labels_json(const std::string& text) {
+namespace {
+Expected<FlightLabels, DatasetError> read_labels_json(const std::string& text) {
     const std::string file = "labels.json";
-    auto jr = parse_json(text, file);
+    auto jr = parse_json_text(text, file);
     if (!jr) return Unexpected(jr.error());
     if (!jr->is_object())
         return Unexpected(err(DatasetErrorCode::Malformed, file, "expected a JSON object", 1, 1));
@@ -463,6 +486,13 @@ Expected<FlightLabels, DatasetError> parse_labels_json(const std::string& text) 
     l.json = text;
     return l;
 }
+
+}  // namespace
+
+Expected<FlightLabels, DatasetError> parse_labels_json(const std::string& text) {
+    return json_boundary("labels.json", [&] { return read_labels_json(text); });
+}
+
 
 Expected<std::vector<LabelRow>, DatasetError> parse_labels_csv(std::string text) {
     auto tr = csv::Table::parse(std::move(text), "labels.csv");
@@ -698,7 +728,7 @@ Expected<Dataset, DatasetError> Dataset::open(const fs::path& dir, const Dataset
     if (fs::exists(*navdata_path, ec)) {
         auto text = read_text_file(*navdata_path, "navdata.csv", lim.max_csv_bytes);
         if (!text) return Unexpected(text.error());
-        auto nav = parse_navdata_csv(std::move(*text));
+        auto nav = parse_navdata_csv(std::move(*text), &d.warnings_);
         if (!nav) return Unexpected(nav.error());
         d.navdata_ = std::move(*nav);
         d.has_navdata_ = true;

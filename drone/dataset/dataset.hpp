@@ -139,7 +139,9 @@ Expected<DatasetInfo, DatasetError> parse_flight_json(const std::string& text,
                                                       const DatasetLimits& limits = {},
                                                       std::vector<std::string>* warnings = nullptr);
 Expected<std::vector<FrameRow>, DatasetError> parse_frames_csv(std::string text);
-Expected<std::vector<NavState>, DatasetError> parse_navdata_csv(std::string text);
+// A last line cut short (no newline, too few fields) is left out with a warning in `warnings`.
+Expected<std::vector<NavState>, DatasetError> parse_navdata_csv(
+    std::string text, std::vector<std::string>* warnings = nullptr);
 Expected<FlightLabels, DatasetError> parse_labels_json(const std::string& text);
 Expected<std::vector<LabelRow>, DatasetError> parse_labels_csv(std::string text);
 
