@@ -8,6 +8,7 @@
 #include <sys/socket.h>
 
 #include <array>
+#include <cerrno>
 #include <chrono>
 #include <optional>
 
@@ -135,7 +136,11 @@ void VirtualDrone::core_loop() {
                 }
                 void operator()(const FaultVideoStall& s) { vd.video_stalls_.push(s); }
                 void operator()(const FaultVideoReset& r) { vd.video_resets_.push(r); }
-                void operator()(const FaultReboot& r) { core.reboot(now, ms_to_ns(r.boot_ms)); }
+                void operator()(const FaultReboot& r) {
+                    core.reboot(now, ms_to_ns(r.boot_ms));
+                    const auto gen = vd.boot_.latest().value_or(BootState{}).generation;
+                    vd.boot_.publish({gen + 1, now + ms_to_ns(r.boot_ms)});
+                }
             };
             std::visit(V{core, *this, now}, *f);
         }
@@ -160,6 +165,8 @@ void VirtualDrone::core_loop() {
             st.video_frames_sent = report.frames_sent;
             st.video_clients = report.clients;
             st.video_resets = report.resets;
+            st.reboot_closes = reboot_closes_.load();
+            if (auto b = boot_.latest()) st.booting = now < b->up_at_ns;
             st.render_ms_last = report.render_ms;
             st.encode_ms_last = report.encode_ms;
             st.autopilot_done = core.autopilot_done();
@@ -197,7 +204,16 @@ void VirtualDrone::video_loop() {
     // A requested reset, waiting for its frame (two bools: g++ 12 misreads an optional here).
     bool reset_pending = false, reset_during_idr = false;
 
+    std::uint64_t boot_gen = 0;
+    BootState boot;
     while (running_) {
+        if (boot_.read_if_newer(boot_gen, boot) && !wait_for_boot(sockets_->video, 2, boot)) break;
+        if (!sockets_->video.is_open()) {  // could not listen again: report, retry slowly
+            report.error = "video port: cannot listen again after the reboot";
+            video_report_.publish(report);
+            std::this_thread::sleep_for(std::chrono::milliseconds(100));
+            continue;
+        }
         auto client = sockets_->video.accept(net::Millis{100});
         if (!client) continue;
         ++report.clients;
@@ -207,6 +223,15 @@ void VirtualDrone::video_loop() {
             const TimeNs wait = next - mono_now();
             if (wait > 0) std::this_thread::sleep_for(std::chrono::nanoseconds(wait));
             next += period;
+            if (boot_.read_if_newer(boot_gen, boot)) {
+                // Rebooting: the connection dies with the drone's network stack (RST).
+                linger l{1, 0};
+                ::setsockopt(client->native_handle(), SOL_SOCKET, SO_LINGER, &l, sizeof l);
+                client->close();
+                ++reboot_closes_;
+                if (!wait_for_boot(sockets_->video, 2, boot)) return;
+                break;
+            }
             if (auto stall = video_stalls_.try_pop()) {
                 std::this_thread::sleep_for(std::chrono::milliseconds(stall->ms));
                 next = mono_now() + period;
@@ -277,7 +302,11 @@ void VirtualDrone::video_loop() {
             }
             auto sent = client->write_all(std::span<const std::uint8_t>(packet), net::Millis{500});
             if (!sent) {
-                report.error = "video client: " + sent.error().message();
+                // A client that went away (closed or reset its end) is a normal end of its
+                // connection, not a fault of the drone's; anything else is reported.
+                const int why = sent.error().sys_errno;
+                if (why != EPIPE && why != ECONNRESET && sent.error().code != net::NetErrc::Closed)
+                    report.error = "video client: " + sent.error().message();
                 video_report_.publish(report);
                 break;
             }
@@ -289,9 +318,37 @@ void VirtualDrone::video_loop() {
     }
 }
 
+bool VirtualDrone::wait_for_boot(net::TcpListener& listener, int which, const BootState& boot) {
+    listener.close();  // connecting is refused while the drone boots
+    while (running_ && mono_now() < boot.up_at_ns)
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    if (!running_) return false;
+    auto ep = net::Endpoint::parse(options_.bind_address + ":" + std::to_string(ports_[which]));
+    for (int attempt = 0; ep && running_ && attempt < 200; ++attempt) {
+        auto l = net::TcpListener::listen(*ep);
+        if (l) {
+            listener = std::move(*l);
+            return true;
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    return running_.load();
+}
+
 void VirtualDrone::control_loop() {
     net::TcpStream client;
+    std::uint64_t boot_gen = 0;
+    BootState boot;
     while (running_) {
+        if (boot_.read_if_newer(boot_gen, boot)) {
+            if (client.is_open()) {
+                linger l{1, 0};
+                ::setsockopt(client.native_handle(), SOL_SOCKET, SO_LINGER, &l, sizeof l);
+                client.close();
+                ++reboot_closes_;
+            }
+            if (!wait_for_boot(sockets_->control, 3, boot)) return;
+        }
         if (!client.is_open()) {
             auto c = sockets_->control.accept(net::Millis{50});
             if (c) client = std::move(*c);
