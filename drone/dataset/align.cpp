@@ -4,45 +4,57 @@
 
 namespace gs {
 
-void NavAligner::push_nav(const NavState& s) {
-    if (!navs_.empty() && s.t_ns < navs_.back().t_ns) return;  // out of order: ignored
-    navs_.push_back(s);
-    // Keep enough history for frames that arrive late, but bounded.
-    while (navs_.size() > history_cap_) navs_.pop_front();
+NavTimeline::NavTimeline(std::size_t capacity) : ring_(capacity == 0 ? 1 : capacity) {}
+
+void NavTimeline::push(const NavState& s) {
+    if (size_ > 0 && s.t_ns < at(size_ - 1).t_ns) return;  // out of order: ignored
+    if (size_ == ring_.size()) {  // full: the oldest goes
+        ring_[head_] = s;
+        head_ = (head_ + 1) % ring_.size();
+        return;
+    }
+    ring_[(head_ + size_) % ring_.size()] = s;
+    ++size_;
+}
+
+TimeNs NavTimeline::newest_t() const {
+    return size_ == 0 ? 0 : at(size_ - 1).t_ns;
+}
+
+NavState NavTimeline::state_at(TimeNs t) const {
+    if (size_ == 0) {
+        NavState none;
+        none.t_ns = t;
+        return none;
+    }
+    // First sample at or after t (binary search over the ring's logical order).
+    std::size_t lo = 0, hi = size_;
+    while (lo < hi) {
+        const std::size_t mid = lo + (hi - lo) / 2;
+        if (at(mid).t_ns < t)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    if (lo == size_ || lo == 0 || at(lo).t_ns == t) {
+        NavState r = lo == size_ ? at(size_ - 1) : at(lo);
+        r.t_ns = t;
+        return r;
+    }
+    return interpolate(at(lo - 1), at(lo), t);
 }
 
 void NavAligner::push_frame(std::int64_t index, TimeNs capture_ns) {
     frames_.push_back({index, capture_ns});
 }
 
-NavState NavAligner::state_at(TimeNs t) const {
-    if (navs_.empty()) {
-        NavState none;
-        none.t_ns = t;
-        return none;
-    }
-    auto after = std::lower_bound(navs_.begin(), navs_.end(), t,
-                                  [](const NavState& s, TimeNs v) { return s.t_ns < v; });
-    if (after == navs_.end()) {
-        NavState r = navs_.back();
-        r.t_ns = t;
-        return r;
-    }
-    if (after == navs_.begin() || after->t_ns == t) {
-        NavState r = *after;
-        r.t_ns = t;
-        return r;
-    }
-    return interpolate(*(after - 1), *after, t);
-}
-
 bool NavAligner::pop_ready(TimeNs now_ns, std::int64_t& index, NavState& nav) {
     if (frames_.empty()) return false;
     const Pending& f = frames_.front();
-    const bool bracketed = !navs_.empty() && navs_.back().t_ns >= f.capture_ns;
+    const bool bracketed = !navs_.empty() && navs_.newest_t() >= f.capture_ns;
     if (!bracketed && !finished_ && now_ns - f.capture_ns <= max_wait_ns_) return false;
     index = f.index;
-    nav = state_at(f.capture_ns);
+    nav = navs_.state_at(f.capture_ns);
     frames_.pop_front();
     return true;
 }

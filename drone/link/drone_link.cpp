@@ -1,7 +1,6 @@
 #include "drone/link/drone_link.hpp"
 
-#include "drone/capture_clock.hpp"
-
+#include "drone/dataset/align.hpp"
 #include "drone/h264_decoder.hpp"
 #include "drone/net.hpp"
 #include "drone/pave.hpp"
@@ -45,9 +44,9 @@ void erase_queue(std::vector<std::shared_ptr<BoundedQueue<T>>>& subs, const void
 }
 }  // namespace
 
-void RateMeter::tick(TimeNs now) {
+void RateMeter::tick(TimeNs now, std::uint64_t count) {
     if (window_start_ == 0) window_start_ = now;
-    ++count_;
+    count_ += count;
     const TimeNs span = now - window_start_;
     if (span >= ms_to_ns(1000)) {
         last_rate_ = static_cast<double>(count_) * 1e9 / static_cast<double>(span);
@@ -131,6 +130,12 @@ void DroneLink::stop() {
 std::uint16_t DroneLink::navdata_local_port() const {
     if (!sockets_) return 0;
     auto e = sockets_->navdata.local_endpoint();
+    return e ? e->port : 0;
+}
+
+std::uint16_t DroneLink::at_local_port() const {
+    if (!sockets_) return 0;
+    auto e = sockets_->at.local_endpoint();
     return e ? e->port : 0;
 }
 
@@ -365,7 +370,7 @@ void DroneLink::navdata_loop() {
     LinkStateMachine sm(config_.setup);
     LinkActions actions;
     NavdataStats stats;
-    RateMeter rate;
+    RateMeter rate, byte_rate;
     std::vector<std::pair<std::uint64_t, NavRequest>> pending;  // awaiting the machine's verdict
     std::array<std::uint8_t, kNavdataMax + 1> buf{};
     std::uint64_t dumps = 0;
@@ -473,6 +478,8 @@ void DroneLink::navdata_loop() {
                 stats.last_error = "datagram larger than 4096 bytes";
             } else {
                 ++stats.datagrams;
+                stats.bytes += got->size;
+                byte_rate.tick(now, got->size);
                 if (!subs.raw.empty())
                     fan_out(subs.raw,
                             RawEvent{RawEvent::Kind::Navdata, now, {bytes.begin(), bytes.end()}});
@@ -496,6 +503,7 @@ void DroneLink::navdata_loop() {
                             nd->time->time.seconds() + nd->time->time.microseconds() * 1e-6;
                     }
                     s.state = navdata::to_nav_state(*nd, now - start_ns_);
+                    if (config_.video) nav_to_video_.push(s.state);
                     s.data = std::move(*nd);
                     if (!subs.navdata.empty()) fan_out(subs.navdata, s);
                     nav_slot_.publish(std::move(s));
@@ -508,6 +516,7 @@ void DroneLink::navdata_loop() {
         apply(now);
         if (now - last_publish >= ms_to_ns(20)) {
             stats.rate_hz = rate.rate_hz(now);
+            stats.bytes_per_s = byte_rate.rate_hz(now);
             nav_stats_slot_.publish(stats);
             publish_machine();
             last_publish = now;
@@ -516,15 +525,6 @@ void DroneLink::navdata_loop() {
     LinkActions final_actions;
     sm.stop(final_actions);
     for (auto& [id, r] : pending) r.done.set_value({ResultCode::NotConnected, "link stopped"});
-}
-
-bool accept_video_codec(const PaveHeader& h, VideoStats& stats) {
-    if (h.video_codec == PaveCodec::H264) return true;
-    ++stats.unsupported_codec_frames;
-    stats.last_error = "PaVE frame " + std::to_string(h.frame_number) + " has codec " +
-                       to_string(h.video_codec) +
-                       ": only H.264 is decoded (set video:video_codec to an H.264 mode)";
-    return false;
 }
 
 double AtStats::period_ms_quantile(double q) const {
@@ -550,6 +550,8 @@ void DroneLink::at_loop() {
     stats.realtime = pthread_setschedparam(pthread_self(), SCHED_FIFO, &sp) == 0;
     prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
     std::vector<std::string> datagrams;
+    std::array<std::uint8_t, 2048> drain{};
+    RateMeter byte_rate;
     std::uint64_t subs_gen = 0;
     Subscribers subs;
     TimeNs next = clock_.now_ns();
@@ -600,11 +602,23 @@ void DroneLink::at_loop() {
         subscribers_.read_if_newer(subs_gen, subs);
         for (const auto& d : datagrams) {
             auto sent = sockets_->at.send_to(d, sockets_->at_to, net::Millis{5});
-            if (!sent) ++stats.send_errors;
+            if (!sent) {
+                ++stats.send_errors;
+            } else {
+                stats.bytes_sent += d.size();
+                byte_rate.tick(now, d.size());
+            }
             if (!subs.raw.empty()) {
                 const auto* p = reinterpret_cast<const std::uint8_t*>(d.data());
                 fan_out(subs.raw, RawEvent{RawEvent::Kind::At, now, {p, p + d.size()}});
             }
+        }
+        // Drain the AT socket: nothing legitimate arrives there (bounded per cycle).
+        for (int i = 0; i < 64; ++i) {
+            auto got = sockets_->at.recv_from(std::span<std::uint8_t>(drain), net::Millis{0});
+            if (!got) break;
+            ++stats.foreign_datagrams;
+            stats.foreign_bytes += got->size;
         }
         if (last_cycle != 0) {
             const double gap = ns_to_ms(now - last_cycle);
@@ -619,32 +633,47 @@ void DroneLink::at_loop() {
         last_cycle = now;
         stats.counters = sched.counters();
         stats.intent = sched.intent();
+        stats.bytes_per_s = byte_rate.rate_hz(now);
         at_stats_slot_.publish(stats);
     }
 }
 
 void DroneLink::video_loop() {
     VideoStats stats;
-    RateMeter rate;
-    PaveFramer framer;
-    H264Decoder decoder;
-    std::array<cv::Mat, kFramePool> pool;
+    RateMeter rate, byte_rate;
+    // The one receive pipeline (drone/video/receiver.hpp): framing, decoding into pooled
+    // buffers, capture times; connections are announced to it so no frame spans two.
+    video::ReceiverOptions ro;
+    ro.pool_slots = kFramePool;
+    video::VideoReceiver rx(ro);
+    NavTimeline navs(1024);  // accepted navdata, for each frame's attitude at its capture
     std::vector<std::uint8_t> buf(64 * 1024);
     std::int64_t index = 0;
     std::uint64_t subs_gen = 0;
     Subscribers subs;
     TimeNs last_publish = 0;
 
-    auto free_slot = [&]() -> cv::Mat& {
-        for (auto& m : pool) {
-            if (m.empty() || (m.u != nullptr && m.u->refcount == 1)) return m;
-        }
-        ++stats.pool_exhausted;
-        pool[0] = cv::Mat();  // everyone still holds a frame: give up the oldest slot's reuse
-        return pool[0];
+    auto publish = [&](TimeNs now) {
+        const video::ReceiverStats& r = rx.stats();
+        const H264DecoderStats& d = rx.decoder_stats();
+        stats.pave_frames = r.units;
+        stats.decoded = r.pictures;
+        stats.concealed = r.concealed;
+        stats.no_picture = r.no_picture;
+        stats.cut_by_reset = r.cut_by_reset;
+        stats.decode_errors = d.decode_errors;
+        stats.idr_waits = r.waiting_idr;
+        stats.frame_gaps = d.frame_gaps;
+        stats.resyncs = r.resyncs;
+        stats.bytes_skipped = r.bytes_skipped;
+        stats.pool_exhausted = r.pool_exhausted;
+        stats.unsupported_codec_frames = r.not_h264;
+        stats.fps = rate.rate_hz(now);
+        stats.bytes_per_s = byte_rate.rate_hz(now);
+        video_stats_slot_.publish(stats);
+        last_publish = now;
     };
 
-    CaptureClock capture_clock;  // kept across reconnects: the drone's clock goes on
     while (running_) {
         auto stream = net::TcpStream::connect(sockets_->video_to, net::Millis{500});
         if (!stream) {
@@ -655,9 +684,11 @@ void DroneLink::video_loop() {
         }
         ++stats.connects;
         stats.connected = true;
-        framer.reset();
-        decoder.reset();
-        TimeNs last_data = clock_.now_ns();
+        const TimeNs opened = clock_.now_ns();
+        rx.begin_connection(opened);
+        subscribers_.read_if_newer(subs_gen, subs);
+        if (!subs.raw.empty()) fan_out(subs.raw, RawEvent{RawEvent::Kind::VideoConnect, opened, {}});
+        TimeNs last_data = opened;
         while (running_) {
             auto got = stream->read_some(std::span<std::uint8_t>(buf), net::Millis{20});
             const TimeNs now = clock_.now_ns();
@@ -669,11 +700,7 @@ void DroneLink::video_loop() {
                             "no video for " + std::to_string((now - last_data) / 1'000'000) + " ms";
                         break;
                     }
-                    if (now - last_publish >= ms_to_ns(50)) {  // the last frames' counts, fps
-                        stats.fps = rate.rate_hz(now);
-                        video_stats_slot_.publish(stats);
-                        last_publish = now;
-                    }
+                    if (now - last_publish >= ms_to_ns(50)) publish(now);  // counts, fps
                     continue;
                 }
                 stats.last_error = got.error().message();
@@ -681,74 +708,70 @@ void DroneLink::video_loop() {
             }
             last_data = now;
             stats.bytes += *got;
+            byte_rate.tick(now, *got);
             const std::span<const std::uint8_t> chunk(buf.data(), *got);
             if (!subs.raw.empty())
-                fan_out(subs.raw,
-                        RawEvent{RawEvent::Kind::Video, now, {chunk.begin(), chunk.end()}});
-            framer.push(chunk);
-            while (auto ev = framer.next()) {
-                auto* frame = std::get_if<PaveFrame>(&*ev);
-                if (frame == nullptr) continue;  // resync events are counted by the framer
-                ++stats.pave_frames;
-                if (!accept_video_codec(frame->header, stats)) continue;
-                AccessUnit au;
-                au.data = frame->payload;
-                au.frame_number = frame->header.frame_number;
-                au.display_width = frame->header.display_width;
-                au.display_height = frame->header.display_height;
-                au.stream_id = frame->header.stream_id;
-                cv::Mat& out = free_slot();
+                fan_out(subs.raw, RawEvent{RawEvent::Kind::Video,
+                                           now,
+                                           {chunk.begin(), chunk.end()},
+                                           rx.bytes_pushed()});
+            while (auto n = nav_to_video_.try_pop()) navs.push(*n);
+            rx.push(chunk, now);
+            rx.clear_resyncs();  // counted in its stats; the link lists none
+            while (true) {
                 const TimeNs t0 = clock_.now_ns();
-                auto res = decoder.decode(au, out);
-                stats.decode_ms_last = ns_to_ms(clock_.now_ns() - t0);
-                if (!res || *res != DecodeStatus::Frame) continue;
-                FrameSample fs;
-                fs.index = index++;
-                fs.recv_ns = now;
+                auto u = rx.next();
+                if (!u) break;
+                if (u->fate == video::UnitFate::NotH264 || u->fate == video::UnitFate::NoPicture)
+                    stats.last_error = rx.stats().last_error;
+                const bool picture = video::has_picture(u->fate);
+                if (picture) stats.decode_ms_last = ns_to_ms(clock_.now_ns() - t0);
                 // Capture time (DATASET.md's t_ms): the drone's frame clock mapped onto ours,
                 // free of the network's and this thread's jitter (drone/capture_clock.hpp).
-                fs.t_ns = capture_clock.map(frame->header.timestamp, now) - start_ns_;
-                fs.frame_number = frame->header.frame_number;
-                fs.pave_timestamp_ms = frame->header.timestamp;
-                fs.image = out;  // shares the pooled buffer; the pool skips it while held
-                if (auto n = nav_slot_.latest()) {
-                    fs.nav = n->state;
-                    fs.nav.t_ns = fs.t_ns;
-                }
-                rate.tick(now);
-                stats.last_frame_ns = now;
+                const TimeNs t_ns = u->capture_ns - start_ns_;
                 if (!subs.access_units.empty()) {
                     AccessUnitEvent e;
-                    e.index = fs.index;
-                    e.recv_ns = now;
-                    e.t_ns = fs.t_ns;
-                    e.frame_number = frame->header.frame_number;
-                    e.pave_timestamp_ms = frame->header.timestamp;
-                    e.is_idr = contains_idr(frame->payload);
-                    e.bytes.assign(frame->payload.begin(), frame->payload.end());
-                    e.image = out;
+                    e.index = picture ? index : -1;
+                    e.unit = u->unit;
+                    e.connection = u->connection;
+                    e.stream_offset = u->stream_offset;
+                    e.recv_ns = u->recv_ns;
+                    e.capture_ns = u->capture_ns;
+                    e.t_ns = t_ns;
+                    e.frame_number = u->frame_number;
+                    e.pave_timestamp_ms = u->pave_timestamp_ms;
+                    e.is_idr = u->idr;
+                    e.fate = u->fate;
+                    e.bytes.assign(u->bytes.begin(), u->bytes.end());
+                    e.image = u->image;
                     fan_out(subs.access_units, std::move(e));
                 }
+                if (!picture) continue;
+                FrameSample fs;
+                fs.index = index++;
+                fs.recv_ns = u->recv_ns;
+                fs.t_ns = t_ns;
+                fs.frame_number = u->frame_number;
+                fs.pave_timestamp_ms = u->pave_timestamp_ms;
+                fs.concealed = u->fate == video::UnitFate::Concealed;
+                fs.image = std::move(u->image);  // a pooled buffer, free again when dropped
+                // The attitude at the capture time, interpolated as a recording does
+                // (drone/dataset/align.hpp), not the newest sample relabelled.
+                fs.nav = navs.state_at(t_ns);
+                if (!navs.empty() && navs.newest_t() >= t_ns)
+                    ++stats.nav_interpolated;
+                else
+                    ++stats.nav_nearest;
+                rate.tick(now);
+                stats.last_frame_ns = now;
                 if (!subs.frames.empty()) fan_out(subs.frames, fs);
                 frame_slot_.publish(std::move(fs));
             }
-            const auto& fst = framer.stats();
-            stats.resyncs = fst.resyncs;
-            stats.bytes_skipped = fst.bytes_skipped;
-            const auto& dst = decoder.stats();
-            stats.decoded = dst.decoded;
-            stats.decode_errors = dst.decode_errors;
-            stats.idr_waits = dst.skipped_waiting_idr;
-            stats.frame_gaps = dst.frame_gaps;
-            if (now - last_publish >= ms_to_ns(50)) {
-                stats.fps = rate.rate_hz(now);
-                video_stats_slot_.publish(stats);
-                last_publish = now;
-            }
+            if (now - last_publish >= ms_to_ns(50)) publish(now);
         }
         stats.connected = false;
         ++stats.disconnects;
-        video_stats_slot_.publish(stats);
+        publish(clock_.now_ns());
     }
 }
 
