@@ -20,7 +20,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <algorithm>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -201,7 +203,14 @@ TEST(Record, KilledRecordingIsReadableToWithinOneSecond) {
     }
     if (!seen) ::kill(pid, SIGKILL);
     ASSERT_TRUE(seen) << "the recording never started";
-    std::this_thread::sleep_for(3s);
+    // Let it record 60 frames (about 2 s; longer on a loaded machine), then kill it.
+    const auto rows = [&] {
+        std::ifstream f(out / "frames.csv");
+        return std::count(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>(),
+                          '\n');
+    };
+    for (int i = 0; i < 3000 && rows() < 61; ++i) std::this_thread::sleep_for(10ms);
+    ASSERT_GE(rows(), 61) << "the recording wrote no 60 frames within 30 s";
     const double elapsed_ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started)
             .count();

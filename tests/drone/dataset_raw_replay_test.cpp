@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 
 namespace gs {
@@ -38,7 +39,7 @@ TEST(RawReplay, ReproducesTheRecordedFramesCsv) {
     int frame = 0;
     for (int i = 0; i < 400; ++i) {  // 2 s of 200 Hz navdata, a frame about every 33 ms
         const TimeNs tn = i * 5 * kNsPerMs + 1;
-        const double roll = 0.1 * i * i - i;
+        const double roll = 80 * std::sin(0.0005 * i * i);  // not linear, within ±90°
         std::uint8_t b[8];
         std::memcpy(b, &roll, 8);
         NavState s;
