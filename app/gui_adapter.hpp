@@ -79,13 +79,7 @@ private:
     ReplayInfo replay_;
     NavState replay_nav_;
     bool replay_nav_valid_ = false;
-    Rate at_rate_, video_bytes_rate_;
-    // Size of one AT cycle's datagram (REF + PCMD) for the throughput estimate, and what it was
-    // computed for.
-    std::size_t at_cycle_bytes_ = 0;
-    std::uint64_t at_cycle_block_ = 0;
-    bool at_cycle_manual_ = false;
-    ui::PilotInput at_cycle_pilot_;
+    Rate at_rate_;
 
     // Piloting: manual input is sent as Move while it lasts, then one Hover.
     bool manual_ = false;

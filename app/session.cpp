@@ -1,5 +1,7 @@
 #include "app/session.hpp"
 
+#include "app/replay_run.hpp"
+
 #include "drone/dataset/video_frames.hpp"
 #include "drone/sim/scenarios.hpp"
 
@@ -389,6 +391,11 @@ void Session::open_replay(const std::string& path) {
         return;
     }
     for (const auto& w : ds->warnings()) message("replay: " + w);
+    std::vector<std::string> missing;
+    for (const auto& m : missing_inputs(*ds, pipeline_.classifier_name())) {
+        missing.push_back(to_string(m));
+        message("replay: " + missing.back());
+    }
     const CameraCalibration calib = ds->calibration();
     const CameraId camera = ds->info().camera;
     const double fps = ds->info().fps;
@@ -407,6 +414,7 @@ void Session::open_replay(const std::string& path) {
     c.rinfo.path = path;
     c.rinfo.frame_count = n;
     c.rinfo.fps = fps;
+    c.rinfo.missing_inputs = std::move(missing);
     c.rinfo.playing = play;
     c.camera = camera;
     // The dataset's calibration is its camera's: the odometry's for a bottom-camera flight.
