@@ -192,6 +192,14 @@ void DroneLink::unsubscribe(const void* queue) {
         erase_queue(s.raw, queue);
         erase_queue(s.access_units, queue);
     });
+    const std::uint64_t gen = subscribers_.generation();
+    const bool active[3] = {true, true, config_.video};
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(2);
+    for (int i = 0; i < 3; ++i) {
+        while (running_ && active[i] && subs_seen_[static_cast<std::size_t>(i)].load() < gen &&
+               std::chrono::steady_clock::now() < deadline)
+            std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
 }
 
 void DroneLink::push_at(AtRequest r) {
@@ -359,13 +367,6 @@ CommandResult DroneLink::execute(Command c, std::chrono::milliseconds timeout) {
 
 // ---- Threads -----------------------------------------------------------------------------
 
-void DroneLink::publish_raw(RawEvent::Kind kind, TimeNs t, std::span<const std::uint8_t> bytes) {
-    auto subs = subscribers_.latest();
-    if (!subs || subs->raw.empty()) return;
-    RawEvent e{kind, t, std::vector<std::uint8_t>(bytes.begin(), bytes.end())};
-    fan_out(subs->raw, e);
-}
-
 void DroneLink::navdata_loop() {
     LinkStateMachine sm(config_.setup);
     LinkActions actions;
@@ -450,8 +451,8 @@ void DroneLink::navdata_loop() {
     publish_machine();
 
     while (running_) {
-        if (subscribers_.read_if_newer(subs_gen, subs)) {
-        }
+        subscribers_.read_if_newer(subs_gen, subs);
+        subs_seen_[0] = subs_gen;
         while (auto r = nav_queue_.try_pop()) {
             if (r->read_dump) {
                 sm.request_config_dump();
@@ -480,9 +481,9 @@ void DroneLink::navdata_loop() {
                 ++stats.datagrams;
                 stats.bytes += got->size;
                 byte_rate.tick(now, got->size);
-                if (!subs.raw.empty())
-                    fan_out(subs.raw,
-                            RawEvent{RawEvent::Kind::Navdata, now, {bytes.begin(), bytes.end()}});
+                // Handed to recorders with the link's verdict, below (one event per datagram).
+                RawEvent raw_event = RawEvent::of(RawEvent::Kind::Navdata, now);
+                if (!subs.raw.empty()) raw_event.bytes.assign(bytes.begin(), bytes.end());
                 auto nd = navdata::parse_navdata(bytes);
                 if (!nd) {
                     if (nd.error().code == navdata::NavdataErrc::BadChecksum)
@@ -504,10 +505,12 @@ void DroneLink::navdata_loop() {
                     }
                     s.state = navdata::to_nav_state(*nd, now - start_ns_);
                     if (config_.video) nav_to_video_.push(s.state);
+                    raw_event.accepted = s.state;
                     s.data = std::move(*nd);
                     if (!subs.navdata.empty()) fan_out(subs.navdata, s);
                     nav_slot_.publish(std::move(s));
                 }
+                if (!subs.raw.empty()) fan_out(subs.raw, std::move(raw_event));
             }
         } else if (got.error().code != net::NetErrc::Timeout) {
             stats.last_error = got.error().message();
@@ -600,6 +603,7 @@ void DroneLink::at_loop() {
         if (auto n = nav_slot_.latest()) drone_state = n->data.header.drone_state.raw;
         sched.build(now, drone_state, datagrams);
         subscribers_.read_if_newer(subs_gen, subs);
+        subs_seen_[1] = subs_gen;
         for (const auto& d : datagrams) {
             auto sent = sockets_->at.send_to(d, sockets_->at_to, net::Millis{5});
             if (!sent) {
@@ -610,7 +614,7 @@ void DroneLink::at_loop() {
             }
             if (!subs.raw.empty()) {
                 const auto* p = reinterpret_cast<const std::uint8_t*>(d.data());
-                fan_out(subs.raw, RawEvent{RawEvent::Kind::At, now, {p, p + d.size()}});
+                fan_out(subs.raw, RawEvent::of(RawEvent::Kind::At, now, std::span(p, d.size())));
             }
         }
         // Drain the AT socket: nothing legitimate arrives there (bounded per cycle).
@@ -675,6 +679,8 @@ void DroneLink::video_loop() {
     };
 
     while (running_) {
+        subscribers_.read_if_newer(subs_gen, subs);  // nothing is pushed while disconnected
+        subs_seen_[2] = subs_gen;
         auto stream = net::TcpStream::connect(sockets_->video_to, net::Millis{500});
         if (!stream) {
             stats.last_error = stream.error().message();
@@ -687,12 +693,15 @@ void DroneLink::video_loop() {
         const TimeNs opened = clock_.now_ns();
         rx.begin_connection(opened);
         subscribers_.read_if_newer(subs_gen, subs);
-        if (!subs.raw.empty()) fan_out(subs.raw, RawEvent{RawEvent::Kind::VideoConnect, opened, {}});
+        subs_seen_[2] = subs_gen;
+        if (!subs.raw.empty())
+            fan_out(subs.raw, RawEvent::of(RawEvent::Kind::VideoConnect, opened));
         TimeNs last_data = opened;
         while (running_) {
             auto got = stream->read_some(std::span<std::uint8_t>(buf), net::Millis{20});
             const TimeNs now = clock_.now_ns();
             subscribers_.read_if_newer(subs_gen, subs);
+            subs_seen_[2] = subs_gen;
             if (!got) {
                 if (got.error().code == net::NetErrc::Timeout) {
                     if (now - last_data > config_.video_silence_reconnect_ns) {
@@ -711,10 +720,8 @@ void DroneLink::video_loop() {
             byte_rate.tick(now, *got);
             const std::span<const std::uint8_t> chunk(buf.data(), *got);
             if (!subs.raw.empty())
-                fan_out(subs.raw, RawEvent{RawEvent::Kind::Video,
-                                           now,
-                                           {chunk.begin(), chunk.end()},
-                                           rx.bytes_pushed()});
+                fan_out(subs.raw,
+                        RawEvent::of(RawEvent::Kind::Video, now, chunk, rx.bytes_pushed()));
             while (auto n = nav_to_video_.try_pop()) navs.push(*n);
             rx.push(chunk, now);
             rx.clear_resyncs();  // counted in its stats; the link lists none
@@ -735,6 +742,7 @@ void DroneLink::video_loop() {
                     e.unit = u->unit;
                     e.connection = u->connection;
                     e.stream_offset = u->stream_offset;
+                    e.stream_end = u->stream_offset + u->header.header_size + u->bytes.size();
                     e.recv_ns = u->recv_ns;
                     e.capture_ns = u->capture_ns;
                     e.t_ns = t_ns;

@@ -65,6 +65,20 @@ struct RawEvent {
     std::vector<std::uint8_t> bytes;
     std::uint64_t stream_offset = 0;  // Video: the offset of bytes[0] in the video receiver's
                                       // stream (AccessUnitEvent::stream_offset counts the same)
+    // Navdata: the sample the link accepted from this datagram (its state, t_ns from the link's
+    // start); nullopt when it was refused (bad checksum, malformed, duplicate, late). One event
+    // carries both, so a recording's raw/ and navdata.csv come from the same datagrams.
+    std::optional<NavState> accepted;
+
+    static RawEvent of(Kind kind, TimeNs t_ns, std::span<const std::uint8_t> bytes = {},
+                       std::uint64_t stream_offset = 0) {
+        RawEvent e;
+        e.kind = kind;
+        e.t_ns = t_ns;
+        e.bytes.assign(bytes.begin(), bytes.end());
+        e.stream_offset = stream_offset;
+        return e;
+    }
 };
 
 // Every access unit the video receiver cut from the stream (the PaVE payload, Annex-B), with what
@@ -76,6 +90,7 @@ struct AccessUnitEvent {
     std::int64_t unit = 0;    // 0-based over every unit received
     std::uint32_t connection = 0;  // the video connection it came on (0-based)
     std::uint64_t stream_offset = 0;  // where its PaVE header began (RawEvent::stream_offset)
+    std::uint64_t stream_end = 0;     // one past its last byte
     TimeNs recv_ns = 0;      // monotonic receive time of the chunk that completed it
     TimeNs capture_ns = 0;   // monotonic capture time (the drone's timestamp, mapped)
     TimeNs t_ns = 0;         // capture_ns from the link's start (FrameSample::t_ns)
@@ -211,8 +226,9 @@ public:
     std::shared_ptr<BoundedQueue<RawEvent>> subscribe_raw(std::size_t capacity);
     // The access unit of every decoded frame (see AccessUnitEvent).
     std::shared_ptr<BoundedQueue<AccessUnitEvent>> subscribe_access_units(std::size_t capacity);
-    // Stops feeding the queue returned by any subscribe_*(); the link threads may still push
-    // an item or two that they were handing over while this ran.
+    // Stops feeding the queue returned by any subscribe_*(). Returns once every link thread has
+    // moved on to the new list (within one of its cycles, tens of ms): nothing is pushed into
+    // the queue after that, so a recorder that drains it then has everything.
     void unsubscribe(const void* queue);
     // The clock every *_ns of the link is on (a recorder must use the same one).
     const Clock& clock() const { return clock_; }
@@ -255,7 +271,6 @@ private:
     void video_loop();
     void control_loop();
     void push_at(AtRequest r);
-    void publish_raw(RawEvent::Kind kind, TimeNs t, std::span<const std::uint8_t> bytes);
 
     LinkConfig config_;
     Clock& clock_;
@@ -295,6 +310,9 @@ private:
         std::vector<std::shared_ptr<BoundedQueue<AccessUnitEvent>>> access_units;
     };
     LatestValue<Subscribers> subscribers_;
+    // The subscriber list generation each thread (navdata, AT, video) works with, for
+    // unsubscribe() to wait on; a thread sets it after reading the list at the top of its cycle.
+    std::array<std::atomic<std::uint64_t>, 3> subs_seen_{};
 };
 
 }  // namespace gs::link

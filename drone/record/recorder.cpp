@@ -103,7 +103,6 @@ struct Recorder::State {
     std::filesystem::path dir;
     std::unique_ptr<DatasetWriter> writer;
     std::shared_ptr<BoundedQueue<link::RawEvent>> raw;
-    std::shared_ptr<BoundedQueue<link::NavSample>> navs;
     std::shared_ptr<BoundedQueue<link::AccessUnitEvent>> units;
     std::shared_ptr<BoundedQueue<FrameRow>> rows;  // the writer's row tap (frame_tap only)
     link::VideoStats video_at_start;               // the link's counters when recording began
@@ -112,6 +111,7 @@ struct Recorder::State {
     // middle of a frame when the recording began. Offsets are the video receiver's (RawEvent and
     // AccessUnitEvent count the same bytes), so nothing is framed twice.
     std::optional<std::uint64_t> raw_video_from;  // stream offset of the first recorded byte
+    std::uint64_t raw_video_end = 0;              // one past the last recorded byte
     std::uint64_t not_in_raw = 0;
     std::uint64_t dropped_reference_lost = 0, dropped_no_picture = 0, dropped_not_h264 = 0;
     std::uint64_t concealed = 0;
@@ -187,9 +187,10 @@ Expected<bool, std::string> Recorder::start(const std::filesystem::path& dir,
     tap_ =
         opts.frame_tap > 0 ? std::make_shared<BoundedQueue<FrameSample>>(opts.frame_tap) : nullptr;
     s->video_at_start = link_.status().video;
-    s->raw = link_.subscribe_raw(opts.raw_queue);
-    s->navs = link_.subscribe_navdata(opts.raw_queue);
+    // Units before raw bytes (and the reverse when stopping): a frame wholly in raw/ is then a
+    // unit the recorder saw, and a unit is kept only when its bytes are all in raw/ (offsets).
     s->units = link_.subscribe_access_units(opts.access_unit_queue);
+    s->raw = link_.subscribe_raw(opts.raw_queue);
     state_ = std::move(s);
 
     RecorderStatus st;
@@ -227,11 +228,14 @@ void Recorder::run() {
     auto on_raw = [&](link::RawEvent& e) {
         switch (e.kind) {
             case link::RawEvent::Kind::Navdata:
-                // raw/navdata.bin keeps every datagram received; navdata.csv is on_nav's.
-                (void)w.take_navdata(e.t_ns, std::move(e.bytes), std::nullopt);
+                // raw/navdata.bin keeps every datagram received, navdata.csv the samples the
+                // link accepted from them, in the order it accepted them.
+                if (e.accepted) ++s.navdata_accepted;
+                (void)w.take_navdata(e.t_ns, std::move(e.bytes), e.accepted);
                 break;
             case link::RawEvent::Kind::Video:
                 if (!s.raw_video_from) s.raw_video_from = e.stream_offset;
+                s.raw_video_end = e.stream_offset + e.bytes.size();
                 (void)w.take_video_bytes(e.t_ns, std::move(e.bytes));
                 break;
             case link::RawEvent::Kind::VideoConnect:
@@ -245,12 +249,6 @@ void Recorder::run() {
                                                 e.bytes.size()));
                 break;
         }
-    };
-
-    // One sample the link accepted: a navdata.csv row, in the link's order, at its receive time.
-    auto on_nav = [&](link::NavSample& n) {
-        ++s.navdata_accepted;
-        (void)w.add_navdata(n.recv_ns, {}, n.state);
     };
 
     auto truth_ready = [&](TimeNs capture, TimeNs now, bool flushing) {
@@ -293,8 +291,10 @@ void Recorder::run() {
     };
 
     auto on_unit = [&](link::AccessUnitEvent& e) {
-        // Begun before the recording (its first bytes are not in raw/): not part of it.
-        if (!s.raw_video_from || e.stream_offset < *s.raw_video_from) {
+        // Begun before the recording, or ended after it (its bytes are not all in raw/): not
+        // part of it.
+        if (!s.raw_video_from || e.stream_offset < *s.raw_video_from ||
+            e.stream_end > s.raw_video_end) {
             ++s.not_in_raw;
             return;
         }
@@ -360,7 +360,7 @@ void Recorder::run() {
         st.navdata = ws.navdata_written;
         st.at = ws.at_records;
         st.bytes = ws.bytes_written;
-        st.dropped_link = s.raw->dropped() + s.units->dropped() + s.navs->dropped();
+        st.dropped_link = s.raw->dropped() + s.units->dropped();
         st.dropped_writer = ws.dropped_queue_full + ws.frames_lost_io;
         st.dropped_tap =
             s.tap_lost + (tap_ ? tap_->dropped() : 0) + (s.rows ? s.rows->dropped() : 0);
@@ -397,7 +397,6 @@ void Recorder::run() {
         while (auto r = s.raw->try_pop()) raws.push_back(std::move(*r));
         for (auto& r : raws) on_raw(r);
         raws.clear();
-        while (auto n = s.navs->try_pop()) on_nav(*n);
         if (truth_ != nullptr) {
             const sim::GroundTruth g = truth_->ground_truth();
             if (g.t_ns != 0 && (s.truth.empty() || g.t_ns > s.truth.back().t_ns)) {
@@ -428,8 +427,8 @@ void Recorder::run() {
             last_status = now;
         }
     }
+    // The reverse of start()'s order (unsubscribe() returns once the link threads moved on).
     link_.unsubscribe(s.raw.get());
-    link_.unsubscribe(s.navs.get());
     link_.unsubscribe(s.units.get());
     if (!failed) cycle(true);
     const TimeNs end = clock.now_ns();
