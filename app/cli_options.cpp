@@ -153,9 +153,9 @@ CLI::Validator output_directory() {
 }
 
 CLI::Validator number_in(double lo, double hi, const std::string& what) {
-    const std::string range =
-        std::isinf(hi) ? ">= " + short_number(lo)
-                       : "in [" + short_number(lo) + ", " + short_number(hi) + "]";
+    const std::string range = std::isinf(hi)
+                                  ? ">= " + short_number(lo)
+                                  : "in [" + short_number(lo) + ", " + short_number(hi) + "]";
     return CLI::Validator(
         [lo, hi, range, what](std::string& text) -> std::string {
             double v = 0;

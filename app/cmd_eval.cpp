@@ -51,7 +51,7 @@ struct FlightResult {
     std::string read_error;  // non-empty: evaluated, but some frames could not be read
     FlightScore score;
     ReplayStats stats;
-    nlohmann::json labels;  // labels.json as read
+    nlohmann::json labels;              // labels.json as read
     std::vector<MissingInput> missing;  // inputs the classifier lacked (issue 14 point 7)
 };
 

@@ -45,9 +45,9 @@ struct Opts {
     std::string calibration;
     double connect_timeout_s = 10;
     bool quiet = false;
-    int port_base = 0;            // --drone: ports BASE (navdata), +1 video, +2 AT, +5 control
+    int port_base = 0;             // --drone: ports BASE (navdata), +1 video, +2 AT, +5 control
     std::string navdata = "full";  // full (200 Hz) or demo (15 Hz)
-    std::string stats;            // a JSON file with the recorder's and the link's counters
+    std::string stats;             // a JSON file with the recorder's and the link's counters
 };
 
 // What `record --stats FILE` writes at the end: the recorder's counters and the link's, so a

@@ -10,17 +10,17 @@
 
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <iostream>
 #include <limits>
 #include <memory>
-#include <thread>
-#include <vector>
-#include <utility>
-#include <string>
 #include <optional>
-#include <cmath>
+#include <string>
+#include <thread>
+#include <utility>
+#include <vector>
 
 namespace gs::app {
 namespace {
@@ -72,8 +72,11 @@ std::optional<std::pair<double, double>> parse_pair(const std::string& text) {
 CLI::Validator seconds_pair(const std::string& what) {
     return CLI::Validator(
         [what](std::string& text) -> std::string {
-            if (!parse_pair(text)) return "expected " + what + " as two numbers of seconds A:B "
-                                          "(B > 0), got '" + text + "'";
+            if (!parse_pair(text))
+                return "expected " + what +
+                       " as two numbers of seconds A:B "
+                       "(B > 0), got '" +
+                       text + "'";
             return {};
         },
         "A:B", what);
@@ -140,9 +143,9 @@ int run(const Opts& o) {
     std::signal(SIGTERM, on_signal);
     if (!o.quiet)
         std::cout << "virtual AR.Drone 2 '" << drone.scene().name << "' on " << o.bind << ": AT "
-              << drone.at_port() << ", navdata " << drone.navdata_port() << ", video "
-              << drone.video_port() << ", control " << drone.control_port()
-              << (o.autopilot ? " (autopilot)" : "") << "; Ctrl-C stops" << std::endl;
+                  << drone.at_port() << ", navdata " << drone.navdata_port() << ", video "
+                  << drone.video_port() << ", control " << drone.control_port()
+                  << (o.autopilot ? " (autopilot)" : "") << "; Ctrl-C stops" << std::endl;
     const bool tty = isatty(STDOUT_FILENO) && !o.quiet;
     FaultSchedule schedule(o);
     const auto t0 = std::chrono::steady_clock::now();
@@ -230,7 +233,8 @@ CommandRegistration reg(40, [](CLI::App& root) {
                     "Navdata datagrams held back and sent after the next one (probability)")
         ->check(probability)
         ->group("Faults");
-    sub->add_option("--duplicate", o->navdata.duplicate, "Navdata datagrams sent twice (probability)")
+    sub->add_option("--duplicate", o->navdata.duplicate,
+                    "Navdata datagrams sent twice (probability)")
         ->check(probability)
         ->group("Faults");
     sub->add_option("--corrupt", o->navdata.corrupt_checksum,

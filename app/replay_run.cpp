@@ -79,19 +79,25 @@ std::vector<MissingInput> missing_inputs(const Dataset& dataset, std::string_vie
     const bool flow = classifier != "thesis";
     std::vector<Need> needs;
     if (flow) {
-        needs.push_back({"velocity", "vx_mps, vy_mps, vz_mps",
+        needs.push_back({"velocity",
+                         "vx_mps, vy_mps, vz_mps",
                          {&NavState::vx_mps, &NavState::vy_mps, &NavState::vz_mps},
                          "the focus of expansion and the flight corridor cannot be placed: every "
                          "tracked point is judged by its time to contact alone, so walls, floor "
                          "and anything near the image edges can raise alarms"});
-        needs.push_back({"altitude", "altitude_m", {&NavState::altitude_m},
+        needs.push_back({"altitude",
+                         "altitude_m",
+                         {&NavState::altitude_m},
                          "the floor cannot be told from an obstacle in the corridor"});
-        needs.push_back({"attitude (pitch, yaw)", "pitch_deg, yaw_deg",
+        needs.push_back({"attitude (pitch, yaw)",
+                         "pitch_deg, yaw_deg",
                          {&NavState::pitch_deg, &NavState::yaw_deg},
                          "the flow of pitching and turning is not removed: a rotation can read "
                          "as expansion"});
     }
-    needs.push_back({"roll", "roll_deg", {&NavState::roll_deg},
+    needs.push_back({"roll",
+                     "roll_deg",
+                     {&NavState::roll_deg},
                      flow ? "the flow of rolling is not removed"
                           : "the image is not rotated by the roll (thesis §3.2): banking reads as "
                             "sideways flow"});

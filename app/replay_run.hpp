@@ -43,10 +43,10 @@ struct ReplaySettings {
                                                          const std::vector<std::string>& set);
 
 struct ReplayStats {
-    std::int64_t frames = 0;         // rows in frames.csv
-    std::int64_t processed = 0;      // frames through the classifier
-    std::int64_t decode_errors = 0;  // frames that could not be read (skipped, row left empty)
-    std::int64_t concealed = 0;      // frames decoded with concealed damage (kept, less trusted)
+    std::int64_t frames = 0;          // rows in frames.csv
+    std::int64_t processed = 0;       // frames through the classifier
+    std::int64_t decode_errors = 0;   // frames that could not be read (skipped, row left empty)
+    std::int64_t concealed = 0;       // frames decoded with concealed damage (kept, less trusted)
     std::int64_t rejected_steps = 0;  // frames whose time was not after the previous one's
     std::string first_error;
     std::array<std::int64_t, 3> flagged{};  // frames each region was reported unsafe
@@ -60,10 +60,10 @@ struct ReplayStats {
 
 // An input the classifier uses that the dataset lacks (issue 14 point 7), and what that costs.
 struct MissingInput {
-    std::string input;    // "velocity", "altitude", "attitude (pitch, yaw)", "roll"
-    std::string columns;  // the frames.csv columns that are absent or empty
+    std::string input;         // "velocity", "altitude", "attitude (pitch, yaw)", "roll"
+    std::string columns;       // the frames.csv columns that are absent or empty
     double unknown_share = 1;  // share of frames where it is unknown (1: all)
-    std::string cost;     // what the classifier cannot do without it
+    std::string cost;          // what the classifier cannot do without it
 };
 // The inputs `classifier` uses that are unknown in more than 10 % of `dataset`'s frames.
 std::vector<MissingInput> missing_inputs(const Dataset& dataset, std::string_view classifier);

@@ -69,7 +69,8 @@ Result bench_pave(const std::vector<std::uint8_t>& bytes, int repeats, std::size
                 if (!u) break;
                 ++r.frames;
                 if (gs::video::has_picture(u->fate))
-                    r.decode_ms.push_back(std::chrono::duration<double, std::milli>(d1 - d0).count());
+                    r.decode_ms.push_back(
+                        std::chrono::duration<double, std::milli>(d1 - d0).count());
             }
         }
     }

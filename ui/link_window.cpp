@@ -45,8 +45,7 @@ void LinkWindow::draw(const GuiSnapshot& s, ViewState& v) {
             "age", [&](const StreamHealth& h) { return fmt(0, h.age_ms, "ms"); },
             [](const StreamHealth& h) { return known(h.age_ms) && h.age_ms > 500; });
         rowf(
-            "bytes /s",
-            [&](const StreamHealth& h) { return format_bytes(h.bytes_per_s); },
+            "bytes /s", [&](const StreamHealth& h) { return format_bytes(h.bytes_per_s); },
             [](const StreamHealth&) { return false; });
         rowf(
             "packets", [&](const StreamHealth& h) { return cnt(h.packets); },

@@ -46,9 +46,9 @@ struct ConnectionInfo {
 
 // Counters for one stream (navdata UDP, video TCP, AT UDP). Unknown rates/ages are NaN.
 struct StreamHealth {
-    bool active = false;        // the stream is open
-    double rate_hz = kUnknown;  // packets (navdata), frames (video), datagrams (AT) per s
-    double age_ms = kUnknown;   // time since the last packet
+    bool active = false;            // the stream is open
+    double rate_hz = kUnknown;      // packets (navdata), frames (video), datagrams (AT) per s
+    double age_ms = kUnknown;       // time since the last packet
     double bytes_per_s = kUnknown;  // counted by the link
     std::uint64_t packets = 0;
     std::uint64_t gaps = 0;   // sequence gaps (missing sequence numbers)

@@ -59,9 +59,9 @@ const char* to_string(UnknownReason r);  // short, for a tooltip: "too few track
 
 struct RegionDecision {
     bool unsafe = false;
-    bool valid = false;   // enough evidence for a score this frame
+    bool valid = false;                                // enough evidence for a score this frame
     UnknownReason unknown = UnknownReason::WarmingUp;  // None when valid
-    double score = kNaN;  // unsafe when score > threshold (and valid)
+    double score = kNaN;                               // unsafe when score > threshold (and valid)
     double threshold = kNaN;
     int support = 0;  // trajectories / points behind the score
 };

@@ -8,7 +8,7 @@ NavTimeline::NavTimeline(std::size_t capacity) : ring_(capacity == 0 ? 1 : capac
 
 void NavTimeline::push(const NavState& s) {
     if (size_ > 0 && s.t_ns < at(size_ - 1).t_ns) return;  // out of order: ignored
-    if (size_ == ring_.size()) {  // full: the oldest goes
+    if (size_ == ring_.size()) {                           // full: the oldest goes
         ring_[head_] = s;
         head_ = (head_ + 1) % ring_.size();
         return;

@@ -160,9 +160,9 @@ Expected<double, DatasetError> Table::number(std::size_t row, std::size_t col) c
     }
     // DATASET.md 1.1: nan and inf are malformed (an empty cell is how unknown is written).
     if (!std::isfinite(v))
-        return Unexpected(error_at(row, col,
-                                   "expected a finite number, got '" + shown(f) +
-                                       "' (leave the cell empty for unknown)"));
+        return Unexpected(error_at(
+            row, col,
+            "expected a finite number, got '" + shown(f) + "' (leave the cell empty for unknown)"));
     if (auto b = value_bounds(header_[col]); b && (v < b->lo || v > b->hi)) {
         auto e = error_at(row, col,
                           shown(f) + " is outside [" + format_number(b->lo) + ", " +

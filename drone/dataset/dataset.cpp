@@ -395,8 +395,8 @@ Expected<std::vector<FrameRow>, DatasetError> parse_frames_csv(std::string text)
     return rows;
 }
 
-Expected<std::vector<NavState>, DatasetError> parse_navdata_csv(std::string text,
-                                                               std::vector<std::string>* warnings) {
+Expected<std::vector<NavState>, DatasetError> parse_navdata_csv(
+    std::string text, std::vector<std::string>* warnings) {
     auto tr = csv::Table::parse(std::move(text), "navdata.csv", /*tolerate_cut_tail=*/true);
     if (!tr) return Unexpected(tr.error());
     const csv::Table& t = *tr;
@@ -492,7 +492,6 @@ Expected<FlightLabels, DatasetError> read_labels_json(const std::string& text) {
 Expected<FlightLabels, DatasetError> parse_labels_json(const std::string& text) {
     return json_boundary("labels.json", [&] { return read_labels_json(text); });
 }
-
 
 Expected<std::vector<LabelRow>, DatasetError> parse_labels_csv(std::string text) {
     auto tr = csv::Table::parse(std::move(text), "labels.csv");

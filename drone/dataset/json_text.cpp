@@ -41,9 +41,9 @@ Expected<nlohmann::json, DatasetError> parse_json_text(const std::string& text,
     } catch (const json::parse_error& e) {
         auto [line, col] = text_line_col(text, e.byte > 0 ? e.byte - 1 : 0);
         const std::string key = key_path();
-        return Unexpected(DatasetError{DatasetErrorCode::Malformed, file, line, col,
-                                       "invalid JSON" + (key.empty() ? "" : " in '" + key + "'") +
-                                           ": " + json_message(e)});
+        return Unexpected(DatasetError{
+            DatasetErrorCode::Malformed, file, line, col,
+            "invalid JSON" + (key.empty() ? "" : " in '" + key + "'") + ": " + json_message(e)});
     } catch (const json::exception& e) {
         const std::string key = key_path();
         auto [line, col] = path.empty() ? std::pair{0, 0} : locate_json_key(text, path.back());

@@ -31,8 +31,8 @@ auto json_boundary(const std::string& file, F&& read) -> decltype(read()) {
     try {
         return read();
     } catch (const nlohmann::json::exception& e) {
-        return Unexpected(
-            DatasetError{DatasetErrorCode::Malformed, file, 0, 0, "invalid value: " + json_message(e)});
+        return Unexpected(DatasetError{DatasetErrorCode::Malformed, file, 0, 0,
+                                       "invalid value: " + json_message(e)});
     }
 }
 

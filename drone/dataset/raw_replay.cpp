@@ -13,8 +13,8 @@ Expected<std::vector<VideoConnection>, DatasetError> parse_video_connections(std
     if (!t) return Unexpected(t.error());
     const auto oc = t->column("offset"), tc = t->column("t_us");
     if (!oc || !tc)
-        return Unexpected(DatasetError{DatasetErrorCode::Missing, "raw/video_connections.csv", 1,
-                                       0, "expected the columns offset,t_us"});
+        return Unexpected(DatasetError{DatasetErrorCode::Missing, "raw/video_connections.csv", 1, 0,
+                                       "expected the columns offset,t_us"});
     std::vector<VideoConnection> out;
     for (std::size_t r = 0; r < t->rows(); ++r) {
         auto o = t->integer(r, *oc);

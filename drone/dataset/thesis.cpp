@@ -99,8 +99,7 @@ Expected<std::vector<ImuLine>, DatasetError> parse_imu(const std::string& text,
                 return Unexpected(derr(DatasetErrorCode::OutOfRange, name,
                                        std::string(kColumns[n]) + ": " + shown + " is outside [" +
                                            csv::format_number(b->lo) + ", " +
-                                           csv::format_number(b->hi) + "] " +
-                                           std::string(b->unit),
+                                           csv::format_number(b->hi) + "] " + std::string(b->unit),
                                        line_no, col));
             ++n;
             i = e;
@@ -267,8 +266,9 @@ Expected<std::size_t, DatasetError> read_thesis_texts(const std::string& imu_tex
                                                       const std::string& meta_text) {
     if (!meta_text.empty()) {
         std::vector<std::string> warnings;
-        auto m = json_boundary(kThesisMetaFile,
-                               [&] { return parse_thesis_meta(meta_text, DatasetLimits{}, warnings); });
+        auto m = json_boundary(kThesisMetaFile, [&] {
+            return parse_thesis_meta(meta_text, DatasetLimits{}, warnings);
+        });
         if (!m) return Unexpected(m.error());
     }
     auto imu = parse_imu(imu_text, "imu.txt");
@@ -342,7 +342,8 @@ Expected<Dataset, DatasetError> open_thesis_folder(const fs::path& dir,
     if (fs::exists(*meta_path, ec)) {
         auto t = read_text_file(*meta_path, kThesisMetaFile, lim.max_json_bytes);
         if (!t) return Unexpected(t.error());
-        auto m = json_boundary(kThesisMetaFile, [&] { return parse_thesis_meta(*t, lim, warnings); });
+        auto m =
+            json_boundary(kThesisMetaFile, [&] { return parse_thesis_meta(*t, lim, warnings); });
         if (!m) return Unexpected(m.error());
         meta = std::move(*m);
     }

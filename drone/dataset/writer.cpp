@@ -3,8 +3,8 @@
 #include "drone/dataset/align.hpp"
 #include "drone/dataset/annexb.hpp"
 #include "drone/dataset/csv.hpp"
-#include "drone/dataset/value_rules.hpp"
 #include "drone/dataset/raw.hpp"
+#include "drone/dataset/value_rules.hpp"
 
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -239,8 +239,8 @@ struct DatasetWriter::Files {
     std::int64_t next_index = 0;
     std::int64_t durable = 0;  // frames [0, durable) have their pixels on disk
     TimeNs last_frame_t = 0;
-    TimeNs last_nav_t = 0;      // navdata.csv
-    TimeNs last_raw_nav_t = 0;  // raw/navdata.bin
+    TimeNs last_nav_t = 0;                                 // navdata.csv
+    TimeNs last_raw_nav_t = 0;                             // raw/navdata.bin
     TimeNs latest_t = 0;                                   // newest stream time seen in any record
     std::deque<std::optional<FrameLabel>> pending_labels;  // same order as aligner frames
     struct ReadyRow {
@@ -253,7 +253,7 @@ struct DatasetWriter::Files {
     explicit Files(TimeNs max_wait) : aligner(max_wait) {}
 
     std::array<OutFile*, 10> files() {
-        return {&frames_csv, &navdata_csv, &labels_csv,      &video,       &raw_nav,
+        return {&frames_csv, &navdata_csv, &labels_csv,      &video,        &raw_nav,
                 &raw_pave,   &raw_chunks,  &raw_connections, &raw_captures, &raw_at};
     }
     std::size_t buffered() {
@@ -333,8 +333,8 @@ Expected<std::unique_ptr<DatasetWriter>, DatasetError> DatasetWriter::create(
         f->raw_connections.buf = "offset,t_us\n0,0\n";
         f->raw_connections.flush(f->st);
         f->st.video_connections = 1;
-        if (auto e = f->raw_captures.open_new(dir / "raw/capture_times.csv",
-                                              "raw/capture_times.csv"))
+        if (auto e =
+                f->raw_captures.open_new(dir / "raw/capture_times.csv", "raw/capture_times.csv"))
             return Unexpected(*e);
         f->raw_captures.buf = "frame_number,timestamp_ms,t_us\n";
         f->raw_captures.flush(f->st);
@@ -629,7 +629,8 @@ void DatasetWriter::run() {
             if (f.raw_connections.is_open() && f.raw_pave.is_open()) {
                 const std::uint64_t offset = f.raw_pave.good_size + f.raw_pave.buf.size();
                 const TimeNs t = std::max<TimeNs>(to_stream(c->opened_ns), 0);
-                f.raw_connections.buf += std::to_string(offset) + ',' + std::to_string(us(t)) + '\n';
+                f.raw_connections.buf +=
+                    std::to_string(offset) + ',' + std::to_string(us(t)) + '\n';
                 ++f.st.video_connections;
             }
             return;
@@ -726,10 +727,10 @@ void DatasetWriter::run() {
     // has no count, and frames.csv says how many frames there are).
     if (!f.st.stopped) {
         f.info.frames = f.st.frames_written;
-        auto e = opts_.inject_failure_file == "flight.json"
-                     ? std::optional(io_error("flight.json", "write failed: injected ENOSPC"))
-                     : write_file_atomic(dir_ / "flight.json", flight_json_text(f.info),
-                                         "flight.json");
+        auto e =
+            opts_.inject_failure_file == "flight.json"
+                ? std::optional(io_error("flight.json", "write failed: injected ENOSPC"))
+                : write_file_atomic(dir_ / "flight.json", flight_json_text(f.info), "flight.json");
         if (e) {
             f.note_error(*e);
             f.st.first_errno = ENOSPC;

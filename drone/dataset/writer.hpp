@@ -69,12 +69,12 @@ struct DatasetWriterStats {
     std::uint64_t bytes_written = 0;
     std::uint64_t write_errors = 0;
     std::uint64_t flushes = 0;
-    std::uint64_t video_connections = 0;  // raw/video_connections.csv rows
-    std::uint64_t frame_time_adjusted = 0;  // capture times moved 1 us past an equal predecessor
+    std::uint64_t video_connections = 0;     // raw/video_connections.csv rows
+    std::uint64_t frame_time_adjusted = 0;   // capture times moved 1 us past an equal predecessor
     std::uint64_t records_lost_stopped = 0;  // records dropped because the writer had stopped
-    std::string first_error;  // first I/O error, empty when none
-    int first_errno = 0;      // its errno (ENOSPC: the disk is full), 0 when none
-    bool stopped = false;     // a write failed: nothing more is written (see above)
+    std::string first_error;                 // first I/O error, empty when none
+    int first_errno = 0;                     // its errno (ENOSPC: the disk is full), 0 when none
+    bool stopped = false;                    // a write failed: nothing more is written (see above)
     bool closed = false;
 };
 

@@ -86,15 +86,15 @@ struct RawEvent {
 // what replaying raw/ reproduces; the others are drops with their reason. Only built when someone
 // subscribed.
 struct AccessUnitEvent {
-    std::int64_t index = -1;  // the decoded frame's FrameSample::index; -1 without a picture
-    std::int64_t unit = 0;    // 0-based over every unit received
+    std::int64_t index = -1;       // the decoded frame's FrameSample::index; -1 without a picture
+    std::int64_t unit = 0;         // 0-based over every unit received
     std::uint32_t connection = 0;  // the video connection it came on (0-based)
     std::uint64_t stream_offset = 0;  // where its PaVE header began (RawEvent::stream_offset)
     std::uint64_t stream_end = 0;     // one past its last byte
-    TimeNs recv_ns = 0;      // monotonic receive time of the chunk that completed it
-    TimeNs capture_ns = 0;   // monotonic capture time (the drone's timestamp, mapped)
-    TimeNs t_ns = 0;         // capture_ns from the link's start (FrameSample::t_ns)
-    std::uint32_t frame_number = 0;                  // PaVE frame_number
+    TimeNs recv_ns = 0;               // monotonic receive time of the chunk that completed it
+    TimeNs capture_ns = 0;            // monotonic capture time (the drone's timestamp, mapped)
+    TimeNs t_ns = 0;                  // capture_ns from the link's start (FrameSample::t_ns)
+    std::uint32_t frame_number = 0;   // PaVE frame_number
     std::optional<std::uint32_t> pave_timestamp_ms;  // PaVE timestamp (drone clock, ms)
     bool is_idr = false;                             // contains an IDR slice
     video::UnitFate fate = video::UnitFate::NoPicture;
@@ -143,12 +143,12 @@ struct VideoStats {
     std::uint64_t disconnects = 0;               // resets, silences, errors
     std::uint64_t pool_exhausted = 0;            // every pooled frame still in use: one allocated
     std::uint64_t unsupported_codec_frames = 0;  // PaVE frames not H.264: skipped (last_error)
-    std::uint64_t concealed = 0;     // frames shown with damage the decoder concealed
+    std::uint64_t concealed = 0;                 // frames shown with damage the decoder concealed
     std::uint64_t no_picture = 0;    // access units that gave no picture (damaged beyond repair)
     std::uint64_t cut_by_reset = 0;  // frames a connection ended inside (never joined to the next)
     std::uint64_t nav_interpolated = 0;  // frames whose attitude lies between two samples
-    std::uint64_t nav_nearest = 0;  // frames captured past the newest sample (or before the
-                                    // oldest): the nearest one is used
+    std::uint64_t nav_nearest = 0;       // frames captured past the newest sample (or before the
+                                         // oldest): the nearest one is used
     double fps = 0;
     double decode_ms_last = 0;
     TimeNs last_frame_ns = 0;
@@ -168,7 +168,7 @@ struct AtStats {
     static constexpr std::size_t kPeriodBins = 100;
     std::array<std::uint32_t, kPeriodBins> period_hist{};
     std::uint64_t periods = 0;
-    std::uint64_t periods_off_by_3ms = 0;   // gaps outside the period +- 3 ms
+    std::uint64_t periods_off_by_3ms = 0;  // gaps outside the period +- 3 ms
     // The drone never writes to the AT socket: whatever arrives there (a stray or hostile peer)
     // is read every cycle, counted and dropped, so it cannot fill the kernel buffer.
     std::uint64_t foreign_datagrams = 0;

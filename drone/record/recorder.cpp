@@ -308,7 +308,10 @@ void Recorder::run() {
                 break;
             case video::UnitFate::WaitingIdr:
                 // Before the recording's first kept frame this is the stream's start, not a loss.
-                if (s.seen_idr) ++s.dropped_reference_lost; else ++s.not_in_raw;
+                if (s.seen_idr)
+                    ++s.dropped_reference_lost;
+                else
+                    ++s.not_in_raw;
                 return;
             case video::UnitFate::NotH264:
                 ++s.dropped_not_h264;

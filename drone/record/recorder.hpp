@@ -9,9 +9,10 @@
 // A unit that gave no picture (its reference lost to a reset or a gap, damaged beyond repair, not
 // H.264) is not kept and is counted as a drop with its reason, so a recording whose counters say 0
 // drops replays every frame. A failing disk stops the recording at once with a message naming the
-// dataset and the disk (status().error); what is on disk opens; the link is not affected. Attached to the virtual drone as well, it
-// writes the ground truth: labels.json (the scene's scenario) and labels.csv + gt_* columns (the
-// pose at each frame's capture time against the scene's target obstacle).
+// dataset and the disk (status().error); what is on disk opens; the link is not affected. Attached
+// to the virtual drone as well, it writes the ground truth: labels.json (the scene's scenario) and
+// labels.csv + gt_* columns (the pose at each frame's capture time against the scene's target
+// obstacle).
 //
 // Nothing here can block the link: the subscriptions reject what does not fit and the writer's
 // queue does the same; every loss is counted in status().drops. status() is a latest-value read,
@@ -80,8 +81,8 @@ struct RecorderStatus {
     std::uint64_t write_errors = 0;
     bool disk_full = false;  // stopped because the disk is full (or another write failed)
     std::string error;       // the first I/O error, as the pilot reads it
-    bool labels = false;  // ground truth is being written
-    double cpu_ms = 0;    // CPU time of the recorder's own thread (not the writer's)
+    bool labels = false;     // ground truth is being written
+    double cpu_ms = 0;       // CPU time of the recorder's own thread (not the writer's)
 };
 
 class Recorder {

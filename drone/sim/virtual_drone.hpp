@@ -5,10 +5,10 @@
 // Threads: one owns the DroneCore (UDP I/O + physics), one renders/encodes/serves video, one
 // serves the control port; they share data only through latest-value slots and bounded queues.
 
+#include "drone/net.hpp"
 #include "drone/sim/drone_core.hpp"
 #include "drone/sim/renderer.hpp"
 #include "drone/sim/scene.hpp"
-#include "drone/net.hpp"
 #include "drone/sync.hpp"
 
 #include <atomic>

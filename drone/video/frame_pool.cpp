@@ -52,8 +52,8 @@ public:
         } else {
             if (data0 == nullptr) pool_.exhausted_.fetch_add(1, std::memory_order_relaxed);
             u = new cv::UMatData(this);
-            u->data = u->origdata =
-                data0 != nullptr ? static_cast<uchar*>(data0) : static_cast<uchar*>(cv::fastMalloc(total));
+            u->data = u->origdata = data0 != nullptr ? static_cast<uchar*>(data0)
+                                                     : static_cast<uchar*>(cv::fastMalloc(total));
             if (data0 != nullptr) u->flags |= cv::UMatData::USER_ALLOCATED;
         }
         u->size = total;
@@ -97,8 +97,7 @@ private:
 };
 
 std::shared_ptr<FramePool> FramePool::create(std::size_t slots) {
-    return std::shared_ptr<FramePool>(new FramePool(slots),
-                                      [](FramePool* p) { p->drop_holder(); });
+    return std::shared_ptr<FramePool>(new FramePool(slots), [](FramePool* p) { p->drop_holder(); });
 }
 
 FramePool::FramePool(std::size_t slots)

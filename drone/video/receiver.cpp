@@ -108,9 +108,9 @@ std::optional<ReceivedUnit> VideoReceiver::next() {
         } else {
             u.fate = UnitFate::NoPicture;
             ++stats_.no_picture;
-            stats_.last_error = "PaVE frame " + std::to_string(h.frame_number) + ": " +
-                                (res ? std::string("the decoder gave no picture")
-                                     : to_string(res.error()));
+            stats_.last_error =
+                "PaVE frame " + std::to_string(h.frame_number) + ": " +
+                (res ? std::string("the decoder gave no picture") : to_string(res.error()));
         }
         return u;
     }

@@ -68,18 +68,18 @@ struct ReceivedUnit {
 struct ReceiverStats {
     std::uint64_t bytes = 0;
     std::uint64_t connections = 0;
-    std::uint64_t units = 0;        // PaVE frames out (every fate)
-    std::uint64_t pictures = 0;     // Decoded + Concealed
-    std::uint64_t concealed = 0;    // pictures with concealed damage
-    std::uint64_t waiting_idr = 0;  // units skipped for a lost reference
-    std::uint64_t no_picture = 0;   // units the decoder refused
-    std::uint64_t not_h264 = 0;     // units in another codec
+    std::uint64_t units = 0;         // PaVE frames out (every fate)
+    std::uint64_t pictures = 0;      // Decoded + Concealed
+    std::uint64_t concealed = 0;     // pictures with concealed damage
+    std::uint64_t waiting_idr = 0;   // units skipped for a lost reference
+    std::uint64_t no_picture = 0;    // units the decoder refused
+    std::uint64_t not_h264 = 0;      // units in another codec
     std::uint64_t cut_by_reset = 0;  // frames begun on a connection that ended inside them
     std::uint64_t resyncs = 0;       // PaVE resynchronisations (garbage skipped)
     std::uint64_t bytes_skipped = 0;
     std::uint64_t pool_exhausted = 0;  // pictures that could not get a pooled buffer
     std::uint64_t clock_anchors = 0;   // capture clock re-anchorings (reboots, jumps)
-    std::string last_error;  // the last unit that did not produce a picture, and why
+    std::string last_error;            // the last unit that did not produce a picture, and why
 };
 
 struct ReceiverOptions {

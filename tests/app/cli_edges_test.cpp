@@ -96,8 +96,7 @@ TEST(CliEdges, ReplayRefusesAFolderHoldingOtherFilesUnlessForced) {
     ASSERT_EQ(r.exit_code, 0) << r.out;
     r = run_cli("replay -q " + kFlight.string() + " --out " + (dir / "own").string());
     EXPECT_EQ(r.exit_code, 0) << r.out;
-    r = run_cli("replay -q " + kFlight.string() + " --out " + (dir / "mine").string() +
-                " --force");
+    r = run_cli("replay -q " + kFlight.string() + " --out " + (dir / "mine").string() + " --force");
     EXPECT_EQ(r.exit_code, 0) << r.out;
     EXPECT_EQ(read_text(dir / "mine" / "thesis.pdf"), "precious");
 }
@@ -105,7 +104,8 @@ TEST(CliEdges, ReplayRefusesAFolderHoldingOtherFilesUnlessForced) {
 TEST(CliEdges, FrameRangesSplitsSeedsAndDelaysAreChecked) {
     const auto dir = scratch_dir("cli_edges", "ranges");
     const std::string frames = "dataset frames " + kFlight.string() + " " + (dir / "f").string();
-    expect_one_line_error(run_cli(frames + " --from 400"), "--from 400 is past the last frame (152)");
+    expect_one_line_error(run_cli(frames + " --from 400"),
+                          "--from 400 is past the last frame (152)");
     expect_one_line_error(run_cli(frames + " --to 999"), "--to 999 is past the last frame (152)");
     expect_one_line_error(run_cli(frames + " --from 5 --to 2"), "--to 2 is before --from 5");
     EXPECT_FALSE(fs::exists(dir / "f"));  // nothing created
@@ -113,20 +113,21 @@ TEST(CliEdges, FrameRangesSplitsSeedsAndDelaysAreChecked) {
     EXPECT_EQ(r.exit_code, 0) << r.out;
     EXPECT_TRUE(fs::exists(dir / "f" / "000152.png"));
 
-    expect_one_line_error(run_cli("eval " + kFlight.string() + " --out " + (dir / "e").string() +
-                                  " --split tuning"),
-                          "--split");
-    expect_one_line_error(run_cli("generate --scene thesis_pillar_left --seed -1 --out " +
-                                  (dir / "g").string()),
-                          "expected an integer from 0 to 18446744073709551615, got '-1'");
-    expect_one_line_error(run_cli("odometry " + (dir / "o").string() +
-                                  " --generate hover --top-delay 30"),
-                          "expected a delay in seconds in [0, 1], got '30'");
+    expect_one_line_error(
+        run_cli("eval " + kFlight.string() + " --out " + (dir / "e").string() + " --split tuning"),
+        "--split");
+    expect_one_line_error(
+        run_cli("generate --scene thesis_pillar_left --seed -1 --out " + (dir / "g").string()),
+        "expected an integer from 0 to 18446744073709551615, got '-1'");
+    expect_one_line_error(
+        run_cli("odometry " + (dir / "o").string() + " --generate hover --top-delay 30"),
+        "expected a delay in seconds in [0, 1], got '30'");
 }
 
 TEST(CliEdges, RangeMessagesAreShort) {
-    for (const std::string args : {"sim --seconds -1", "record --sim warehouse --out /tmp/x "
-                                                       "--seconds -2",
+    for (const std::string args : {"sim --seconds -1",
+                                   "record --sim warehouse --out /tmp/x "
+                                   "--seconds -2",
                                    "odometry /tmp/x --duration -1"}) {
         const auto r = run_cli(args);
         EXPECT_NE(r.exit_code, 0) << args;

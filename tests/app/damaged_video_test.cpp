@@ -116,7 +116,8 @@ fs::path make_dataset(const fs::path& dir, const std::vector<std::uint8_t>& vide
     csv << "frame,t_ms,roll_deg\n";
     for (int i = 0; i < frames; ++i) csv << i << ',' << i * 40 << ",0\n";
     std::ofstream(dir / "video.h264", std::ios::binary)
-        .write(reinterpret_cast<const char*>(video.data()), static_cast<std::streamsize>(video.size()));
+        .write(reinterpret_cast<const char*>(video.data()),
+               static_cast<std::streamsize>(video.size()));
     return dir;
 }
 

@@ -39,8 +39,8 @@ fs::path attitude_only_flight(const std::string& name) {
 
 TEST(MissingInputs, ReplaySaysWhatTheClassifierLackedAndWhatItCosts) {
     const auto dir = attitude_only_flight("replay");
-    const auto r = run_cli("replay -q " + (dir / "flight").string() + " --out " +
-                           (dir / "out").string());
+    const auto r =
+        run_cli("replay -q " + (dir / "flight").string() + " --out " + (dir / "out").string());
     ASSERT_EQ(r.exit_code, 0) << r.out;
     for (const char* what : {"no velocity (vx_mps, vy_mps, vz_mps) in 100 % of the frames",
                              "no altitude", "no attitude (pitch, yaw)", "time to contact alone"})
@@ -58,16 +58,16 @@ TEST(MissingInputs, ReplaySaysWhatTheClassifierLackedAndWhatItCosts) {
     EXPECT_EQ(t.out.find("note:"), std::string::npos) << t.out;
 
     // A complete flight has no note.
-    const auto full = run_cli("replay -q " + kFlight.string() + " --out " +
-                              (dir / "out_full").string());
+    const auto full =
+        run_cli("replay -q " + kFlight.string() + " --out " + (dir / "out_full").string());
     ASSERT_EQ(full.exit_code, 0) << full.out;
     EXPECT_EQ(full.out.find("note:"), std::string::npos) << full.out;
 }
 
 TEST(MissingInputs, EvalReportsThemPerFlight) {
     const auto dir = attitude_only_flight("eval");
-    const auto r = run_cli("eval -q " + (dir / "flight").string() + " --out " +
-                           (dir / "out").string());
+    const auto r =
+        run_cli("eval -q " + (dir / "flight").string() + " --out " + (dir / "out").string());
     ASSERT_EQ(r.exit_code, 0) << r.out;
     const std::string md = read_text(dir / "out" / "report.md");
     EXPECT_NE(md.find("## Inputs the classifier lacked"), std::string::npos) << md;

@@ -15,12 +15,12 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <algorithm>
 #include <fstream>
 #include <iterator>
 #include <sstream>
@@ -265,8 +265,8 @@ TEST(Record, AFullDiskStopsTheRecordingWithAClearMessageAndLeavesADatasetThatRep
         ~Unmount() { (void)std::system(("umount " + p.string()).c_str()); }
     } unmount{mnt};
     const fs::path out = mnt / "flight";
-    const RunResult r = gs::test::run_cli("record --sim thesis_pillar_left --seconds 120 --out " +
-                                          out.string());
+    const RunResult r =
+        gs::test::run_cli("record --sim thesis_pillar_left --seconds 120 --out " + out.string());
     EXPECT_NE(r.exit_code, 0) << r.out;  // the recording could not be completed
     EXPECT_NE(r.out.find("recording stopped: " + out.string()), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("No space left on device"), std::string::npos) << r.out;
@@ -277,11 +277,11 @@ TEST(Record, AFullDiskStopsTheRecordingWithAClearMessageAndLeavesADatasetThatRep
     ASSERT_GT(d->frame_count(), 10);
     for (const auto& w : d->warnings())
         EXPECT_EQ(w.find("incomplete last line"), std::string::npos) << w;
-    const RunResult replay = gs::test::run_cli("replay -q " + out.string() + " --out " +
-                                               (tmp / "replay").string());
+    const RunResult replay =
+        gs::test::run_cli("replay -q " + out.string() + " --out " + (tmp / "replay").string());
     EXPECT_EQ(replay.exit_code, 0) << replay.out;
-    EXPECT_NE(gs::test::read_text(tmp / "replay" / "summary.json").find(
-                  "\"processed\": " + std::to_string(d->frame_count())),
+    EXPECT_NE(gs::test::read_text(tmp / "replay" / "summary.json")
+                  .find("\"processed\": " + std::to_string(d->frame_count())),
               std::string::npos);
 }
 

@@ -42,8 +42,8 @@ TEST(SimCli, FaultKnobsFromTheCommandLineReachTheLink) {
         ::dup2(fd, STDOUT_FILENO);
         ::dup2(fd, STDERR_FILENO);
         ::execl(GS_BINARY, GS_BINARY, "sim", "--port-base", base_s.c_str(), "--seconds", "12",
-                "--loss", "0.3", "--reboot-at", "6", "--boot-ms", "400", "--video-reset-every",
-                "2", static_cast<char*>(nullptr));
+                "--loss", "0.3", "--reboot-at", "6", "--boot-ms", "400", "--video-reset-every", "2",
+                static_cast<char*>(nullptr));
         ::_exit(127);
     }
     link::LinkConfig lc;
@@ -55,8 +55,8 @@ TEST(SimCli, FaultKnobsFromTheCommandLineReachTheLink) {
     {
         link::DroneLink link(lc);
         ASSERT_TRUE(link.start());
-        EXPECT_TRUE(wait_until(
-            [&] { return link.state() == link::ConnectionState::Connected; }, 6s))
+        EXPECT_TRUE(
+            wait_until([&] { return link.state() == link::ConnectionState::Connected; }, 6s))
             << link.status().reason;
         EXPECT_TRUE(wait_until([&] { return link.status().machine.drone_restarts >= 1; }, 15s))
             << link.status().reason;
@@ -80,7 +80,8 @@ TEST(SimCli, FaultKnobsFromTheCommandLineReachTheLink) {
 TEST(SimCli, FaultOptionsAreValidated) {
     auto r = run_cli("sim --loss 1.5");
     EXPECT_NE(r.exit_code, 0);
-    EXPECT_NE(r.out.find("expected a probability in [0, 1], got '1.5'"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("expected a probability in [0, 1], got '1.5'"), std::string::npos)
+        << r.out;
     r = run_cli("sim --blackout 5");
     EXPECT_NE(r.exit_code, 0);
     EXPECT_NE(r.out.find("got '5'"), std::string::npos) << r.out;

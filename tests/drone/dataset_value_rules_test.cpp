@@ -29,9 +29,9 @@ std::string open_error(const fs::path& dir) {
 TEST(JsonReaders, NumberOverflowingADoubleIsRefusedNamingFileAndKey) {
     TempDir t;
     test::make_png_dataset(t.path(), 2);
-    write_file(t / "flight.json", test::flight_json(64, 48, 25).replace(
-                                      test::flight_json(64, 48, 25).find("\"fps\": 25"), 9,
-                                      "\"fps\": 1e400"));
+    write_file(t / "flight.json", test::flight_json(64, 48, 25)
+                                      .replace(test::flight_json(64, 48, 25).find("\"fps\": 25"), 9,
+                                               "\"fps\": 1e400"));
     std::string e = open_error(t.path());
     EXPECT_NE(e.find("flight.json"), std::string::npos) << e;
     EXPECT_NE(e.find("'fps'"), std::string::npos) << e;
@@ -101,11 +101,9 @@ TEST_P(FramesCsvValueRules, RefusedNamingFileRowAndColumn) {
 
     // navdata.csv follows the same rules (its own column order).
     test::make_png_dataset(t.path(), 3);
-    write_file(t / "navdata.csv",
-               std::string("t_ms,") + b.column + "\n0,\n5," + b.cell + "\n");
+    write_file(t / "navdata.csv", std::string("t_ms,") + b.column + "\n0,\n5," + b.cell + "\n");
     const std::string n = open_error(t.path());
-    EXPECT_EQ(n.rfind(std::string("navdata.csv:3:2: ") + b.column + ": " + b.expect, 0), 0u)
-        << n;
+    EXPECT_EQ(n.rfind(std::string("navdata.csv:3:2: ") + b.column + ": " + b.expect, 0), 0u) << n;
 }
 
 INSTANTIATE_TEST_SUITE_P(
@@ -173,11 +171,11 @@ TEST(DatasetValueRules, WriterLeavesOutWhatTheReaderWouldRefuse) {
     FrameRow r;
     r.frame = 0;
     r.nav.t_ns = 0;
-    r.nav.roll_deg = 120;            // absurd: written as unknown
+    r.nav.roll_deg = 120;  // absurd: written as unknown
     r.nav.pitch_deg = 1.5;
-    r.nav.altitude_m = -0.02;        // below ground
+    r.nav.altitude_m = -0.02;  // below ground
     r.nav.vx_mps = std::numeric_limits<double>::infinity();
-    r.gt.x_m = 12345.5;              // any finite value is fine
+    r.gt.x_m = 12345.5;  // any finite value is fine
     const std::string row = frames_csv_row(r);
     EXPECT_EQ(row, "0,0,,1.5,,,,,,12345.5,,,\n");
     auto rows = parse_frames_csv(frames_csv_header() + row);

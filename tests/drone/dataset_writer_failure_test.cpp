@@ -118,8 +118,8 @@ TEST_P(WriterDiskFull, StopsAtTheFirstFailureAndLeavesADatasetThatOpens) {
         ASSERT_TRUE(fs::exists(t / "rec" / file));
         EXPECT_LT(fs::file_size(t / "rec" / file), good.at(file));
     }
-    for (const char* text : {"frames.csv", "navdata.csv", "labels.csv", "raw/at.log",
-                             "raw/video_connections.csv"}) {
+    for (const char* text :
+         {"frames.csv", "navdata.csv", "labels.csv", "raw/at.log", "raw/video_connections.csv"}) {
         if (!fs::exists(t / "rec" / text)) continue;
         const std::string s = test::read_file(t / "rec" / text);
         EXPECT_TRUE(s.empty() || s.back() == '\n') << text << " ends inside a line";
@@ -149,8 +149,8 @@ INSTANTIATE_TEST_SUITE_P(EveryFile, WriterDiskFull,
                          ::testing::Values("frames.csv", "navdata.csv", "video.h264", "labels.csv",
                                            "raw/navdata.bin", "raw/video.pave",
                                            "raw/video_chunks.bin", "raw/at.log",
-                                           "raw/video_connections.csv", "raw/capture_times.csv", "flight.json",
-                                           "labels.json"),
+                                           "raw/video_connections.csv", "raw/capture_times.csv",
+                                           "flight.json", "labels.json"),
                          [](const auto& param_info) {
                              std::string n = param_info.param;
                              for (char& c : n)

@@ -86,21 +86,21 @@ struct Rig {
         const auto until = link->status().at.counters.cycles + cycles;
         bool ground = true;
         const bool done = wait_for(
-            [&] {
-                const auto st = drone->status();
-                ground &= !st.flight.flying() && !st.flight.motors_on && st.flight.z_m == 0.0 &&
-                          !(st.drone_state & test::kFly);
-                return link->status().at.counters.cycles >= until;
-            },
-            30s).has_value();
+                              [&] {
+                                  const auto st = drone->status();
+                                  ground &= !st.flight.flying() && !st.flight.motors_on &&
+                                            st.flight.z_m == 0.0 && !(st.drone_state & test::kFly);
+                                  return link->status().at.counters.cycles >= until;
+                              },
+                              30s)
+                              .has_value();
         return ground && done;
     }
     // Waits until the link accepted `n` more navdata packets (so whatever the drone sent before
     // has been received and judged).
     bool accepts_more(std::uint64_t n) const {
         const auto until = link->status().navdata.accepted + n;
-        return wait_for([&] { return link->status().navdata.accepted >= until; }, 10s)
-            .has_value();
+        return wait_for([&] { return link->status().navdata.accepted >= until; }, 10s).has_value();
     }
 };
 
@@ -200,7 +200,8 @@ TEST(LinkIntegration, ThirtyPercentNavdataLossKeepsTheLinkConnectedAndCountsGaps
     rig.drone->inject(sim::FaultNavdata{});
     ASSERT_TRUE(wait_for([&] { return rig.drone->status().counters.navdata_sent > 0; }, 1s));
     const auto sent = rig.drone->status().counters.navdata_sent;
-    ASSERT_TRUE(wait_for([&] { return rig.drone->status().counters.navdata_sent > sent + 20; }, 5s));
+    ASSERT_TRUE(
+        wait_for([&] { return rig.drone->status().counters.navdata_sent > sent + 20; }, 5s));
     ASSERT_TRUE(rig.accepts_more(10));
     const auto gaps = rig.link->status().machine.sequence_gaps;
     const auto dropped = rig.drone->status().counters.navdata_dropped;
@@ -392,7 +393,8 @@ TEST(LinkIntegration, TheLinkAdoptsAnAutopilotedFlightAndLandLandsIt) {
     ASSERT_TRUE(wait_for([&] { return rig.link->status().at.intent == FlyIntent::Fly; }, 1s));
     EXPECT_EQ(rig.link->status().at.counters.flying_adopted, 1u);
     // The autopilot climbs to its 1 m and holds it.
-    ASSERT_TRUE(wait_for([&] { return std::abs(rig.drone->status().flight.z_m - 1.0) < 0.1; }, 10s));
+    ASSERT_TRUE(
+        wait_for([&] { return std::abs(rig.drone->status().flight.z_m - 1.0) < 0.1; }, 10s));
     auto st = rig.drone->status();
     EXPECT_TRUE(st.autopilot_active);
     EXPECT_TRUE(st.flight.flying());
@@ -552,8 +554,8 @@ TEST(LinkIntegration, ARebootCutsVideoRefusesItWhileBootingAndVideoComesBackAfte
         << "video and control connections: " << rig.drone->status().reboot_closes;
     // Early in the 2 s boot: both ports refuse a connection.
     ASSERT_TRUE(rig.drone->status().booting);
-    auto video = net::TcpStream::connect(net::Endpoint::loopback(rig.drone->video_port()),
-                                         net::Millis{300});
+    auto video =
+        net::TcpStream::connect(net::Endpoint::loopback(rig.drone->video_port()), net::Millis{300});
     EXPECT_FALSE(video) << "video port accepted a connection while the drone boots";
     auto control = net::TcpStream::connect(net::Endpoint::loopback(rig.drone->control_port()),
                                            net::Millis{300});
@@ -593,8 +595,9 @@ TEST(LinkIntegration, NavdataRunsAtTwoHundredHertzAndFramesCarryTheAttitudeAtThe
     while (auto f = frames->try_pop()) {
         // Only frames whose capture the link could bracket: the sample after the capture time
         // had arrived (5 ms) before the frame's last byte. The others took the newest sample.
-        auto after = std::find_if(samples.begin(), samples.end(),
-                                  [&](const link::NavSample& n) { return n.state.t_ns >= f->t_ns; });
+        auto after = std::find_if(samples.begin(), samples.end(), [&](const link::NavSample& n) {
+            return n.state.t_ns >= f->t_ns;
+        });
         if (after == samples.end() || after == samples.begin() ||
             after->recv_ns + ms_to_ns(5) > f->recv_ns)
             continue;

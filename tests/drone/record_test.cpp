@@ -3,9 +3,9 @@
 #include "dataset_test_util.hpp"
 
 #include "drone/dataset/frame_store.hpp"
-#include "drone/dataset/video_frames.hpp"
 #include "drone/dataset/raw.hpp"
 #include "drone/dataset/raw_replay.hpp"
+#include "drone/dataset/video_frames.hpp"
 #include "drone/link/drone_link.hpp"
 #include "drone/record/recorder.hpp"
 #include "drone/sim/scenarios.hpp"
@@ -295,8 +295,7 @@ TEST(RecorderFaults, AResetInsideAnIdrAndReorderedNavdataLeaveADatasetThatReplay
     f.duplicate = 0.2;
     flight.drone->inject(sim::FaultNavdata{f});
     flight.drone->inject(sim::FaultVideoReset{/*during_idr=*/true});
-    ASSERT_TRUE(
-        wait_for([&] { return flight.link->status().video.connects > connects0; }, 5s));
+    ASSERT_TRUE(wait_for([&] { return flight.link->status().video.connects > connects0; }, 5s));
     const auto decoded = flight.link->status().video.decoded;
     ASSERT_TRUE(wait_for([&] { return flight.link->status().video.decoded > decoded + 20; }, 10s));
     flight.drone->inject(sim::FaultNavdata{});
