@@ -7,7 +7,8 @@
 #       and the real captures in ../shared/fixtures. New inputs go to a work folder in the build
 #       tree, never into the repository.
 #   scripts/fuzz.sh long [RUNS=10000000] [NAME...]
-#       The long run: RUNS executions of each target (all by default), one target per core,
+#       The long run: RUNS executions of each target (all by default), one target per core
+#       (GS_FUZZ_JOBS=N: N at a time),
 #       each with its counts in build-asan/fuzz/NAME.log and a summary at the end. Needs the
 #       targets built: GS_TARGETS=fuzzers scripts/build.sh build-asan ... (as ./test.sh does).
 #
@@ -49,8 +50,8 @@ seeds() {
 # bound means more executions per second; each still covers several records, frames or units.
 max_len() {
     case $1 in
-        h264 | pave) echo 32768 ;;
-        annexb | csv | json | raw) echo 8192 ;;
+        pave) echo 32768 ;;
+        h264 | annexb | csv | json | raw) echo 8192 ;;
         *) echo 4096 ;;
     esac
 }
@@ -96,7 +97,7 @@ case ${1:-} in
         fi
         out=$repo/build-asan/fuzz
         mkdir -p "$out"
-        jobs=$(nproc)
+        jobs=${GS_FUZZ_JOBS:-$(nproc)}
         pids=()
         for name in "${names[@]}"; do
             bin=$repo/build-asan/bin/${name}_fuzz
@@ -116,7 +117,7 @@ case ${1:-} in
         ! grep -q FINDING "$out"/*.result
         ;;
     *)
-        sed -n '2,17p' "$0"
+        sed -n '2,18p' "$0"
         exit 2
         ;;
 esac

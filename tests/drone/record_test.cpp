@@ -100,6 +100,7 @@ protected:
         if (!wait_for([&] { return rec.status().frames >= 60 && rec.status().navdata >= 400; },
                       60s))
             flight_->error = "the recording did not reach 60 frames";
+        frames_before_stop_ = flight_->link->video().generation() - gen0;
         final_ = rec.stop();
         frames_seen_ = flight_->link->video().generation() - gen0;
     }
@@ -113,7 +114,8 @@ protected:
     static inline Flight* flight_ = nullptr;
     static inline record::RecorderStatus final_;
     static inline bool recording_seen_ = false;
-    static inline std::uint64_t frames_seen_ = 0;  // frames the link decoded while recording
+    static inline std::uint64_t frames_seen_ = 0;  // frames the link decoded until stop() returned
+    static inline std::uint64_t frames_before_stop_ = 0;  // ... until stop() was called
 };
 
 TEST_F(RecorderFlight, WritesADatasetTheReaderOpensWithGroundTruth) {
@@ -123,7 +125,7 @@ TEST_F(RecorderFlight, WritesADatasetTheReaderOpensWithGroundTruth) {
     ASSERT_TRUE(d) << to_string(d.error());
     // Every frame the link received is there, less those before the first IDR (at most a GOP
     // of 15) and the one in flight at each end.
-    EXPECT_GE(d->frame_count() + 15 + 2, static_cast<std::int64_t>(frames_seen_));
+    EXPECT_GE(d->frame_count() + 15 + 2, static_cast<std::int64_t>(frames_before_stop_));
     EXPECT_LE(d->frame_count(), static_cast<std::int64_t>(frames_seen_) + 2);
     EXPECT_GE(d->frame_count(), 60);
     EXPECT_EQ(d->info().frames, d->frame_count());
@@ -143,10 +145,11 @@ TEST_F(RecorderFlight, WritesADatasetTheReaderOpensWithGroundTruth) {
     ASSERT_TRUE(d->label_rows());
     ASSERT_EQ(d->label_rows()->size(), static_cast<std::size_t>(d->frame_count()));
     const auto& labels = *d->label_rows();
-    // The pillar's centre is 0.5 m left of the flight line; the drone flies towards it.
+    // The pillar's centre is 0.5 m left of the flight line; the drone flies towards it (still
+    // before it: the recording ends after 60 frames, about 2.5 s, more on a slow machine).
     for (const auto& l : labels) {
         EXPECT_NEAR(l.lateral_m, -0.5, 0.1) << l.frame;
-        EXPECT_GT(l.distance_m, 3.0) << l.frame;
+        EXPECT_GT(l.distance_m, 0.0) << l.frame;
         EXPECT_LT(l.distance_m, 7.1) << l.frame;
     }
     for (std::size_t i = 1; i < labels.size(); ++i)
