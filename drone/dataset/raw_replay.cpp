@@ -119,7 +119,7 @@ Expected<std::vector<FrameRow>, DatasetError> replay_raw(const std::filesystem::
         if (take_nav) {
             const TimeNs t = recs[ni].t_us * 1000;
             latest = std::max(latest, t);
-            if (auto s = dec.navdata ? dec.navdata(recs[ni].payload) : std::nullopt) {
+            if (auto s = dec.navdata ? dec.navdata(recs[ni].payload, t) : std::nullopt) {
                 s->t_ns = t;
                 aligner.push_nav(*s);
             }

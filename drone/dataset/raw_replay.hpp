@@ -25,7 +25,8 @@ struct RawReplayDecoders {
     // One navdata datagram -> its state when the link would have accepted it (nullopt when it
     // does not parse, or is a duplicate or a late packet: it is then skipped, as navdata.csv
     // holds only what the link accepted).
-    std::function<std::optional<NavState>(std::span<const std::uint8_t>)> navdata;
+    // `recv_ns` is its receive time (stream ns).
+    std::function<std::optional<NavState>(std::span<const std::uint8_t>, TimeNs recv_ns)> navdata;
     // A chunk of the video stream received at stream time `recv_ns`; appends the capture time
     // (stream ns) of every frame the chunk completed that the recorder would have written.
     std::function<void(std::span<const std::uint8_t>, TimeNs recv_ns, std::vector<TimeNs>&)> video;

@@ -22,18 +22,28 @@ RawReplayDecoders make_protocol_replay_decoders() {
         std::deque<RecordedCapture> captures;
         bool have_captures = false;
         std::optional<std::uint32_t> last_seq;  // the link's acceptance rule for navdata
+        TimeNs last_ns = 0;
+        bool comwdg = false;
     };
     auto st = std::make_shared<State>();
     RawReplayDecoders d;
-    d.navdata = [st](std::span<const std::uint8_t> b) -> std::optional<NavState> {
+    d.navdata = [st](std::span<const std::uint8_t> b, TimeNs recv) -> std::optional<NavState> {
         auto s = navdata_state(b);
         if (!s || !s->seq) return s;
-        // The link drops duplicates and late packets (sequence not above the last accepted),
-        // except when the drone restarted its count (bootstrap mode after a reboot).
-        const bool restart =
-            s->drone_state && navdata::DroneState{*s->drone_state}.navdata_bootstrap();
+        // The link's rules (drone/link/link_state.cpp): duplicates and late packets (sequence
+        // not above the last accepted) are dropped, except when the drone restarted its count
+        // (bootstrap mode after a reboot); the expectation is forgotten after 500 ms of silence
+        // (the link is lost) and on a communication watchdog event.
+        constexpr TimeNs link_lost_after = 500'000'000;
+        if (st->last_seq && recv - st->last_ns > link_lost_after) st->last_seq.reset();
+        st->last_ns = recv;
+        const navdata::DroneState state{s->drone_state.value_or(0)};
+        const bool restart = state.navdata_bootstrap();
         if (st->last_seq && *s->seq <= *st->last_seq && !restart) return std::nullopt;
         st->last_seq = *s->seq;
+        const bool comwdg = state.com_watchdog() && !restart;
+        if (comwdg && !st->comwdg) st->last_seq.reset();
+        st->comwdg = comwdg;
         return s;
     };
     d.begin_connection = [st](TimeNs opened) { st->rx.begin_connection(opened); };

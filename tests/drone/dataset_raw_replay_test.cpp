@@ -16,7 +16,7 @@ namespace {
 // before it arrived.
 RawReplayDecoders fake_decoders() {
     RawReplayDecoders d;
-    d.navdata = [](std::span<const std::uint8_t> b) -> std::optional<NavState> {
+    d.navdata = [](std::span<const std::uint8_t> b, TimeNs) -> std::optional<NavState> {
         if (b.size() != 8) return std::nullopt;
         NavState s;
         std::memcpy(&s.roll_deg, b.data(), 8);
