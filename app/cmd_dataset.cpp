@@ -28,7 +28,7 @@ struct Opts {
 int info(const Opts& o) {
     auto d = open_any_dataset(o.in, given_fps(o.fps));
     if (!d) throw fail(d.error());
-    const DatasetInfo& i = d->info();
+    const dataset::DatasetInfo& i = d->info();
     const double dur =
         d->frames().empty() ? 0.0 : static_cast<double>(d->frames().back().nav.t_ns) * 1e-9;
     std::cout << o.in << ": " << to_string(i.camera) << " camera, " << i.width << "x" << i.height
@@ -55,9 +55,9 @@ int info(const Opts& o) {
 int export_thesis_cmd(const Opts& o) {
     auto d = open_any_dataset(o.in);
     if (!d) throw fail(d.error());
-    auto frames = open_frames(*d);
+    auto frames = dataset::open_frames(*d);
     if (!frames) throw fail(o.in + ": " + to_string(frames.error()));
-    if (auto e = export_thesis(*d, **frames, o.out)) throw fail(to_string(*e));
+    if (auto e = dataset::export_thesis(*d, **frames, o.out)) throw fail(to_string(*e));
     std::cout << "wrote " << d->frame_count() << " images, imu.txt, imu_extra.csv and imu_meta.json"
               << (d->labels() || d->label_rows() ? " and the labels" : "") << " to " << o.out
               << '\n';
@@ -65,9 +65,9 @@ int export_thesis_cmd(const Opts& o) {
 }
 
 int import_thesis_cmd(const Opts& o) {
-    ThesisImportOptions to;
+    dataset::ThesisImportOptions to;
     to.fps = given_fps(o.fps);
-    auto d = import_thesis(o.in, o.out, to);
+    auto d = dataset::import_thesis(o.in, o.out, to);
     if (!d) throw fail(to_string(d.error()));
     std::cout << "imported " << d->frame_count() << " frames at " << fixed(d->info().fps, 2)
               << " fps into " << o.out << '\n';
@@ -89,7 +89,7 @@ int frames_cmd(const Opts& o) {
     if (o.to >= 0 && o.to < o.from)
         throw fail("--to " + std::to_string(o.to) + " is before --from " + std::to_string(o.from));
     const std::int64_t last = o.to < 0 ? count - 1 : o.to;
-    auto frames = open_frames(*d);
+    auto frames = dataset::open_frames(*d);
     if (!frames) throw fail(o.in + ": " + to_string(frames.error()));
     std::error_code ec;
     fs::create_directories(o.out, ec);
@@ -116,7 +116,7 @@ CommandRegistration reg_info(
         auto* c = parent.add_subcommand("info", "What a dataset holds");
         c->add_option("DATASET", o->in, "Dataset or thesis-style folder")->required();
         add_thesis_fps_option(*c, o->fps);
-        c->callback([o] { (void)info(*o); });
+        set_action(*c, [o] { return info(*o); });
     });
 
 CommandRegistration reg_export(
@@ -133,7 +133,7 @@ CommandRegistration reg_export(
             "flight, so a replay decides the same.");
         c->add_option("DATASET", o->in, "Dataset directory")->required();
         c->add_option("OUT", o->out, "Folder to create (new or empty)")->required();
-        c->callback([o] { (void)export_thesis_cmd(*o); });
+        set_action(*c, [o] { return export_thesis_cmd(*o); });
     });
 
 CommandRegistration reg_import(
@@ -144,7 +144,7 @@ CommandRegistration reg_import(
         c->add_option("FOLDER", o->in, "Images + one IMU text line per image")->required();
         c->add_option("OUT", o->out, "Dataset directory to create (new or empty)")->required();
         add_thesis_fps_option(*c, o->fps);
-        c->callback([o] { (void)import_thesis_cmd(*o); });
+        set_action(*c, [o] { return import_thesis_cmd(*o); });
     });
 
 CommandRegistration reg_frames(
@@ -158,7 +158,7 @@ CommandRegistration reg_frames(
         c->add_option("--from", o->from, "First frame")->check(number_in(0, 1e12, "a frame index"));
         c->add_option("--to", o->to, "Last frame (default: the last)")
             ->check(number_in(0, 1e12, "a frame index"));
-        c->callback([o] { (void)frames_cmd(*o); });
+        set_action(*c, [o] { return frames_cmd(*o); });
     });
 
 }  // namespace

@@ -2,9 +2,9 @@
 // field (grouped by option, units shown), the drone_state bits by name and any skipped options.
 #include "app/cli_options.hpp"
 #include "app/command.hpp"
-#include "drone/navdata.hpp"
-#include "drone/navdata_json.hpp"
-#include "drone/navdata_layout.hpp"
+#include "drone/protocol/navdata.hpp"
+#include "drone/protocol/navdata_json.hpp"
+#include "drone/protocol/navdata_layout.hpp"
 
 #include <charconv>
 #include <cstdio>
@@ -19,7 +19,7 @@
 namespace gs::app {
 namespace {
 
-using namespace gs::navdata;
+using namespace gs::protocol::navdata;
 
 struct Opts {
     std::string file;
@@ -177,7 +177,7 @@ const CommandRegistration reg(
             ->required()
             ->check(regular_file());
         cmd->add_flag("--json", opts->json, "Print JSON (PROTOCOL.md field names) instead of text");
-        cmd->callback([opts] { run(*opts); });
+        set_action(*cmd, [opts] { run(*opts); });
     });
 
 }  // namespace

@@ -3,9 +3,9 @@
 // the trailing partial frame; --decode also decodes the H.264 and writes DIR/NNNNNN.png.
 #include "app/cli_options.hpp"
 #include "app/command.hpp"
-#include "drone/h264_decoder.hpp"
-#include "drone/pave.hpp"
-#include "drone/pave_json.hpp"
+#include "drone/protocol/pave.hpp"
+#include "drone/protocol/pave_json.hpp"
+#include "drone/video/h264_decoder.hpp"
 #include "drone/video/receiver.hpp"
 
 #include <nlohmann/json.hpp>
@@ -29,7 +29,7 @@ struct Opts {
     std::string decode_dir;
 };
 
-nlohmann::json decoder_json(const H264DecoderStats& s) {
+nlohmann::json decoder_json(const video::H264DecoderStats& s) {
     return {{"access_units", s.access_units},
             {"decoded", s.decoded},
             {"skipped_waiting_idr", s.skipped_waiting_idr},
@@ -45,8 +45,9 @@ std::string image_name(std::uint64_t n) {
     return buf;
 }
 
-void print_frame_line(std::ostream& os, const PaveFrame& f, const std::optional<std::string>& img) {
-    const PaveHeader& h = f.header;
+void print_frame_line(std::ostream& os, const protocol::PaveFrame& f,
+                      const std::optional<std::string>& img) {
+    const protocol::PaveHeader& h = f.header;
     char line[256];
     std::snprintf(line, sizeof line,
                   "%6llu %9llu %4u %8u %12u %11u  %-7s %-5s %4ux%-4u %4ux%-4u %6u %3u/%-3u %4u",
@@ -89,7 +90,7 @@ void run(const Opts& o) {
               "display   stream h1/h2  ctrl\n";
     }
     auto list_resyncs = [&] {
-        for (const PaveResync& r : rx.resyncs()) {
+        for (const protocol::PaveResync& r : rx.resyncs()) {
             if (o.json) {
                 resyncs.push_back(to_json(r));
             } else {
@@ -109,7 +110,7 @@ void run(const Opts& o) {
         rx.push(std::span(reinterpret_cast<const std::uint8_t*>(chunk.data()), got), 0);
         while (auto u = rx.next()) {
             list_resyncs();
-            PaveFrame f;
+            protocol::PaveFrame f;
             f.index = static_cast<std::uint64_t>(u->unit);
             f.stream_offset = u->stream_offset;
             f.header = u->header;
@@ -135,8 +136,8 @@ void run(const Opts& o) {
     }
     if (in.bad()) throw fail("cannot read " + o.file);
 
-    const PavePending pending = rx.pending();
-    const PaveFramerStats& stats = rx.framer_stats();
+    const protocol::PavePending pending = rx.pending();
+    const protocol::PaveFramerStats& stats = rx.framer_stats();
     nlohmann::json trailing = nullptr;
     if (pending.buffered_bytes > 0 || pending.unreported_skip > 0) {
         trailing = {{"buffered_bytes", pending.buffered_bytes},
@@ -184,7 +185,7 @@ void run(const Opts& o) {
        << " payload bytes), " << stats.resyncs << " resyncs, " << stats.bytes_skipped
        << " bytes skipped, " << stats.oversize_rejections << " oversize headers refused\n";
     if (decode) {
-        const H264DecoderStats& d = rx.decoder_stats();
+        const video::H264DecoderStats& d = rx.decoder_stats();
         os << "decoded " << d.decoded << " of " << d.access_units << " access units into "
            << o.decode_dir << " (" << d.skipped_waiting_idr << " skipped waiting for an IDR, "
            << d.frame_gaps << " frame-number gaps, " << d.decode_errors << " errors, "
@@ -206,7 +207,7 @@ const CommandRegistration reg(
         cmd->add_option("--decode", opts->decode_dir,
                         "Decode the H.264 and write DIR/NNNNNN.png (0-based, decode order)")
             ->check(output_directory());
-        cmd->callback([opts] { run(*opts); });
+        set_action(*cmd, [opts] { run(*opts); });
     });
 
 }  // namespace

@@ -2,8 +2,8 @@
 // Usage: bench_decode_bench [REPEATS=20]
 // Prints, per capture, framer throughput and per-frame decode time percentiles (decode +
 // colour conversion to BGR, what the live pipeline pays per frame).
-#include "drone/h264_decoder.hpp"
-#include "drone/pave.hpp"
+#include "drone/protocol/pave.hpp"
+#include "drone/video/h264_decoder.hpp"
 #include "drone/video/receiver.hpp"
 
 #include <algorithm>
@@ -81,15 +81,15 @@ Result bench_annexb(const std::vector<std::uint8_t>& bytes, int repeats) {
     Result r;
     cv::Mat img;
     for (int rep = 0; rep < repeats; ++rep) {
-        gs::H264Decoder decoder;
+        gs::video::H264Decoder decoder;
         std::span<const std::uint8_t> rest(bytes);
         while (!rest.empty()) {
-            const std::size_t n = gs::access_unit_size(rest);
+            const std::size_t n = gs::video::access_unit_size(rest);
             const auto d0 = Clock::now();
             auto res = decoder.decode(
-                gs::AccessUnit{rest.first(n), std::nullopt, 0, 0, std::nullopt}, img);
+                gs::video::AccessUnit{rest.first(n), std::nullopt, 0, 0, std::nullopt}, img);
             const auto d1 = Clock::now();
-            if (res && *res == gs::DecodeStatus::Frame) {
+            if (res && *res == gs::video::DecodeStatus::Frame) {
                 r.decode_ms.push_back(std::chrono::duration<double, std::milli>(d1 - d0).count());
             }
             rest = rest.subspan(n);

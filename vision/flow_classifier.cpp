@@ -1,4 +1,5 @@
 #include "vision/flow_classifier.hpp"
+#include "drone/core/unknown.hpp"
 
 #include "vision/fit.hpp"
 
@@ -143,7 +144,8 @@ const cv::Point2f* FlowClassifier::prepare(const FrameInput& in) {
                 static_cast<float>(calib_.fy * cam_velocity_[1] / cam_velocity_[2] + calib_.cy)};
         metric_ = p_.corridor;
     } else {
-        foe_ = vision::focus_of_expansion(calib_, a.roll_deg, a.pitch_deg, kNaN, kNaN, kNaN);
+        foe_ = vision::focus_of_expansion(calib_, a.roll_deg, a.pitch_deg, kUnknown, kUnknown,
+                                          kUnknown);
         if (std::isnan(foe_.x))
             foe_ = {static_cast<float>(calib_.cx), static_cast<float>(calib_.cy)};
         metric_ = false;
@@ -160,7 +162,7 @@ void FlowClassifier::classify(const FrameInput& in) {
     plot(s_residual_yaw_, -tracker_.residual_rotation_deg()[1]);
     plot(s_residual_pitch_, -tracker_.residual_rotation_deg()[0]);
     rate_points(in);
-    const double hom = p_.centre_homography ? homography_rate(in) : kNaN;
+    const double hom = p_.centre_homography ? homography_rate(in) : kUnknown;
 
     int hazards = 0;
     for (Region r : kRegions) {
@@ -173,7 +175,8 @@ void FlowClassifier::classify(const FrameInput& in) {
         hazards += d.support;
         // Enough rated points to judge the region; fewer than k of them in the corridor: 0.
         const bool judged = rated_count_[ri] >= k;
-        double score = d.support >= k ? kth_largest_inplace(hazard_[ri], k) : (judged ? 0.0 : kNaN);
+        double score =
+            d.support >= k ? kth_largest_inplace(hazard_[ri], k) : (judged ? 0.0 : kUnknown);
         bool raw = !std::isnan(score) && score > d.threshold;
         if (centre) {
             plot(s_centre_points_, score);
@@ -216,8 +219,8 @@ void FlowClassifier::rate_points(const FrameInput& in) {
         for (std::size_t k = 0; k < n; ++k) {
             const TrackPoint& q = t.at_back(n - 1 - k);
             ts_[k] = q.t_s - t0;
-            xs_[k] = q.derot.x;
-            ys_[k] = q.derot.y;
+            xs_[k] = static_cast<double>(q.derot.x);
+            ys_[k] = static_cast<double>(q.derot.y);
         }
         const LineFit fx = fit_line(ts_, xs_);
         const LineFit fy = fit_line(ts_, ys_);
@@ -298,7 +301,7 @@ double FlowClassifier::homography_rate(const FrameInput& in) {
     }
     const double now_s = static_cast<double>(in.t_ns) * 1e-9;
     const double dt = have_prev_ ? static_cast<double>(in.t_ns - prev_t_ns_) * 1e-9 : 0.0;
-    double rate = kNaN, scale = kNaN;
+    double rate = kUnknown, scale = kUnknown;
     bool rejected = false;
     if (dt > 0 && static_cast<int>(src_.size()) >= std::max(4, p_.homography_min_points)) {
         cv::theRNG().state = 0x5EED5EEDULL;  // RANSAC sampling: same flight, same decisions
@@ -330,7 +333,7 @@ double FlowClassifier::homography_rate(const FrameInput& in) {
     // Half the window at least, so one lucky sample cannot decide.
     const bool enough =
         static_cast<int>(scratch_.size()) >= std::max(1, (p_.centre_window + 1) / 2);
-    return enough ? med : kNaN;
+    return enough ? med : kUnknown;
 }
 
 void FlowClassifier::add_overlay_points() {

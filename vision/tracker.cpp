@@ -41,7 +41,7 @@ void TrajectoryTracker::reset() {
     frame_ = 0;
     next_id_ = 1;
     ended_ = added_ = 0;
-    mask_roll_deg_ = std::numeric_limits<double>::quiet_NaN();
+    mask_roll_deg_ = kUnknown;
 }
 
 cv::Point2f TrajectoryTracker::to_full(cv::Point2f p) const {

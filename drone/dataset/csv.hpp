@@ -3,8 +3,8 @@
 // order, unknown ones ignored), 1-based line/column positions for errors, exact round trips for
 // doubles (shortest representation), empty field = unknown (NaN).
 
-#include "drone/dataset/error.hpp"
-#include "drone/expected.hpp"
+#include "drone/core/expected.hpp"
+#include "drone/core/file_error.hpp"
 
 #include <cstdint>
 #include <limits>
@@ -13,10 +13,9 @@
 #include <string_view>
 #include <vector>
 
-namespace gs::csv {
+namespace gs::dataset::csv {
 
 // A parsed CSV text: a header and rows of fields (views into the owned text).
-inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 class Table {
 public:
@@ -27,8 +26,8 @@ public:
     // With `tolerate_cut_tail` (files a recording cut short may end mid-line: DATASET.md 1.1's
     // navdata.csv), a last line that has no newline and the wrong number of fields is left out
     // and described by cut_tail_warning() instead of refusing the file.
-    static Expected<Table, DatasetError> parse(std::string text, std::string file,
-                                               bool tolerate_cut_tail = false);
+    static Expected<Table, FileError> parse(std::string text, std::string file,
+                                            bool tolerate_cut_tail = false);
     // "navdata.csv:220: incomplete last line (3 of 12 fields, no newline) ignored", or empty.
     const std::string& cut_tail_warning() const { return cut_tail_warning_; }
     // True when the last row's line has no newline (the file may have been cut inside it).
@@ -47,16 +46,15 @@ public:
     // Field as a double: empty = NaN (unknown); otherwise the whole field must be a finite
     // decimal number within the column's physical bounds (DATASET.md 1.1, value_rules.hpp):
     // "nan", "inf" and numbers overflowing a double are refused. Errors carry file:line:column.
-    Expected<double, DatasetError> number(std::size_t row, std::size_t col) const;
+    Expected<double, FileError> number(std::size_t row, std::size_t col) const;
     // Field as a signed integer (required, no fraction).
-    Expected<std::int64_t, DatasetError> integer(std::size_t row, std::size_t col) const;
+    Expected<std::int64_t, FileError> integer(std::size_t row, std::size_t col) const;
     // Field as an unsigned 32-bit value: decimal, or hex with a 0x prefix when `allow_hex`;
     // `require_hex` rejects decimal. Empty = nullopt.
-    Expected<std::optional<std::uint32_t>, DatasetError> u32(std::size_t row, std::size_t col,
-                                                             bool allow_hex,
-                                                             bool require_hex) const;
+    Expected<std::optional<std::uint32_t>, FileError> u32(std::size_t row, std::size_t col,
+                                                          bool allow_hex, bool require_hex) const;
 
-    DatasetError error_at(std::size_t row, std::size_t col, std::string message) const;
+    FileError error_at(std::size_t row, std::size_t col, std::string message) const;
 
 private:
     struct Row {
@@ -78,4 +76,4 @@ std::string format_ms(std::int64_t t_ns);
 // Parses milliseconds text back to nanoseconds (rounded to the nearest ns).
 std::int64_t ms_to_ns_rounded(double ms);
 
-}  // namespace gs::csv
+}  // namespace gs::dataset::csv

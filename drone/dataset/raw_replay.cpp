@@ -6,15 +6,15 @@
 
 #include <fstream>
 
-namespace gs {
+namespace gs::dataset {
 
-Expected<std::vector<VideoConnection>, DatasetError> parse_video_connections(std::string text) {
+Expected<std::vector<VideoConnection>, FileError> parse_video_connections(std::string text) {
     auto t = csv::Table::parse(std::move(text), "raw/video_connections.csv", true);
     if (!t) return Unexpected(t.error());
     const auto oc = t->column("offset"), tc = t->column("t_us");
     if (!oc || !tc)
-        return Unexpected(DatasetError{DatasetErrorCode::Missing, "raw/video_connections.csv", 1, 0,
-                                       "expected the columns offset,t_us"});
+        return Unexpected(FileError{FileErrorCode::Missing, "raw/video_connections.csv", 1, 0,
+                                    "expected the columns offset,t_us"});
     std::vector<VideoConnection> out;
     for (std::size_t r = 0; r < t->rows(); ++r) {
         auto o = t->integer(r, *oc);
@@ -30,14 +30,14 @@ Expected<std::vector<VideoConnection>, DatasetError> parse_video_connections(std
     return out;
 }
 
-Expected<std::vector<RecordedCapture>, DatasetError> parse_capture_times(std::string text) {
+Expected<std::vector<RecordedCapture>, FileError> parse_capture_times(std::string text) {
     auto t = csv::Table::parse(std::move(text), "raw/capture_times.csv", true);
     if (!t) return Unexpected(t.error());
     const auto fc = t->column("frame_number"), sc = t->column("timestamp_ms"),
                tc = t->column("t_us");
     if (!fc || !sc || !tc)
-        return Unexpected(DatasetError{DatasetErrorCode::Missing, "raw/capture_times.csv", 1, 0,
-                                       "expected the columns frame_number,timestamp_ms,t_us"});
+        return Unexpected(FileError{FileErrorCode::Missing, "raw/capture_times.csv", 1, 0,
+                                    "expected the columns frame_number,timestamp_ms,t_us"});
     std::vector<RecordedCapture> out;
     for (std::size_t r = 0; r < t->rows(); ++r) {
         auto f = t->u32(r, *fc, false, false);
@@ -57,24 +57,21 @@ Expected<std::vector<RecordedCapture>, DatasetError> parse_capture_times(std::st
     return out;
 }
 
-Expected<std::vector<FrameRow>, DatasetError> replay_raw(const std::filesystem::path& raw_dir,
-                                                         RawReplayDecoders& dec,
-                                                         TimeNs max_nav_wait_ns) {
-    auto nav = read_navdata_bin(raw_dir);
-    if (!nav) return Unexpected(nav.error());
+Expected<std::vector<FrameRow>, FileError> replay_raw(const std::filesystem::path& raw_dir,
+                                                      RawReplayDecoders& dec,
+                                                      TimeNs max_nav_wait_ns) {
+    GS_TRY_ASSIGN(auto nav, read_navdata_bin(raw_dir));
     std::vector<RawChunk> chunks;
     std::ifstream pave;
     std::error_code ec;
     if (std::filesystem::exists(raw_dir / "video_chunks.bin", ec)) {
-        auto c = read_video_chunks(raw_dir);
-        if (!c) return Unexpected(c.error());
-        chunks = std::move(*c);
-        auto pave_path = raw_file_path(raw_dir, "video.pave");
-        if (!pave_path) return Unexpected(pave_path.error());
-        pave.open(*pave_path, std::ios::binary);
+        GS_TRY_ASSIGN(auto c, read_video_chunks(raw_dir));
+        chunks = std::move(c);
+        GS_TRY_ASSIGN(auto pave_path, raw_file_path(raw_dir, "video.pave"));
+        pave.open(pave_path, std::ios::binary);
         if (!pave)
             return Unexpected(
-                DatasetError{DatasetErrorCode::Missing, "raw/video.pave", 0, 0, "file not found"});
+                FileError{FileErrorCode::Missing, "raw/video.pave", 0, 0, "file not found"});
     }
     // Connection boundaries and recorded capture times (DATASET.md 1.1; both optional).
     std::vector<VideoConnection> connections;
@@ -110,7 +107,7 @@ Expected<std::vector<FrameRow>, DatasetError> replay_raw(const std::filesystem::
         while (aligner.pop_ready(latest, index, s)) rows.push_back(FrameRow{index, s, {}});
     };
     std::size_t ni = 0, ci = 0;
-    const auto& recs = nav->records;
+    const auto& recs = nav.records;
     while (ni < recs.size() || ci < chunks.size()) {
         // Receive-time order; on a tie the navdata goes first (it was received first on the wire
         // more often than not; the recorder's order on ties is not recorded).
@@ -165,4 +162,4 @@ Expected<std::vector<FrameRow>, DatasetError> replay_raw(const std::filesystem::
     return rows;
 }
 
-}  // namespace gs
+}  // namespace gs::dataset

@@ -12,7 +12,7 @@
 #include <span>
 #include <vector>
 
-namespace gs {
+namespace gs::dataset {
 
 // A PaVE frame's capture time as the recording's live receiver gave it (raw/capture_times.csv).
 struct RecordedCapture {
@@ -51,14 +51,14 @@ struct VideoConnection {
     std::uint64_t offset = 0;
     std::int64_t t_us = 0;
 };
-Expected<std::vector<VideoConnection>, DatasetError> parse_video_connections(std::string text);
+Expected<std::vector<VideoConnection>, FileError> parse_video_connections(std::string text);
 // raw/capture_times.csv (an extension of this recorder); a cut last line is ignored.
-Expected<std::vector<RecordedCapture>, DatasetError> parse_capture_times(std::string text);
+Expected<std::vector<RecordedCapture>, FileError> parse_capture_times(std::string text);
 
 // Replays `raw_dir` (raw/navdata.bin, raw/video.pave, raw/video_chunks.bin, and when present
 // raw/video_connections.csv and raw/capture_times.csv) into frames.csv rows.
-Expected<std::vector<FrameRow>, DatasetError> replay_raw(const std::filesystem::path& raw_dir,
-                                                         RawReplayDecoders& decoders,
-                                                         TimeNs max_nav_wait_ns = 500'000'000);
+Expected<std::vector<FrameRow>, FileError> replay_raw(const std::filesystem::path& raw_dir,
+                                                      RawReplayDecoders& decoders,
+                                                      TimeNs max_nav_wait_ns = 500'000'000);
 
-}  // namespace gs
+}  // namespace gs::dataset

@@ -1,17 +1,17 @@
 #include "drone/dataset/raw_replay.hpp"
-#include "drone/navdata.hpp"
+#include "drone/protocol/navdata.hpp"
 #include "drone/video/receiver.hpp"
 
 #include <algorithm>
 #include <deque>
 #include <memory>
 
-namespace gs {
+namespace gs::dataset {
 
 std::optional<NavState> navdata_state(std::span<const std::uint8_t> datagram) {
-    auto nd = navdata::parse_navdata(datagram);
+    auto nd = protocol::navdata::parse_navdata(datagram);
     if (!nd) return std::nullopt;
-    return navdata::to_nav_state(*nd, 0);
+    return protocol::navdata::to_nav_state(*nd, 0);
 }
 
 RawReplayDecoders make_protocol_replay_decoders() {
@@ -37,7 +37,7 @@ RawReplayDecoders make_protocol_replay_decoders() {
         constexpr TimeNs link_lost_after = 500'000'000;
         if (st->last_seq && recv - st->last_ns > link_lost_after) st->last_seq.reset();
         st->last_ns = recv;
-        const navdata::DroneState state{s->drone_state.value_or(0)};
+        const protocol::navdata::DroneState state{s->drone_state.value_or(0)};
         const bool restart = state.navdata_bootstrap();
         if (st->last_seq && *s->seq <= *st->last_seq && !restart) return std::nullopt;
         st->last_seq = *s->seq;
@@ -82,4 +82,4 @@ RawReplayDecoders make_protocol_replay_decoders() {
     return d;
 }
 
-}  // namespace gs
+}  // namespace gs::dataset

@@ -24,7 +24,7 @@
 #include <optional>
 #include <string>
 
-namespace gs {
+namespace gs::dataset {
 
 inline constexpr double kThesisDefaultFps = 25;
 inline constexpr const char* kThesisExtraFile = "imu_extra.csv";
@@ -40,27 +40,27 @@ struct ThesisImportOptions {
 
 // The folder as an in-memory Dataset (images read in place; natural order: image_2 before
 // image_10). The image count must equal the IMU line count.
-Expected<Dataset, DatasetError> open_thesis_folder(const std::filesystem::path& dir,
-                                                   const ThesisImportOptions& opts = {},
-                                                   const DatasetOpenOptions& open_opts = {});
+Expected<Dataset, FileError> open_thesis_folder(const std::filesystem::path& dir,
+                                                const ThesisImportOptions& opts = {},
+                                                const DatasetOpenOptions& open_opts = {});
 
 // The folder's two texts read from memory as open_thesis_folder reads them (for fuzzing): the
 // number of IMU lines of `imu_text` (imu.txt), after `meta_text` (imu_meta.json; empty: none)
 // was checked, or the first error.
-Expected<std::size_t, DatasetError> read_thesis_texts(const std::string& imu_text,
-                                                      const std::string& meta_text);
+Expected<std::size_t, FileError> read_thesis_texts(const std::string& imu_text,
+                                                   const std::string& meta_text);
 
 // Converts a thesis folder into a dataset directory `dst` (must not exist or be empty):
 // flight.json (source "imported"), frames.csv, frames/ (the image files copied), labels.* when
 // the folder has them. Returns it opened.
-Expected<Dataset, DatasetError> import_thesis(const std::filesystem::path& src,
-                                              const std::filesystem::path& dst,
-                                              const ThesisImportOptions& opts = {},
-                                              const DatasetOpenOptions& open_opts = {});
+Expected<Dataset, FileError> import_thesis(const std::filesystem::path& src,
+                                           const std::filesystem::path& dst,
+                                           const ThesisImportOptions& opts = {},
+                                           const DatasetOpenOptions& open_opts = {});
 
 // Writes `d` in the thesis layout into `dst`: 000000.png ... (pixels from `frames`) and imu.txt
 // (unknown values written as "nan"), plus imu_extra.csv, imu_meta.json and the labels (above).
-[[nodiscard]] std::optional<DatasetError> export_thesis(const Dataset& d, FrameStore& frames,
-                                                        const std::filesystem::path& dst);
+[[nodiscard]] std::optional<FileError> export_thesis(const Dataset& d, FrameStore& frames,
+                                                     const std::filesystem::path& dst);
 
-}  // namespace gs
+}  // namespace gs::dataset

@@ -10,7 +10,7 @@
 #include <optional>
 #include <string_view>
 
-namespace gs {
+namespace gs::dataset {
 
 struct ValueBounds {
     double lo = 0, hi = 0;
@@ -31,10 +31,10 @@ constexpr std::optional<ValueBounds> value_bounds(std::string_view column) {
 // unknown) when it is not finite or outside the column's bounds, so that every file written
 // reads back.
 inline double writable_value(std::string_view column, double v) {
-    constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-    if (!std::isfinite(v)) return kNaN;
-    if (auto b = value_bounds(column); b && (v < b->lo || v > b->hi)) return kNaN;
+    constexpr double kUnknown = std::numeric_limits<double>::quiet_NaN();
+    if (!std::isfinite(v)) return kUnknown;
+    if (auto b = value_bounds(column); b && (v < b->lo || v > b->hi)) return kUnknown;
     return v;
 }
 
-}  // namespace gs
+}  // namespace gs::dataset

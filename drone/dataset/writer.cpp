@@ -18,13 +18,13 @@
 #include <cstring>
 #include <deque>
 
-namespace gs {
+namespace gs::dataset {
 namespace fs = std::filesystem;
 
 namespace {
 
-DatasetError io_error(const std::string& name, const std::string& what) {
-    return DatasetError{DatasetErrorCode::Io, name, 0, 0, what};
+FileError io_error(const std::string& name, const std::string& what) {
+    return FileError{FileErrorCode::Io, name, 0, 0, what};
 }
 
 std::string frame_file_name(std::int64_t index, const char* ext) {
@@ -116,32 +116,6 @@ std::string navdata_csv_row(const NavState& s) {
     return out;
 }
 
-std::optional<DatasetError> write_file_atomic(const fs::path& path, std::string_view text,
-                                              const std::string& name) {
-    const fs::path tmp = path.string() + ".tmp";
-    const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-    if (fd < 0) return io_error(name, std::string("cannot create: ") + std::strerror(errno));
-    std::size_t done = 0;
-    while (done < text.size()) {
-        const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
-        if (n < 0 && errno == EINTR) continue;
-        if (n <= 0) {
-            const int e = errno;
-            ::close(fd);
-            ::unlink(tmp.c_str());
-            return io_error(name, std::string("write failed: ") + std::strerror(e));
-        }
-        done += static_cast<std::size_t>(n);
-    }
-    ::close(fd);
-    if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-        const int e = errno;
-        ::unlink(tmp.c_str());
-        return io_error(name, std::string("rename failed: ") + std::strerror(e));
-    }
-    return std::nullopt;
-}
-
 // ---------------------------------------------------------------------------------------------
 // Worker-side state: only the worker thread touches it (after create()).
 
@@ -157,7 +131,7 @@ struct OutFile {
     // Test hook (DatasetWriterOptions::inject_failure_*): fail once this many bytes are on disk.
     std::optional<std::uint64_t> fail_at;
 
-    std::optional<DatasetError> open_new(const fs::path& p, std::string n) {
+    std::optional<FileError> open_new(const fs::path& p, std::string n) {
         path = p;
         name = std::move(n);
         fd = ::open(p.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
@@ -267,7 +241,7 @@ struct DatasetWriter::Files {
             if (o->failed) return true;
         return st.write_errors > 0;
     }
-    void note_error(const DatasetError& e) {
+    void note_error(const FileError& e) {
         ++st.write_errors;
         if (st.first_error.empty()) st.first_error = to_string(e);
     }
@@ -280,19 +254,19 @@ DatasetWriter::DatasetWriter(fs::path dir, DatasetWriterOptions opts, const Cloc
       t0_(clock.now_ns()),
       queue_(opts_.queue_capacity, QueueFull::RejectNew) {}
 
-Expected<std::unique_ptr<DatasetWriter>, DatasetError> DatasetWriter::create(
+Expected<std::unique_ptr<DatasetWriter>, FileError> DatasetWriter::create(
     const fs::path& dir, const DatasetWriterOptions& opts, const Clock& clock) {
     std::error_code ec;
     if (fs::exists(dir, ec)) {
         if (!fs::is_directory(dir, ec) || !fs::is_empty(dir, ec))
-            return Unexpected(DatasetError{DatasetErrorCode::Io, dir.string(), 0, 0,
-                                           "exists and is not an empty directory"});
+            return Unexpected(FileError{FileErrorCode::Io, dir.string(), 0, 0,
+                                        "exists and is not an empty directory"});
     }
     fs::create_directories(dir, ec);
     if (ec) return Unexpected(io_error(dir.string(), "cannot create directory: " + ec.message()));
     if (opts.width < 1 || opts.height < 1 || !(opts.fps > 0))
-        return Unexpected(DatasetError{DatasetErrorCode::OutOfRange, "flight.json", 0, 0,
-                                       "width, height and fps must be positive"});
+        return Unexpected(FileError{FileErrorCode::OutOfRange, "flight.json", 0, 0,
+                                    "width, height and fps must be positive"});
     auto opts2 = opts;
     if (opts2.flush_interval > std::chrono::seconds(1))
         opts2.flush_interval = std::chrono::seconds(1);
@@ -592,7 +566,7 @@ void DatasetWriter::run() {
                 ok = false;
             }
             const std::string name = "frames/" + frame_file_name(index, ".png");
-            std::optional<DatasetError> e;
+            std::optional<FileError> e;
             if (!ok) {
                 e = io_error(name, "PNG encoding failed");
             } else {
@@ -745,4 +719,4 @@ void DatasetWriter::run() {
     stats_.publish(f.st);
 }
 
-}  // namespace gs
+}  // namespace gs::dataset

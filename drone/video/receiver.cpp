@@ -32,7 +32,7 @@ void VideoReceiver::begin_connection(TimeNs now_ns) {
     }
     // Whatever is still buffered belongs to a frame the old connection ended inside: it is never
     // joined to the new connection's bytes.
-    const PavePending p = framer_.pending();
+    const protocol::PavePending p = framer_.pending();
     if (p.buffered_bytes > 0) ++stats_.cut_by_reset;
     framer_.reset();
     decoder_.reset();
@@ -49,14 +49,14 @@ void VideoReceiver::push(std::span<const std::uint8_t> bytes, TimeNs recv_ns) {
 
 std::optional<ReceivedUnit> VideoReceiver::next() {
     while (auto ev = framer_.next()) {
-        const auto* frame = std::get_if<PaveFrame>(&*ev);
+        const auto* frame = std::get_if<protocol::PaveFrame>(&*ev);
         if (frame == nullptr) {  // a resync: counted by the framer
-            if (resyncs_.size() < 1024) resyncs_.push_back(std::get<PaveResync>(*ev));
+            if (resyncs_.size() < 1024) resyncs_.push_back(std::get<protocol::PaveResync>(*ev));
             stats_.resyncs = framer_.stats().resyncs;
             stats_.bytes_skipped = framer_.stats().bytes_skipped;
             continue;
         }
-        const PaveHeader& h = frame->header;
+        const protocol::PaveHeader& h = frame->header;
         ReceivedUnit u;
         u.unit = next_unit_++;
         u.connection = connection_;
@@ -72,7 +72,7 @@ std::optional<ReceivedUnit> VideoReceiver::next() {
         u.bytes = frame->payload;
         ++stats_.units;
         stats_.clock_anchors = clock_.anchors();
-        if (h.video_codec != PaveCodec::H264) {
+        if (h.video_codec != protocol::PaveCodec::H264) {
             u.fate = UnitFate::NotH264;
             ++stats_.not_h264;
             stats_.last_error = "PaVE frame " + std::to_string(h.frame_number) + " has codec " +

@@ -3,8 +3,9 @@
 // units and decoded frames out. Used by the link's video thread, raw replay of a recording,
 // `inspect pave` and the decode benchmark, so all four cut, decode and time frames identically.
 //
-//   bytes --PaveFramer--> PaVE frames --codec check--> H.264 access units --H264Decoder-->
-//   frames in pooled buffers (FramePool), each timed by the drone's clock (CaptureClock)
+//   bytes --protocol::PaveFramer--> PaVE frames --codec check--> H.264 access units
+//   --H264Decoder--> frames in pooled buffers (FramePool), each timed by the drone's clock
+//   (CaptureClock)
 //
 // Connections: a new TCP connection (a video reset, a drone reboot) is announced with
 // begin_connection(); bytes still buffered from the previous one are a frame cut short (counted,
@@ -16,11 +17,11 @@
 // No sockets, threads or clocks inside: time is an argument. Steady state allocates nothing per
 // frame (the framer's buffer, the decoder's and the pool's are reused).
 
-#include "drone/capture_clock.hpp"
-#include "drone/clock.hpp"
-#include "drone/h264_decoder.hpp"
-#include "drone/pave.hpp"
+#include "drone/core/clock.hpp"
+#include "drone/protocol/pave.hpp"
+#include "drone/video/capture_clock.hpp"
 #include "drone/video/frame_pool.hpp"
+#include "drone/video/h264_decoder.hpp"
 
 #include <opencv2/core.hpp>
 
@@ -54,8 +55,8 @@ struct ReceivedUnit {
     std::uint32_t pave_timestamp_ms = 0;  // the drone's capture clock
     std::uint16_t stream_id = 0;
     std::uint64_t stream_offset = 0;  // where its PaVE header began, in bytes pushed so far
-    PaveHeader header;                // every field, as received
-    PaveCodec codec = PaveCodec::H264;
+    protocol::PaveHeader header;      // every field, as received
+    protocol::PaveCodec codec = protocol::PaveCodec::H264;
     TimeNs recv_ns = 0;     // when the bytes completing it arrived
     TimeNs capture_ns = 0;  // the drone's timestamp on the receiver's clock (<= recv_ns)
     bool idr = false;       // holds an IDR slice
@@ -99,20 +100,20 @@ public:
     [[nodiscard]] std::optional<ReceivedUnit> next();
     // The resynchronisations next() passed over since the last call (garbage skipped before
     // the unit it returned, or at the end of the data), for a listing; counted in stats().
-    std::span<const PaveResync> resyncs() const { return resyncs_; }
+    std::span<const protocol::PaveResync> resyncs() const { return resyncs_; }
     void clear_resyncs() { resyncs_.clear(); }
 
     const ReceiverStats& stats() const { return stats_; }
-    const PaveFramerStats& framer_stats() const { return framer_.stats(); }
+    const protocol::PaveFramerStats& framer_stats() const { return framer_.stats(); }
     const H264DecoderStats& decoder_stats() const { return decoder_.stats(); }
-    PavePending pending() const { return framer_.pending(); }
+    protocol::PavePending pending() const { return framer_.pending(); }
     const CaptureClock& capture_clock() const { return clock_; }
     std::uint64_t bytes_pushed() const { return stats_.bytes; }  // the next byte's stream offset
     std::size_t frames_in_use() const { return pool_->in_use(); }
 
 private:
     ReceiverOptions options_;
-    PaveFramer framer_;
+    protocol::PaveFramer framer_;
     H264Decoder decoder_;
     CaptureClock clock_;  // kept across connections: the drone's clock goes on
     std::shared_ptr<FramePool> pool_;
@@ -122,7 +123,7 @@ private:
     bool any_connection_ = false;
     std::int64_t next_unit_ = 0;
     std::int64_t next_frame_ = 0;
-    std::vector<PaveResync> resyncs_;
+    std::vector<protocol::PaveResync> resyncs_;
 };
 
 }  // namespace gs::video

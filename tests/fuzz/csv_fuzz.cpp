@@ -15,7 +15,7 @@ void check(const gs::NavState& s, bool roll_required) {
     auto ok = [](double v, const char* col) {
         if (std::isnan(v)) return true;
         if (!std::isfinite(v)) return false;
-        auto b = gs::value_bounds(col);
+        auto b = gs::dataset::value_bounds(col);
         return !b || (v >= b->lo && v <= b->hi);
     };
     GS_FUZZ_CHECK(ok(s.roll_deg, "roll_deg") && ok(s.pitch_deg, "pitch_deg"));
@@ -29,7 +29,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const auto in = gs::fuzz::split(data, size, 6);
     switch (in.choice) {
         case 0:
-            if (auto r = gs::parse_frames_csv(in.text())) {
+            if (auto r = gs::dataset::parse_frames_csv(in.text())) {
                 gs::TimeNs prev = 0;
                 for (std::size_t i = 0; i < r->size(); ++i) {
                     check((*r)[i].nav, true);
@@ -40,22 +40,22 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             break;
         case 1: {
             std::vector<std::string> warnings;
-            if (auto r = gs::parse_navdata_csv(in.text(), &warnings))
+            if (auto r = gs::dataset::parse_navdata_csv(in.text(), &warnings))
                 for (const auto& s : *r) check(s, false);
             break;
         }
         case 2:
-            if (auto r = gs::parse_labels_csv(in.text()))
+            if (auto r = gs::dataset::parse_labels_csv(in.text()))
                 for (const auto& l : *r) GS_FUZZ_CHECK(!std::isinf(l.distance_m));
             break;
         case 3:
-            (void)gs::read_thesis_texts(in.text(), "");
+            (void)gs::dataset::read_thesis_texts(in.text(), "");
             break;
         case 4:
-            (void)gs::parse_video_connections(in.text());
+            (void)gs::dataset::parse_video_connections(in.text());
             break;
         default:
-            (void)gs::parse_capture_times(in.text());
+            (void)gs::dataset::parse_capture_times(in.text());
             break;
     }
     return 0;

@@ -1,7 +1,7 @@
 // The PaVE framer (TCP 5555 bytes): any chunking of the same bytes must give the same frames,
 // resyncs, counters and pending state as one push, and every byte must be accounted for.
 // Seeds: ../shared/fixtures/ardrone/*pave*.bin and the video stream dumps.
-#include "drone/pave.hpp"
+#include "drone/protocol/pave.hpp"
 #include "fuzz_util.hpp"
 
 #include <vector>
@@ -11,14 +11,14 @@ namespace {
 struct Event {
     bool frame;
     std::uint64_t offset, size;
-    gs::PaveHeader header;
+    gs::protocol::PaveHeader header;
     std::vector<std::uint8_t> payload;
     bool operator==(const Event&) const = default;
 };
 
 std::vector<Event> run(std::span<const std::uint8_t> bytes, std::span<const std::uint8_t> sizes,
-                       gs::PaveFramerStats& stats, gs::PavePending& pending) {
-    gs::PaveFramer framer;
+                       gs::protocol::PaveFramerStats& stats, gs::protocol::PavePending& pending) {
+    gs::protocol::PaveFramer framer;
     std::vector<Event> out;
     std::size_t pos = 0, k = 0;
     while (pos < bytes.size()) {
@@ -27,14 +27,14 @@ std::vector<Event> run(std::span<const std::uint8_t> bytes, std::span<const std:
         framer.push(bytes.subspan(pos, n));
         pos += n;
         while (auto ev = framer.next()) {
-            if (const auto* f = std::get_if<gs::PaveFrame>(&*ev)) {
+            if (const auto* f = std::get_if<gs::protocol::PaveFrame>(&*ev)) {
                 out.push_back({true,
                                f->stream_offset,
                                f->payload.size(),
                                f->header,
                                {f->payload.begin(), f->payload.end()}});
             } else {
-                const auto& r = std::get<gs::PaveResync>(*ev);
+                const auto& r = std::get<gs::protocol::PaveResync>(*ev);
                 out.push_back({false, r.stream_offset, r.bytes_skipped, {}, {}});
             }
         }
@@ -50,8 +50,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     // The first 8 bytes choose the chunk sizes; the rest is the stream.
     const std::size_t k = std::min<std::size_t>(size, 8);
     const std::span<const std::uint8_t> sizes(data, k), bytes(data + k, size - k);
-    gs::PaveFramerStats s1, s2;
-    gs::PavePending p1, p2;
+    gs::protocol::PaveFramerStats s1, s2;
+    gs::protocol::PavePending p1, p2;
     const auto whole = run(bytes, {}, s1, p1);
     const auto chunked = run(bytes, sizes, s2, p2);
     GS_FUZZ_CHECK(whole == chunked);

@@ -7,7 +7,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const auto in = gs::fuzz::split(data, size, 3);
     switch (in.choice) {
         case 0:
-            if (auto r = gs::parse_navdata_bin(in.rest)) {
+            if (auto r = gs::dataset::parse_navdata_bin(in.rest)) {
                 std::size_t bytes = 0;
                 for (const auto& rec : r->records) bytes += 12 + rec.payload.size();
                 GS_FUZZ_CHECK(bytes <= in.rest.size());
@@ -15,12 +15,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             }
             break;
         case 1:
-            if (auto r = gs::parse_video_chunks(in.rest))
+            if (auto r = gs::dataset::parse_video_chunks(in.rest))
                 GS_FUZZ_CHECK(r->size() * 12 <= in.rest.size());
             break;
         default: {
             const std::string_view t(reinterpret_cast<const char*>(in.rest.data()), in.rest.size());
-            (void)gs::parse_at_log(t);
+            (void)gs::dataset::parse_at_log(t);
             break;
         }
     }

@@ -6,6 +6,7 @@
 #include "app/gui_adapter.hpp"
 #include "app/session.hpp"
 #include "session_fixture.hpp"
+#include "support/wait.hpp"
 
 #include <gtest/gtest.h>
 
@@ -141,10 +142,15 @@ TEST_F(WindowFlows, ClosingWhileFlyingLandThenQuitLandsTheVirtualDroneThenCloses
         << "never quit; drone " << static_cast<int>(drone->status().flight.major);
     EXPECT_FALSE(quit_while_flying);
     EXPECT_FALSE(snap.telemetry.state->flying);
-    const auto major = drone->status().flight.major;
-    EXPECT_TRUE(major == sim::CtrlMajor::Landed || major == sim::CtrlMajor::Default)
-        << static_cast<int>(major);
-    EXPECT_FALSE(drone->status().flight.motors_on);
+    // The simulator publishes its status every 20 ms, navdata every 5 ms (full navdata): the
+    // window may have seen "landed" before the status caught up with it.
+    const auto landed = [&] {
+        const auto f = drone->status().flight;
+        return (f.major == sim::CtrlMajor::Landed || f.major == sim::CtrlMajor::Default) &&
+               !f.motors_on;
+    };
+    EXPECT_TRUE(gs::test::wait_until(landed, 2s)) << static_cast<int>(drone->status().flight.major)
+                                                  << " motors " << drone->status().flight.motors_on;
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 #include <vector>
 
 using namespace gs::vision;
+using gs::CameraCalibration;
 
 namespace {
 
