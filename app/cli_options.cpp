@@ -4,8 +4,12 @@
 #include "app/replay_run.hpp"
 #include "vision/classifier.hpp"
 
+#include <sys/stat.h>
+
 #include <charconv>
 #include <cmath>
+#include <cstdio>
+#include <limits>
 
 namespace gs::app {
 
@@ -17,7 +21,7 @@ CLI::Option* add_calibration_option(CLI::App& sub, std::string& file,
             if (!c) return to_string(c.error());
             return {};
         },
-        "", "calibration file");
+        "", "calibration file");  // read_text_file refuses directories and FIFOs unopened
     return sub
         .add_option("--calibration", file,
                     "Camera calibration JSON (flight.json's calibration object or what `calibrate` "
@@ -65,13 +69,144 @@ Expected<CameraCalibration, std::string> input_calibration(const dataset::Datase
     return replay_calibration(d, rs);
 }
 
+namespace {
+namespace fs = std::filesystem;
+
+// What a path is, by stat (following symlinks): a FIFO answers as itself, without being opened.
+std::string kind_of(const std::string& path, struct stat& st) {
+    if (::stat(path.c_str(), &st) != 0) return "missing";
+    if (S_ISREG(st.st_mode)) return "file";
+    if (S_ISDIR(st.st_mode)) return "directory";
+    if (S_ISFIFO(st.st_mode)) return "FIFO";
+    if (S_ISCHR(st.st_mode) || S_ISBLK(st.st_mode)) return "device";
+    if (S_ISSOCK(st.st_mode)) return "socket";
+    return "special file";
+}
+
+std::string short_number(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g", v);
+    return buf;
+}
+
+}  // namespace
+
+CLI::Validator regular_file() {
+    return CLI::Validator(
+        [](std::string& path) -> std::string {
+            struct stat st {};
+            const std::string k = kind_of(path, st);
+            if (k == "missing") return "cannot open " + path + ": no such file";
+            if (k != "file") return path + " is a " + k + ", not a regular file";
+            return {};
+        },
+        "FILE", "regular file");
+}
+
+CLI::Validator file_or_directory() {
+    return CLI::Validator(
+        [](std::string& path) -> std::string {
+            struct stat st {};
+            const std::string k = kind_of(path, st);
+            if (k == "missing") return path + ": no such file or directory";
+            if (k != "file" && k != "directory")
+                return path + " is a " + k + ", not an image file or a folder";
+            return {};
+        },
+        "PATH", "file or directory");
+}
+
+CLI::Validator output_file() {
+    return CLI::Validator(
+        [](std::string& path) -> std::string {
+            struct stat st {};
+            const std::string k = kind_of(path, st);
+            if (k == "directory") return path + " is a directory, not a file to write";
+            if (k != "missing" && k != "file") return path + " is a " + k + ", not a file to write";
+            fs::path parent = fs::path(path).parent_path();
+            if (parent.empty()) parent = ".";
+            const std::string pk = kind_of(parent.string(), st);
+            if (pk != "directory")
+                return "cannot write " + path + ": " + parent.string() +
+                       (pk == "missing" ? " does not exist" : " is not a directory");
+            return {};
+        },
+        "FILE", "output file");
+}
+
+CLI::Validator output_directory() {
+    return CLI::Validator(
+        [](std::string& path) -> std::string {
+            struct stat st {};
+            const std::string k = kind_of(path, st);
+            if (k == "directory") return {};
+            if (k != "missing") return path + " is a " + k + ", not a directory";
+            // Created with its missing parents: the nearest existing one must be a directory.
+            fs::path p = fs::absolute(fs::path(path)).parent_path();
+            while (!p.empty() && kind_of(p.string(), st) == "missing" && p != p.root_path())
+                p = p.parent_path();
+            if (kind_of(p.string(), st) != "directory")
+                return "cannot create " + path + ": " + p.string() + " is not a directory";
+            return {};
+        },
+        "DIR", "output directory");
+}
+
+CLI::Validator number_in(double lo, double hi, const std::string& what) {
+    const std::string range = std::isinf(hi)
+                                  ? ">= " + short_number(lo)
+                                  : "in [" + short_number(lo) + ", " + short_number(hi) + "]";
+    return CLI::Validator(
+        [lo, hi, range, what](std::string& text) -> std::string {
+            double v = 0;
+            const char* end = text.data() + text.size();
+            auto [p, ec] = std::from_chars(text.data(), end, v);
+            if (ec != std::errc() || p != end || !std::isfinite(v) || v < lo || v > hi)
+                return "expected " + what + " " + range + ", got '" + text + "'";
+            return {};
+        },
+        "", what);
+}
+
+CLI::Validator unsigned_integer() {
+    return CLI::Validator(
+        [](std::string& text) -> std::string {
+            std::uint64_t v = 0;
+            const char* end = text.data() + text.size();
+            auto [p, ec] = std::from_chars(text.data(), end, v);
+            if (text.empty() || ec != std::errc() || p != end)
+                return "expected an integer from 0 to 18446744073709551615, got '" + text + "'";
+            return {};
+        },
+        "", "unsigned integer");
+}
+
+std::optional<std::string> check_output_dir(const fs::path& dir,
+                                            std::initializer_list<const char*> own, bool force) {
+    std::error_code ec;
+    if (force || !fs::is_directory(dir, ec)) return std::nullopt;
+    for (const auto& entry : fs::directory_iterator(dir, ec)) {
+        const std::string name = entry.path().filename().string();
+        bool ours = false;
+        for (const char* o : own) ours = ours || name == o;
+        if (!ours)
+            return dir.string() + " already holds " + name +
+                   ", which is not an output of this command: give an empty or new folder, or "
+                   "--force to write into it anyway";
+    }
+    if (ec) return "cannot read " + dir.string() + ": " + ec.message();
+    return std::nullopt;
+}
+
 void add_classifier_options(CLI::App& sub, std::string& classifier, std::vector<std::string>& set) {
     std::vector<std::string> names;
     for (auto n : vision::classifier_names()) names.emplace_back(n);
     sub.add_option("--classifier", classifier, "Obstacle classifier: thesis or flow")
         ->capture_default_str()
         ->check(CLI::IsMember(names));
-    sub.add_option("--set", set, "Classifier parameter key=value (repeatable)");
+    sub.add_option("--set", set,
+                   "Classifier parameter key=value (repeatable; `ardrone-gs params` lists every "
+                   "key with its default and range)");
 }
 
 }  // namespace gs::app

@@ -14,6 +14,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include <filesystem>
+#include <initializer_list>
 #include <optional>
 #include <string>
 #include <vector>
@@ -50,6 +52,28 @@ void add_dataset_input_options(CLI::App& sub, DatasetInputOptions& o,
 // else the dataset's.
 [[nodiscard]] Expected<CameraCalibration, std::string> input_calibration(
     const dataset::Dataset& d, const DatasetInputOptions& o);
+
+// Checks of paths and numbers, applied when the options are parsed (before any work), each
+// failing with one line that says what was expected:
+// An existing regular file to read (a directory, a FIFO or a device is refused: reading a FIFO
+// would block, and a directory has no size).
+CLI::Validator regular_file();
+// An image, an image folder or a dataset folder: a regular file or a directory.
+CLI::Validator file_or_directory();
+// A file to write: its folder exists; the path is not a directory.
+CLI::Validator output_file();
+// A directory to write into (created when missing): not an existing file, and its nearest
+// existing parent is a directory.
+CLI::Validator output_directory();
+// A number in [lo, hi] (hi = infinity: no upper bound); the message prints the bounds short.
+CLI::Validator number_in(double lo, double hi, const std::string& what);
+// A non-negative integer written in decimal digits ("-1" would wrap to 2^64 - 1).
+CLI::Validator unsigned_integer();
+// The outputs of a run may go into `dir` when it is missing, empty, or holds nothing but files
+// named in `own` (a previous run's outputs); otherwise an error unless `force`.
+[[nodiscard]] std::optional<std::string> check_output_dir(const std::filesystem::path& dir,
+                                                          std::initializer_list<const char*> own,
+                                                          bool force);
 
 // --classifier NAME (thesis or flow) and --set key=value (repeatable).
 void add_classifier_options(CLI::App& sub, std::string& classifier, std::vector<std::string>& set);

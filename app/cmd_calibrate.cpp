@@ -2,6 +2,7 @@
 // chessboard in each image, calibrates pinhole + k1 k2 p1 p2 k3 (vision/calibration), rejects
 // views whose error stands out, and reports per-image and overall error, the parameters with
 // their uncertainty and the coverage of the field of view. Writes flight.json's calibration shape.
+#include "app/cli_options.hpp"
 #include "app/command.hpp"
 #include "drone/core/camera_calibration.hpp"
 #include "drone/dataset/dataset.hpp"
@@ -402,7 +403,8 @@ CommandRegistration reg(70, [](CLI::App& root) {
         "Example: ardrone-gs calibrate shots/ --board 9x6 --square 0.025 --out front.json");
     c->add_option("inputs", o->inputs, "Images, image folders or dataset folders")
         ->required()
-        ->type_name("IMAGE|FOLDER|DATASET");
+        ->type_name("IMAGE|FOLDER|DATASET")
+        ->check(file_or_directory());
     c->add_option("--board", o->board, "Inner corners COLSxROWS (10x7 squares = 9x6)")
         ->required()
         ->type_name("COLSxROWS");
@@ -411,7 +413,8 @@ CommandRegistration reg(70, [](CLI::App& root) {
         ->type_name("METRES");
     c->add_option("--out,-o", o->out,
                   "Write the calibration JSON here (nothing is written on failure)")
-        ->type_name("FILE");
+        ->type_name("FILE")
+        ->check(output_file());
     c->add_option("--camera", o->camera, "Camera name stored in the file (front, bottom)")
         ->check(CLI::IsMember({"front", "bottom"}));
     c->add_option("--step", o->step, "Use every Nth image of a folder or dataset")->type_name("N");

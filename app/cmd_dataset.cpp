@@ -77,13 +77,23 @@ int import_thesis_cmd(const Opts& o) {
 int frames_cmd(const Opts& o) {
     auto d = open_any_dataset(o.in);
     if (!d) throw fail(d.error());
+    // The range is checked against the dataset before any frame is decoded or folder created.
+    const std::int64_t count = d->frame_count();
+    if (count == 0) throw fail(o.in + ": the dataset has no frames");
+    if (o.from > count - 1)
+        throw fail("--from " + std::to_string(o.from) + " is past the last frame (" +
+                   std::to_string(count - 1) + ")");
+    if (o.to > count - 1)
+        throw fail("--to " + std::to_string(o.to) + " is past the last frame (" +
+                   std::to_string(count - 1) + ")");
+    if (o.to >= 0 && o.to < o.from)
+        throw fail("--to " + std::to_string(o.to) + " is before --from " + std::to_string(o.from));
+    const std::int64_t last = o.to < 0 ? count - 1 : o.to;
     auto frames = dataset::open_frames(*d);
     if (!frames) throw fail(o.in + ": " + to_string(frames.error()));
     std::error_code ec;
     fs::create_directories(o.out, ec);
     if (ec) throw fail("cannot create " + o.out + ": " + ec.message());
-    const std::int64_t last =
-        o.to < 0 ? d->frame_count() - 1 : std::min(o.to, d->frame_count() - 1);
     cv::Mat img;
     std::int64_t n = 0;
     for (std::int64_t i = std::max<std::int64_t>(0, o.from); i <= last;
@@ -143,9 +153,11 @@ CommandRegistration reg_frames(
         auto* c = parent.add_subcommand("frames", "Write frames as PNG files (NNNNNN.png)");
         c->add_option("DATASET", o->in, "Dataset or thesis-style folder")->required();
         c->add_option("OUT", o->out, "Folder for the PNGs")->required();
-        c->add_option("--every", o->every, "Every Nth frame")->check(CLI::PositiveNumber);
-        c->add_option("--from", o->from, "First frame")->check(CLI::NonNegativeNumber);
-        c->add_option("--to", o->to, "Last frame (default: the last)");
+        c->add_option("--every", o->every, "Every Nth frame")
+            ->check(number_in(1, 1e9, "a frame step"));
+        c->add_option("--from", o->from, "First frame")->check(number_in(0, 1e12, "a frame index"));
+        c->add_option("--to", o->to, "Last frame (default: the last)")
+            ->check(number_in(0, 1e12, "a frame index"));
         set_action(*c, [o] { return frames_cmd(*o); });
     });
 

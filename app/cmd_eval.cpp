@@ -21,6 +21,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <set>
 #include <sstream>
 #include <thread>
 
@@ -50,7 +51,8 @@ struct FlightResult {
     std::string read_error;  // non-empty: evaluated, but some frames could not be read
     dataset::FlightScore score;
     ReplayStats stats;
-    nlohmann::json labels;  // labels.json as read
+    nlohmann::json labels;              // labels.json as read
+    std::vector<MissingInput> missing;  // inputs the classifier lacked (issue 14 point 7)
 };
 
 bool is_dataset_dir(const fs::path& p) {
@@ -125,6 +127,7 @@ FlightResult evaluate(const fs::path& path, const Opts& o, const fs::path& out,
         r.error = "skip";
         return r;
     }
+    r.missing = missing_inputs(*ds, o.classifier);
     progress.opened_frames += ds->frame_count();
     ++progress.opened_flights;
     const fs::path dir = out / r.name;
@@ -314,6 +317,7 @@ int run(const Opts& o) {
     double cpu_s = 0;
     nlohmann::json jflights = nlohmann::json::array();
     std::ostringstream per;
+    std::set<std::string> missing_notes;  // what the missing inputs cost, once each
     per << "| flight | group | scenario | FP | TP | FN | TN | detection distance | false positive "
            "region | frames |\n|---|---|---|---|---|---|---|---|---|---|\n";
     int evaluated = 0;
@@ -332,6 +336,7 @@ int run(const Opts& o) {
         cpu_s += r.stats.cpu_s;
         const dataset::FlightScore& s = r.score;
         std::string notes = s.false_regions_text();
+        for (const auto& m : r.missing) notes += (notes.empty() ? "no " : "; no ") + m.input;
         if (s.late_detection_distance_m)
             notes += (notes.empty() ? "" : "; ") +
                      ("late at " + fixed(*s.late_detection_distance_m, 2) + " m");
@@ -350,6 +355,12 @@ int run(const Opts& o) {
         if (!r.split.empty()) jf["split"] = r.split;
         jf["frames"] = r.stats.processed;
         jf["decode_errors"] = r.stats.decode_errors;
+        jf["missing_inputs"] = nlohmann::json::array();
+        for (const auto& m : r.missing) {
+            jf["missing_inputs"].push_back(
+                {{"input", m.input}, {"unknown_share", m.unknown_share}, {"cost", m.cost}});
+            missing_notes.insert(m.input + ": " + m.cost);
+        }
         jflights.push_back(jf);
     }
 
@@ -375,6 +386,10 @@ int run(const Opts& o) {
     if (!errors.empty()) {
         md << "\n## Not evaluated\n\n";
         for (const auto& e : errors) md << "- " << e << "\n";
+    }
+    if (!missing_notes.empty()) {
+        md << "\n## Inputs the classifier lacked\n\n";
+        for (const auto& n : missing_notes) md << "- " << n << "\n";
     }
     if (!incomplete.empty()) {
         md << "\n## Evaluated with errors\n\n";
@@ -428,7 +443,8 @@ CommandRegistration reg(31, [](CLI::App& root) {
     add_dataset_input_options(*sub, o->input,
                               "each flight's own (flight.json's or the camera default)");
     sub->add_option("--split", o->split,
-                    "Only flights whose labels.json \"split\" is this (e.g. tune or test)");
+                    "Only flights whose labels.json \"split\" is this: tune or test")
+        ->check(CLI::IsMember({"tune", "test"}));
     sub->add_option("--jobs,-j", o->jobs, "Flights replayed in parallel")
         ->capture_default_str()
         ->check(CLI::Range(1, 16));

@@ -2,6 +2,7 @@
 //   generate --scene thesis_pillar_left --out DIR [--speed 1.0] [--seed N] [--frames N]
 //   generate --suite --out DIR [--split tune|test] [--jobs 2]   (the 82 flights of thesis
 //   table 5.1)
+#include "app/cli_options.hpp"
 #include "app/command.hpp"
 #include "app/replay_outputs.hpp"
 #include "drone/sim/obstacle_flights.hpp"
@@ -122,7 +123,9 @@ CommandRegistration reg(45, [](CLI::App& root) {
     sub->add_option("--max-seconds", o->max_seconds, "Longest recording per flight")
         ->capture_default_str()
         ->check(CLI::Range(1.0, 600.0));
-    sub->add_option("--seed", o->seed, "Seed (suite layout, sensor noise)")->capture_default_str();
+    sub->add_option("--seed", o->seed, "Seed (suite layout, sensor noise)")
+        ->capture_default_str()
+        ->check(unsigned_integer());
     sub->add_option("--bitrate", o->bitrate_kbps, "H.264 bitrate in kbit/s")
         ->capture_default_str()
         ->check(CLI::Range(100, 20000));

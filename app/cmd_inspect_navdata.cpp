@@ -1,5 +1,6 @@
 // `ardrone-gs inspect navdata FILE [--json]`: decodes one saved navdata datagram and prints every
 // field (grouped by option, units shown), the drone_state bits by name and any skipped options.
+#include "app/cli_options.hpp"
 #include "app/command.hpp"
 #include "drone/protocol/navdata.hpp"
 #include "drone/protocol/navdata_json.hpp"
@@ -172,7 +173,9 @@ const CommandRegistration reg(
         auto opts = std::make_shared<Opts>();
         CLI::App* cmd = inspect.add_subcommand(
             "navdata", "Decode one navdata datagram (a UDP 5554 payload saved to a file)");
-        cmd->add_option("file", opts->file, "File holding exactly one datagram")->required();
+        cmd->add_option("file", opts->file, "File holding exactly one datagram")
+            ->required()
+            ->check(regular_file());
         cmd->add_flag("--json", opts->json, "Print JSON (PROTOCOL.md field names) instead of text");
         set_action(*cmd, [opts] { run(*opts); });
     });

@@ -1,10 +1,12 @@
 // `ardrone-gs inspect pave FILE [--json] [--decode DIR]`: runs a saved PaVE/H.264 TCP stream
 // (bytes as read from port 5555/5553) through the framer and lists every frame, every resync and
 // the trailing partial frame; --decode also decodes the H.264 and writes DIR/NNNNNN.png.
+#include "app/cli_options.hpp"
 #include "app/command.hpp"
 #include "drone/protocol/pave.hpp"
 #include "drone/protocol/pave_json.hpp"
 #include "drone/video/h264_decoder.hpp"
+#include "drone/video/receiver.hpp"
 
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -75,9 +77,9 @@ void run(const Opts& o) {
         }
     }
 
-    protocol::PaveFramer framer;
-    video::H264Decoder decoder;
-    cv::Mat image;
+    // The receive pipeline the link runs (drone/video/receiver.hpp): the same cutting, codec
+    // check, decoding and IDR waits.
+    video::VideoReceiver rx(video::ReceiverOptions{4, decode});
     std::uint64_t images = 0;
     nlohmann::json frames = nlohmann::json::array();
     nlohmann::json resyncs = nlohmann::json::array();
@@ -87,38 +89,39 @@ void run(const Opts& o) {
            << " index    offset  hdr  payload frame_number   timestamp  type    codec encoded   "
               "display   stream h1/h2  ctrl\n";
     }
+    auto list_resyncs = [&] {
+        for (const protocol::PaveResync& r : rx.resyncs()) {
+            if (o.json) {
+                resyncs.push_back(to_json(r));
+            } else {
+                os << "resync at " << r.stream_offset << ": skipped " << r.bytes_skipped
+                   << " bytes (" << to_string(r.reason) << "), next frame at "
+                   << r.stream_offset + r.bytes_skipped << '\n';
+            }
+        }
+        rx.clear_resyncs();
+    };
 
     std::vector<char> chunk(64 * 1024);
     while (in) {
         in.read(chunk.data(), static_cast<std::streamsize>(chunk.size()));
         const auto got = static_cast<std::size_t>(in.gcount());
         if (got == 0) break;
-        framer.push(std::span(reinterpret_cast<const std::uint8_t*>(chunk.data()), got));
-        while (auto ev = framer.next()) {
-            if (const auto* r = std::get_if<protocol::PaveResync>(&*ev)) {
-                if (o.json) {
-                    resyncs.push_back(to_json(*r));
-                } else {
-                    os << "resync at " << r->stream_offset << ": skipped " << r->bytes_skipped
-                       << " bytes (" << to_string(r->reason) << "), next frame at "
-                       << r->stream_offset + r->bytes_skipped << '\n';
-                }
-                continue;
-            }
-            const auto& f = std::get<protocol::PaveFrame>(*ev);
+        rx.push(std::span(reinterpret_cast<const std::uint8_t*>(chunk.data()), got), 0);
+        while (auto u = rx.next()) {
+            list_resyncs();
+            protocol::PaveFrame f;
+            f.index = static_cast<std::uint64_t>(u->unit);
+            f.stream_offset = u->stream_offset;
+            f.header = u->header;
             std::optional<std::string> img;
-            if (decode) {
-                video::AccessUnit au{f.payload, f.header.frame_number, f.header.display_width,
-                                     f.header.display_height, f.header.stream_id};
-                auto res = decoder.decode(au, image);
-                if (res && *res == video::DecodeStatus::Frame) {
-                    img = image_name(images);
-                    const auto path = std::filesystem::path(o.decode_dir) / *img;
-                    if (!cv::imwrite(path.string(), image)) {
-                        throw fail("cannot write " + path.string());
-                    }
-                    ++images;
+            if (decode && video::has_picture(u->fate)) {
+                img = image_name(images);
+                const auto path = std::filesystem::path(o.decode_dir) / *img;
+                if (!cv::imwrite(path.string(), u->image)) {
+                    throw fail("cannot write " + path.string());
                 }
+                ++images;
             }
             if (o.json) {
                 nlohmann::json j = {{"index", f.index}, {"offset", f.stream_offset}};
@@ -129,11 +132,12 @@ void run(const Opts& o) {
                 print_frame_line(os, f, img);
             }
         }
+        list_resyncs();
     }
     if (in.bad()) throw fail("cannot read " + o.file);
 
-    const protocol::PavePending pending = framer.pending();
-    const protocol::PaveFramerStats& stats = framer.stats();
+    const protocol::PavePending pending = rx.pending();
+    const protocol::PaveFramerStats& stats = rx.framer_stats();
     nlohmann::json trailing = nullptr;
     if (pending.buffered_bytes > 0 || pending.unreported_skip > 0) {
         trailing = {{"buffered_bytes", pending.buffered_bytes},
@@ -147,6 +151,13 @@ void run(const Opts& o) {
         }
     }
 
+    // An empty file, or one with no PaVE frame at all, is not a video capture: say so and fail
+    // (after printing what was found, so the resyncs can still be read).
+    const auto no_video = [&] {
+        if (stats.frames > 0) return;
+        throw fail(o.file + ": no PaVE frame in " + std::to_string(stats.bytes_in) +
+                   " bytes: not a video capture (PROTOCOL.md §4.1)");
+    };
     if (o.json) {
         nlohmann::json j = {{"file", o.file},       {"file_size", stats.bytes_in},
                             {"frames", frames},     {"resyncs", resyncs},
@@ -154,9 +165,10 @@ void run(const Opts& o) {
         if (decode) {
             j["decode"] = {{"dir", o.decode_dir},
                            {"images", images},
-                           {"stats", decoder_json(decoder.stats())}};
+                           {"stats", decoder_json(rx.decoder_stats())}};
         }
         os << j.dump(2) << '\n';
+        no_video();
         return;
     }
     if (pending.header) {
@@ -173,12 +185,13 @@ void run(const Opts& o) {
        << " payload bytes), " << stats.resyncs << " resyncs, " << stats.bytes_skipped
        << " bytes skipped, " << stats.oversize_rejections << " oversize headers refused\n";
     if (decode) {
-        const video::H264DecoderStats& d = decoder.stats();
+        const video::H264DecoderStats& d = rx.decoder_stats();
         os << "decoded " << d.decoded << " of " << d.access_units << " access units into "
            << o.decode_dir << " (" << d.skipped_waiting_idr << " skipped waiting for an IDR, "
            << d.frame_gaps << " frame-number gaps, " << d.decode_errors << " errors, "
            << d.concealed << " concealed, " << d.reinits << " re-initialisations)\n";
     }
+    no_video();
 }
 
 const CommandRegistration reg(
@@ -187,10 +200,13 @@ const CommandRegistration reg(
         auto opts = std::make_shared<Opts>();
         CLI::App* cmd = inspect.add_subcommand(
             "pave", "List the PaVE frames of a saved video stream (TCP 5555 bytes in a file)");
-        cmd->add_option("file", opts->file, "File holding the raw TCP byte stream")->required();
+        cmd->add_option("file", opts->file, "File holding the raw TCP byte stream")
+            ->required()
+            ->check(regular_file());
         cmd->add_flag("--json", opts->json, "Print JSON (PROTOCOL.md field names) instead of text");
         cmd->add_option("--decode", opts->decode_dir,
-                        "Decode the H.264 and write DIR/NNNNNN.png (0-based, decode order)");
+                        "Decode the H.264 and write DIR/NNNNNN.png (0-based, decode order)")
+            ->check(output_directory());
         set_action(*cmd, [opts] { run(*opts); });
     });
 

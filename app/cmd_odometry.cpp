@@ -310,7 +310,8 @@ CommandRegistration reg(60, [](CLI::App& root) {
                     "Dataset directory (with --generate: created), or a thesis-style image folder "
                     "with its IMU text file")
         ->required();
-    sub->add_option("--out", o->out, "Write samples.csv, summary.json and errors.txt here");
+    sub->add_option("--out", o->out, "Write samples.csv, summary.json and errors.txt here")
+        ->check(output_directory());
     sub->add_flag("--single", o->single, "Use the bottom camera only, even when top/ exists");
     sub->add_flag(
         "--thesis", o->thesis,
@@ -322,17 +323,21 @@ CommandRegistration reg(60, [](CLI::App& root) {
                               "the top camera keeps its own");
     sub->add_option(
         "--set", o->set,
-        "Parameter override key=value (odo.*, filter.*; e.g. filter.smoothing_samples=4)");
+        "Parameter override key=value (odo.*, filter.*; e.g. filter.smoothing_samples=4; "
+        "`ardrone-gs params --odometry` lists every key)");
     sub->add_flag("--summary", o->summary, "Print only the summary, not every sample");
     sub->add_option("--generate", o->generate,
                     "First render a test flight into DATASET: hover, translation, "
                     "translation_rotation or rotation (15 fps, ground truth)");
-    sub->add_option("--seed", o->seed, "Seed of the generated flight")->capture_default_str();
+    sub->add_option("--seed", o->seed, "Seed of the generated flight")
+        ->capture_default_str()
+        ->check(unsigned_integer());
     sub->add_option("--duration", o->duration_s, "Generated flight length in s (0: the test's)")
-        ->check(CLI::NonNegativeNumber);
+        ->check(number_in(0, 3600, "a duration in seconds"));
     sub->add_flag("--no-top", o->no_top, "Generate the bottom camera only");
     sub->add_option("--top-delay", o->top_delay_s,
-                    "Generated top camera captures this many seconds late (unsynchronised)");
+                    "Generated top camera captures this many seconds late (unsynchronised)")
+        ->check(number_in(0, 1, "a delay in seconds"));
     set_action(*sub, [o] { return run(*o); });
 });
 

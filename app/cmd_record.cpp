@@ -13,13 +13,17 @@
 #include "drone/sim/virtual_drone.hpp"
 #include "vision/classifier.hpp"
 
+#include <nlohmann/json.hpp>
+
 #include <unistd.h>
 
 #include <atomic>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
+#include <fstream>
 #include <iostream>
+#include <limits>
 #include <memory>
 #include <thread>
 
@@ -41,7 +45,51 @@ struct Opts {
     std::string calibration;
     double connect_timeout_s = 10;
     bool quiet = false;
+    int port_base = 0;             // --drone: ports BASE (navdata), +1 video, +2 AT, +5 control
+    std::string navdata = "full";  // full (200 Hz) or demo (15 Hz)
+    std::string stats;             // a JSON file with the recorder's and the link's counters
 };
+
+// What `record --stats FILE` writes at the end: the recorder's counters and the link's, so a
+// soak (scripts/soak.sh) can check them against the dataset.
+std::string stats_json(const record::RecorderStatus& st, const link::LinkStatus& ls,
+                       std::uint64_t accepted_at_start, const std::string& why) {
+    nlohmann::ordered_json j;
+    j["dataset"] = st.path;
+    j["why"] = why;
+    j["duration_s"] = st.duration_s;
+    j["recorder"] = {{"frames", st.frames},
+                     {"navdata", st.navdata},
+                     {"navdata_accepted", st.navdata_accepted},
+                     {"at", st.at},
+                     {"drops", st.drops},
+                     {"dropped_link", st.dropped_link},
+                     {"dropped_writer", st.dropped_writer},
+                     {"dropped_tap", st.dropped_tap},
+                     {"dropped_reference_lost", st.dropped_reference_lost},
+                     {"dropped_no_picture", st.dropped_no_picture},
+                     {"dropped_not_h264", st.dropped_not_h264},
+                     {"dropped_cut_by_reset", st.dropped_cut_by_reset},
+                     {"concealed", st.concealed},
+                     {"frames_skipped", st.frames_skipped},
+                     {"video_connections", st.video_connections},
+                     {"write_errors", st.write_errors},
+                     {"error", st.error}};
+    j["link"] = {{"navdata_datagrams", ls.navdata.datagrams},
+                 {"navdata_accepted", ls.navdata.accepted},
+                 {"navdata_accepted_while_recording", ls.navdata.accepted - accepted_at_start},
+                 {"checksum_failures", ls.navdata.checksum_failures},
+                 {"out_of_order", ls.machine.out_of_order},
+                 {"sequence_gaps", ls.machine.sequence_gaps},
+                 {"drone_restarts", ls.machine.drone_restarts},
+                 {"link_losses", ls.machine.link_losses},
+                 {"video_connects", ls.video.connects},
+                 {"video_decoded", ls.video.decoded},
+                 {"video_concealed", ls.video.concealed},
+                 {"video_idr_waits", ls.video.idr_waits},
+                 {"video_cut_by_reset", ls.video.cut_by_reset}};
+    return j.dump(2) + "\n";
+}
 
 std::string megabytes(std::uint64_t bytes) {
     char b[32];
@@ -122,7 +170,14 @@ int run(const Opts& o) {
         lc.control_port = drone->control_port();
     } else {
         lc.drone_address = o.drone;
+        if (o.port_base != 0) {
+            lc.navdata_port = static_cast<std::uint16_t>(o.port_base);
+            lc.video_port = static_cast<std::uint16_t>(o.port_base + 1);
+            lc.at_port = static_cast<std::uint16_t>(o.port_base + 2);
+            lc.control_port = static_cast<std::uint16_t>(o.port_base + 5);
+        }
     }
+    lc.setup.navdata_demo = o.navdata == "demo";
     std::signal(SIGINT, on_record_signal);
     std::signal(SIGTERM, on_record_signal);
 
@@ -153,6 +208,7 @@ int run(const Opts& o) {
 
     if (drone) ro.writer.source = "simulated (virtual drone, scene " + drone->scene().name + ")";
     if (!o.classifier.empty()) ro.frame_tap = 4096;
+    const std::uint64_t accepted_at_start = link.status().navdata.accepted;
     record::Recorder rec(link, drone.get());
     if (auto s = rec.start(o.out, ro); !s)
         throw fail("cannot record to " + o.out + ": " + s.error().message);
@@ -186,6 +242,11 @@ int run(const Opts& o) {
             why = "scripted flight done";
             break;
         }
+        // The disk failed: the recorder stopped itself (the link flies on, unaffected).
+        if (const auto st = rec.status(); !st.recording && st.disk_full) {
+            why = "disk full";
+            break;
+        }
         if (tty) {
             const auto st = rec.status();
             std::printf("\r%6.1f s  %-12s  frames %6llu  navdata %7llu  drops %llu  %s   ",
@@ -199,19 +260,26 @@ int run(const Opts& o) {
     if (tty) std::printf("\n");
     const record::RecorderStatus st = rec.stop();
     if (pipeline.joinable()) pipeline.join();
+    const link::LinkStatus link_status = link.status();
     link.stop();
     if (drone) drone->stop();
 
-    char line[256];
+    char line[512];
     std::snprintf(
         line, sizeof line,
-        "recorded %s (%s): %.1f s, %llu frames, %llu navdata, %llu drops "
-        "(link %llu, disk %llu, pipeline %llu), %s, recorder CPU %.1f %%",
+        "recorded %s (%s): %.1f s, %llu frames, %llu navdata, %llu drops (link %llu, disk %llu, "
+        "pipeline %llu, reference lost %llu, no picture %llu, cut by a reset %llu, not H.264 "
+        "%llu), %llu concealed, %s, recorder CPU %.1f %%",
         st.path.c_str(), why.c_str(), st.duration_s, static_cast<unsigned long long>(st.frames),
         static_cast<unsigned long long>(st.navdata), static_cast<unsigned long long>(st.drops),
         static_cast<unsigned long long>(st.dropped_link),
         static_cast<unsigned long long>(st.dropped_writer),
-        static_cast<unsigned long long>(st.dropped_tap), megabytes(st.bytes).c_str(),
+        static_cast<unsigned long long>(st.dropped_tap),
+        static_cast<unsigned long long>(st.dropped_reference_lost),
+        static_cast<unsigned long long>(st.dropped_no_picture),
+        static_cast<unsigned long long>(st.dropped_cut_by_reset),
+        static_cast<unsigned long long>(st.dropped_not_h264),
+        static_cast<unsigned long long>(st.concealed), megabytes(st.bytes).c_str(),
         st.duration_s > 0 ? st.cpu_ms / (st.duration_s * 10.0) : 0.0);
     std::cout << line << std::endl;
     if (!o.classifier.empty()) {
@@ -219,6 +287,12 @@ int run(const Opts& o) {
                   << (std::filesystem::path(o.out) / "live_decisions.csv").string() << std::endl;
         if (!live.error.empty()) throw fail(live.error);
     }
+    if (!o.stats.empty()) {
+        std::ofstream f(o.stats, std::ios::trunc);
+        f << stats_json(st, link_status, accepted_at_start, why);
+        if (!f) throw fail("cannot write " + o.stats);
+    }
+    if (st.disk_full) throw fail(st.error);
     if (!st.error.empty()) throw fail("recording incomplete: " + st.error);
     return 0;
 }
@@ -239,7 +313,7 @@ CommandRegistration reg(45, [](CLI::App& root) {
     ap->needs(simopt);
     sub->add_option("--out", o->out, "Dataset directory to create (new or empty)")->required();
     sub->add_option("--seconds", o->seconds, "Stop after this many seconds (0: until Ctrl-C)")
-        ->check(CLI::NonNegativeNumber);
+        ->check(number_in(0, std::numeric_limits<double>::infinity(), "a time in seconds"));
     sub->add_option("--classifier", o->classifier,
                     "Also run this obstacle classifier live: DIR/live_decisions.csv");
     add_calibration_option(*sub, o->calibration,
@@ -247,8 +321,20 @@ CommandRegistration reg(45, [](CLI::App& root) {
                            "--classifier");
     sub->add_option("--connect-timeout", o->connect_timeout_s, "Seconds to wait for the connection")
         ->capture_default_str()
-        ->check(CLI::PositiveNumber);
+        ->check(number_in(0.1, 3600, "a time in seconds"));
     sub->add_flag("--quiet", o->quiet, "No progress line");
+    sub->add_option("--port-base", o->port_base,
+                    "With --drone: ports BASE (navdata), +1 (video), +2 (AT), +5 (control), as "
+                    "`sim --port-base` serves them")
+        ->check(CLI::Range(1024, 65000))
+        ->needs(drone);
+    sub->add_option("--navdata", o->navdata,
+                    "Navdata mode asked of the drone: full (200 Hz, the default) or demo (15 Hz)")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"full", "demo"}));
+    sub->add_option("--stats", o->stats,
+                    "Write the recorder's and the link's counters to this JSON file at the end")
+        ->check(output_file());
     set_action(*sub, [o] {
         if (o->drone.empty() && o->sim.empty())
             throw fail("record needs --drone ADDR or --sim SCENARIO", 2);

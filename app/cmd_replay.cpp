@@ -31,13 +31,23 @@ struct Opts {
     bool undistort = false;
     bool plots = false;
     bool quiet = false;
+    bool force = false;
+    bool strict = false;
 };
 
+// What a replay writes into --out: a folder holding only these may be written over.
+constexpr std::initializer_list<const char*> kReplayOutputs = {"decisions.csv", "summary.json",
+                                                               "overlay.mp4", "plots"};
+
 int run(const Opts& o) {
+    if (auto e = check_output_dir(o.out, kReplayOutputs, o.force)) throw fail(*e);
     auto ds = open_input_dataset(o.dataset, o.input);
     if (!ds) throw fail(ds.error());
     for (const auto& w : ds->warnings())
         std::cerr << "ardrone-gs: " << o.dataset << ": " << w << '\n';
+    const auto missing = missing_inputs(*ds, o.classifier);
+    for (const auto& m : missing)
+        std::cerr << "ardrone-gs: " << o.dataset << ": note: " << to_string(m) << '\n';
     const fs::path out = o.out;
     std::error_code ec;
     fs::create_directories(out, ec);
@@ -68,6 +78,12 @@ int run(const Opts& o) {
     if (auto e = outputs.finish(o.plots ? out / "plots" : fs::path())) throw fail(*e);
 
     nlohmann::json j = summary_json(*ds, rs, *stats);
+    j["missing_inputs"] = nlohmann::json::array();
+    for (const auto& m : missing)
+        j["missing_inputs"].push_back({{"input", m.input},
+                                       {"columns", m.columns},
+                                       {"unknown_share", m.unknown_share},
+                                       {"cost", m.cost}});
     if (ds->labels()) {
         const dataset::FlightScore sc = dataset::score_flight(
             ds->labels()->scenario, ds->label_rows().value_or(std::vector<dataset::LabelRow>{}),
@@ -82,6 +98,11 @@ int run(const Opts& o) {
                   << " s (" << fixed(stats->processed / std::max(stats->wall_s, 1e-9), 0)
                   << " frames/s); flagged frames: left " << stats->flagged[0] << ", center "
                   << stats->flagged[1] << ", right " << stats->flagged[2];
+        if (stats->concealed > 0)
+            std::cout << "; " << stats->concealed << " frames decoded with concealed damage";
+        if (stats->rejected_steps > 0)
+            std::cout << "; " << stats->rejected_steps
+                      << " frames not after the previous one in time (skipped by the classifier)";
         std::cout << "\nwrote " << (out / "decisions.csv").string() << ", summary.json"
                   << (o.video ? ", overlay.mp4" : "") << (o.plots ? ", plots/" : "") << '\n';
     }
@@ -89,6 +110,11 @@ int run(const Opts& o) {
     if (stats->decode_errors > 0)
         throw fail(o.dataset + ": " + frames_unread_text(*stats) +
                    " (their decisions.csv rows are empty; summary.json counts them)");
+    // Every frame produced a picture: damage the decoder concealed is a success unless --strict.
+    if (o.strict && stats->concealed > 0)
+        throw fail(o.dataset + ": " + std::to_string(stats->concealed) + " of " +
+                   std::to_string(stats->frames) +
+                   " frames were decoded with concealed damage (--strict)");
     return 0;
 }
 
@@ -101,7 +127,15 @@ CommandRegistration reg(30, [](CLI::App& root) {
                     "Dataset directory (DATASET.md), or a thesis-style image folder with its IMU "
                     "text file")
         ->required();
-    sub->add_option("--out,-o", o->out, "Output directory (created)")->required();
+    sub->add_option("--out,-o", o->out,
+                    "Output directory (created; a folder holding other files than a replay's "
+                    "outputs is refused without --force)")
+        ->required()
+        ->check(output_directory());
+    sub->add_flag("--force", o->force, "Write into --out even when it holds other files");
+    sub->add_flag("--strict", o->strict,
+                  "Exit non-zero on any video damage, concealed frames included (by default "
+                  "only frames with no picture at all are an error)");
     add_classifier_options(*sub, o->classifier, o->set);
     add_dataset_input_options(*sub, o->input,
                               "flight.json's or the camera default, by the classifier and the "

@@ -1,6 +1,7 @@
 // `ardrone-gs sim`: the virtual AR.Drone 2, standalone. It listens on the real ports (AT 5556,
 // navdata 5554, video 5555, control 5559) of a loopback address, so any AR.Drone client can fly
 // it: this ground station, node-ar-drone, the official SDK examples.
+#include "app/cli_options.hpp"
 #include "app/command.hpp"
 #include "drone/sim/scenarios.hpp"
 #include "drone/sim/virtual_drone.hpp"
@@ -9,11 +10,17 @@
 
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <iostream>
+#include <limits>
 #include <memory>
+#include <optional>
+#include <string>
 #include <thread>
+#include <utility>
+#include <vector>
 
 namespace gs::app {
 namespace {
@@ -31,6 +38,87 @@ struct Opts {
     int port_base = 0;  // 0: the standard ports
     bool quiet = false;
     bool json_status = false;  // one JSON line of the simulator's state per 200 ms on stdout
+    // Fault knobs (issue 14 point 14): a faulty link anyone can reproduce.
+    sim::NavdataFaults navdata;
+    std::uint64_t seed = 1;
+    double video_reset_every_s = 0;  // 0: never
+    bool video_reset_in_idr = false;
+    std::vector<std::string> blackouts;  // "AT:DURATION" seconds, repeatable
+    std::string blackout_every;          // "PERIOD:DURATION" seconds
+    std::vector<double> reboot_at_s;
+    double reboot_every_s = 0;
+    int boot_ms = 3000;
+    double video_stall_every_s = 0;
+    int video_stall_ms = 1500;
+};
+
+// "A:B" as two non-negative numbers of seconds.
+std::optional<std::pair<double, double>> parse_pair(const std::string& text) {
+    const auto colon = text.find(':');
+    if (colon == std::string::npos) return std::nullopt;
+    try {
+        std::size_t n1 = 0, n2 = 0;
+        const std::string a = text.substr(0, colon), b = text.substr(colon + 1);
+        const double x = std::stod(a, &n1), y = std::stod(b, &n2);
+        if (n1 != a.size() || n2 != b.size() || !(x >= 0) || !(y > 0) || !std::isfinite(x) ||
+            !std::isfinite(y))
+            return std::nullopt;
+        return std::pair{x, y};
+    } catch (const std::exception&) {
+        return std::nullopt;
+    }
+}
+
+CLI::Validator seconds_pair(const std::string& what) {
+    return CLI::Validator(
+        [what](std::string& text) -> std::string {
+            if (!parse_pair(text))
+                return "expected " + what +
+                       " as two numbers of seconds A:B "
+                       "(B > 0), got '" +
+                       text + "'";
+            return {};
+        },
+        "A:B", what);
+}
+
+// When each scheduled fault is due, from the start of the run (seconds), re-armed for the
+// periodic ones.
+struct FaultSchedule {
+    struct Item {
+        double at_s;
+        double period_s;  // 0: once
+        sim::Fault fault;
+    };
+    std::vector<Item> items;
+
+    explicit FaultSchedule(const Opts& o) {
+        for (const auto& b : o.blackouts) {
+            auto p = parse_pair(b);
+            items.push_back({p->first, 0, sim::FaultBlackout{static_cast<int>(p->second * 1000)}});
+        }
+        if (auto p = parse_pair(o.blackout_every); p)
+            items.push_back(
+                {p->first, p->first, sim::FaultBlackout{static_cast<int>(p->second * 1000)}});
+        for (double t : o.reboot_at_s) items.push_back({t, 0, sim::FaultReboot{o.boot_ms}});
+        if (o.reboot_every_s > 0)
+            items.push_back({o.reboot_every_s, o.reboot_every_s, sim::FaultReboot{o.boot_ms}});
+        if (o.video_reset_every_s > 0)
+            items.push_back({o.video_reset_every_s, o.video_reset_every_s,
+                             sim::FaultVideoReset{o.video_reset_in_idr}});
+        if (o.video_stall_every_s > 0)
+            items.push_back({o.video_stall_every_s, o.video_stall_every_s,
+                             sim::FaultVideoStall{o.video_stall_ms}});
+    }
+    // Injects every fault due at `elapsed_s`.
+    void run(double elapsed_s, sim::VirtualDrone& drone) {
+        for (auto& it : items) {
+            while (it.at_s >= 0 && elapsed_s >= it.at_s) {
+                drone.inject(it.fault);
+                it.at_s = it.period_s > 0 ? it.at_s + it.period_s : -1;
+            }
+        }
+    }
 };
 
 int run(const Opts& o) {
@@ -40,6 +128,8 @@ int run(const Opts& o) {
     vo.bind_address = o.bind;
     vo.scene = std::move(*scene);
     vo.autopilot = o.autopilot;
+    vo.core.faults = o.navdata;
+    vo.core.seed = o.seed;
     if (o.port_base != 0) {
         vo.navdata_port = static_cast<std::uint16_t>(o.port_base);
         vo.video_port = static_cast<std::uint16_t>(o.port_base + 1);
@@ -51,17 +141,20 @@ int run(const Opts& o) {
     if (!started) throw fail("cannot start the virtual drone: " + started.error().message);
     std::signal(SIGINT, on_signal);
     std::signal(SIGTERM, on_signal);
-    std::cout << "virtual AR.Drone 2 '" << drone.scene().name << "' on " << o.bind << ": AT "
-              << drone.at_port() << ", navdata " << drone.navdata_port() << ", video "
-              << drone.video_port() << ", control " << drone.control_port()
-              << (o.autopilot ? " (autopilot)" : "") << "; Ctrl-C stops" << std::endl;
+    if (!o.quiet)
+        std::cout << "virtual AR.Drone 2 '" << drone.scene().name << "' on " << o.bind << ": AT "
+                  << drone.at_port() << ", navdata " << drone.navdata_port() << ", video "
+                  << drone.video_port() << ", control " << drone.control_port()
+                  << (o.autopilot ? " (autopilot)" : "") << "; Ctrl-C stops" << std::endl;
     const bool tty = isatty(STDOUT_FILENO) && !o.quiet;
+    FaultSchedule schedule(o);
     const auto t0 = std::chrono::steady_clock::now();
     while (!g_stop) {
         std::this_thread::sleep_for(std::chrono::milliseconds(200));
         const double elapsed =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         if (o.seconds > 0 && elapsed >= o.seconds) break;
+        schedule.run(elapsed, drone);
         if (o.json_status) {
             const auto st = drone.status();
             std::printf(
@@ -91,6 +184,21 @@ int run(const Opts& o) {
     const auto st = drone.status();
     if (!st.last_error.empty()) std::cerr << "ardrone-gs: sim: " << st.last_error << '\n';
     drone.stop();
+    if (!o.quiet) {
+        const auto& c = st.counters;
+        std::printf(
+            "sim: navdata sent %llu, dropped %llu, reordered %llu, duplicated %llu, corrupted "
+            "%llu; video frames %llu, resets %llu, clients %llu; reboots %llu\n",
+            static_cast<unsigned long long>(c.navdata_sent),
+            static_cast<unsigned long long>(c.navdata_dropped),
+            static_cast<unsigned long long>(c.navdata_reordered),
+            static_cast<unsigned long long>(c.navdata_duplicated),
+            static_cast<unsigned long long>(c.navdata_corrupted),
+            static_cast<unsigned long long>(st.video_frames_sent),
+            static_cast<unsigned long long>(st.video_resets),
+            static_cast<unsigned long long>(st.video_clients),
+            static_cast<unsigned long long>(c.reboots));
+    }
     return 0;
 }
 
@@ -111,12 +219,66 @@ CommandRegistration reg(40, [](CLI::App& root) {
         ->capture_default_str();
     sub->add_flag("--autopilot", o->autopilot, "Fly the scenario's scripted flight");
     sub->add_option("--seconds", o->seconds, "Stop after this many seconds (0: until Ctrl-C)")
-        ->check(CLI::NonNegativeNumber);
+        ->check(number_in(0, std::numeric_limits<double>::infinity(), "a time in seconds"));
     sub->add_option(
            "--port-base", o->port_base,
            "Use ports BASE (navdata), +1 (video), +2 (AT), +5 (control) instead of 5554...")
         ->check(CLI::Range(1024, 65000));
-    sub->add_flag("--quiet", o->quiet, "No status line");
+    sub->add_flag("--quiet", o->quiet, "No banner, status line or closing counters");
+    const auto probability = number_in(0, 1, "a probability");
+    sub->add_option("--loss", o->navdata.loss, "Navdata datagrams not sent (probability)")
+        ->check(probability)
+        ->group("Faults");
+    sub->add_option("--reorder", o->navdata.reorder,
+                    "Navdata datagrams held back and sent after the next one (probability)")
+        ->check(probability)
+        ->group("Faults");
+    sub->add_option("--duplicate", o->navdata.duplicate,
+                    "Navdata datagrams sent twice (probability)")
+        ->check(probability)
+        ->group("Faults");
+    sub->add_option("--corrupt", o->navdata.corrupt_checksum,
+                    "Navdata datagrams with a wrong checksum (probability)")
+        ->check(probability)
+        ->group("Faults");
+    sub->add_option("--fault-seed", o->seed, "Seed of the navdata fault generator")
+        ->check(unsigned_integer())
+        ->capture_default_str()
+        ->group("Faults");
+    sub->add_option("--video-reset-every", o->video_reset_every_s,
+                    "Reset the video TCP connection mid-frame every S seconds")
+        ->check(number_in(0.1, 1e6, "a period in seconds"))
+        ->group("Faults");
+    sub->add_flag("--video-reset-in-idr", o->video_reset_in_idr,
+                  "Cut the video inside an IDR frame (the next connection starts with P-frames)")
+        ->group("Faults");
+    sub->add_option("--video-stall-every", o->video_stall_every_s,
+                    "Stop sending video for --video-stall-ms every S seconds")
+        ->check(number_in(0.1, 1e6, "a period in seconds"))
+        ->group("Faults");
+    sub->add_option("--video-stall-ms", o->video_stall_ms, "Length of a video stall")
+        ->check(CLI::Range(1, 60000))
+        ->capture_default_str()
+        ->group("Faults");
+    sub->add_option("--blackout", o->blackouts,
+                    "No navdata at all from AT seconds for DURATION seconds (AT:DURATION, "
+                    "repeatable)")
+        ->check(seconds_pair("a blackout"))
+        ->group("Faults");
+    sub->add_option("--blackout-every", o->blackout_every,
+                    "A blackout of DURATION seconds every PERIOD seconds (PERIOD:DURATION)")
+        ->check(seconds_pair("a blackout period"))
+        ->group("Faults");
+    sub->add_option("--reboot-at", o->reboot_at_s, "Reboot the drone at S seconds (repeatable)")
+        ->check(number_in(0, 1e6, "a time in seconds"))
+        ->group("Faults");
+    sub->add_option("--reboot-every", o->reboot_every_s, "Reboot the drone every S seconds")
+        ->check(number_in(1, 1e6, "a period in seconds"))
+        ->group("Faults");
+    sub->add_option("--boot-ms", o->boot_ms, "How long a reboot keeps the drone down")
+        ->check(CLI::Range(0, 60000))
+        ->capture_default_str()
+        ->group("Faults");
     sub->add_flag(
         "--json-status", o->json_status,
         "Print the simulator's state as one JSON line every 200 ms (for tests and tools)");

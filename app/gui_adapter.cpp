@@ -2,7 +2,6 @@
 
 #include "app/gui_adapter.hpp"
 
-#include "drone/protocol/at.hpp"
 #include "drone/protocol/navdata_layout.hpp"
 #include "drone/sim/scenarios.hpp"
 
@@ -369,7 +368,6 @@ void GuiAdapter::on_source_change() {
     shown_camera_ = CameraId::Front;
     start_camera_sent_ = false;
     at_rate_.reset();
-    video_bytes_rate_.reset();
     nav_rate_.reset();
     video_rate_.reset();
     replay_rate_.reset();
@@ -380,7 +378,6 @@ void GuiAdapter::on_source_change() {
     config_read_ = false;
     config_values_.clear();
     config_requested_ = false;
-    at_cycle_bytes_ = 0;
     shown_source_id_ = source_.id;
 }
 
@@ -408,15 +405,7 @@ void GuiAdapter::fill_link(ui::GuiSnapshot& s, TimeNs now) {
     n.drops = st.machine.out_of_order + st.navdata.foreign_dropped + st.navdata.oversize;
     n.checksum_failures = st.navdata.checksum_failures;
     n.decode_errors = st.navdata.parse_errors;
-    // The link counts datagrams, not bytes: the rate times the size of the newest datagram
-    // (the drone sends one size per navdata mode, so this is exact while the mode holds).
-    if (nav_valid_) {
-        std::size_t bytes = 0;
-        for (const auto& o : nav_.data.options)
-            bytes = std::max<std::size_t>(bytes, std::size_t{o.offset} + o.size);
-        bytes += nav_.data.trailing_bytes;
-        if (bytes > 0) n.bytes_per_s = n.rate_hz * static_cast<double>(bytes);
-    }
+    n.bytes_per_s = st.navdata.bytes_per_s;  // counted by the link, per datagram received
 
     ui::StreamHealth& v = s.link.video;
     v = ui::StreamHealth{};
@@ -425,7 +414,7 @@ void GuiAdapter::fill_link(ui::GuiSnapshot& s, TimeNs now) {
     v.age_ms = age_ms(st.now_ns, st.video.last_frame_ns);
     last_video_frame_ns_ = st.video.last_frame_ns;
     video_connected_ = st.video.connected;
-    v.bytes_per_s = video_bytes_rate_.update(st.video.bytes, now);
+    v.bytes_per_s = st.video.bytes_per_s;  // counted by the link
     v.packets = st.video.decoded;
     v.gaps = st.video.frame_gaps;
     v.drops = out_ ? out_->frames_dropped : 0;  // frames the classifier could not keep up with
@@ -439,29 +428,7 @@ void GuiAdapter::fill_link(ui::GuiSnapshot& s, TimeNs now) {
     a.rate_hz = at_rate_.update(st.at.counters.datagrams, now);
     a.age_ms = st.at.period_ms_last;
     a.packets = st.at.counters.datagrams;
-    // Bytes are not counted by the link either: each 30 ms datagram is a REF and a PCMD (the
-    // current Move, or hover), sized here as the scheduler encodes them at the current
-    // sequence number; the rare one-shots (configuration, LED ...) are left out: an estimate.
-    if (known(a.rate_hz)) {
-        // Re-encoded only when the command changes or every 1000 commands (the sequence
-        // number's digits), not every window frame.
-        const std::uint64_t block = st.at.counters.commands / 1000;
-        if (at_cycle_bytes_ == 0 || block != at_cycle_block_ || manual_ != at_cycle_manual_ ||
-            !(last_pilot_ == at_cycle_pilot_)) {
-            const auto seq = static_cast<protocol::at::Seq>(st.at.counters.commands + 1);
-            at_cycle_bytes_ = protocol::at::ref(seq, protocol::at::ref_input(true, false)).size() +
-                              (manual_ ? protocol::at::pcmd(seq + 1, protocol::at::kPcmdProgressive,
-                                                            last_pilot_.roll, last_pilot_.pitch,
-                                                            last_pilot_.gaz, last_pilot_.yaw)
-                                       : protocol::at::hover(seq + 1))
-                                  .size();
-            at_cycle_block_ = block;
-            at_cycle_manual_ = manual_;
-            at_cycle_pilot_ = last_pilot_;
-        }
-        a.bytes_per_s = a.rate_hz * static_cast<double>(at_cycle_bytes_);
-        a.bytes_estimated = true;
-    }
+    a.bytes_per_s = st.at.bytes_per_s;  // counted by the link, per datagram sent
     a.drops = st.at.counters.stale_moves_dropped;
     a.decode_errors = st.at.send_errors + st.at.counters.encode_errors;
 }
@@ -912,6 +879,7 @@ void GuiAdapter::fill(ui::GuiSnapshot& s) {
     r.speed = replay_.speed;
     r.loop = replay_.loop;
     r.error = replay_.error;
+    r.missing_inputs = replay_.missing_inputs;
 
     if (auto rec = session_.recording().latest()) {
         ui::RecordingStatus& rs = s.recording;

@@ -87,7 +87,7 @@ private:
     ReplayInfo replay_;
     NavState replay_nav_;
     bool replay_nav_valid_ = false;
-    SlidingRate at_rate_, video_bytes_rate_, nav_rate_, video_rate_, replay_rate_;
+    SlidingRate at_rate_, nav_rate_, video_rate_, replay_rate_;
     TimeNs last_video_frame_ns_ = 0;  // the link's newest frame (live)
     bool video_connected_ = false;
     // The emergency the drone reports was commanded from here (key, button) just before.
@@ -99,12 +99,6 @@ private:
     std::vector<std::pair<std::string, std::string>> config_values_;
     std::vector<ui::ConfigWrite> config_writes_;
     bool config_requested_ = false;  // a read-back asked for this source
-    // Size of one AT cycle's datagram (REF + PCMD) for the throughput estimate, and what it was
-    // computed for.
-    std::size_t at_cycle_bytes_ = 0;
-    std::uint64_t at_cycle_block_ = 0;
-    bool at_cycle_manual_ = false;
-    ui::PilotInput at_cycle_pilot_;
 
     // Piloting: manual input is sent as Move while it lasts, then one Hover.
     bool manual_ = false;

@@ -13,6 +13,7 @@ vision::FrameInput to_frame_input(const FrameSample& s) {
     in.vy_mps = s.nav.vy_mps;
     in.vz_mps = s.nav.vz_mps;
     in.altitude_m = s.nav.altitude_m;
+    in.concealed = s.concealed;
     return in;
 }
 

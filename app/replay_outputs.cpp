@@ -257,6 +257,8 @@ nlohmann::json summary_json(const dataset::Dataset& d, const ReplaySettings& s,
     j["frames"] = st.frames;
     j["processed"] = st.processed;
     j["decode_errors"] = st.decode_errors;
+    j["concealed_frames"] = st.concealed;
+    j["rejected_time_steps"] = st.rejected_steps;
     if (!st.first_error.empty()) j["first_decode_error"] = st.first_error;
     j["flagged_frames"] = {
         {"left", st.flagged[0]}, {"center", st.flagged[1]}, {"right", st.flagged[2]}};

@@ -70,6 +70,61 @@ Expected<CameraCalibration, std::string> replay_calibration(const dataset::Datas
                                 dataset.info().height);
 }
 
+std::vector<MissingInput> missing_inputs(const dataset::Dataset& dataset,
+                                         std::string_view classifier) {
+    struct Need {
+        const char* input;
+        const char* columns;
+        std::vector<double NavState::*> fields;
+        const char* cost;
+    };
+    const bool flow = classifier != "thesis";
+    std::vector<Need> needs;
+    if (flow) {
+        needs.push_back({"velocity",
+                         "vx_mps, vy_mps, vz_mps",
+                         {&NavState::vx_mps, &NavState::vy_mps, &NavState::vz_mps},
+                         "the focus of expansion and the flight corridor cannot be placed: every "
+                         "tracked point is judged by its time to contact alone, so walls, floor "
+                         "and anything near the image edges can raise alarms"});
+        needs.push_back({"altitude",
+                         "altitude_m",
+                         {&NavState::altitude_m},
+                         "the floor cannot be told from an obstacle in the corridor"});
+        needs.push_back({"attitude (pitch, yaw)",
+                         "pitch_deg, yaw_deg",
+                         {&NavState::pitch_deg, &NavState::yaw_deg},
+                         "the flow of pitching and turning is not removed: a rotation can read "
+                         "as expansion"});
+    }
+    needs.push_back({"roll",
+                     "roll_deg",
+                     {&NavState::roll_deg},
+                     flow ? "the flow of rolling is not removed"
+                          : "the image is not rotated by the roll (thesis §3.2): banking reads as "
+                            "sideways flow"});
+    std::vector<MissingInput> out;
+    const auto& rows = dataset.frames();
+    if (rows.empty()) return out;
+    for (const Need& n : needs) {
+        std::size_t unknown = 0;
+        for (const dataset::FrameRow& r : rows) {
+            bool any_unknown = false;
+            for (auto f : n.fields) any_unknown |= !std::isfinite(r.nav.*f);
+            unknown += any_unknown ? 1 : 0;
+        }
+        const double share = static_cast<double>(unknown) / static_cast<double>(rows.size());
+        if (share > 0.1) out.push_back({n.input, n.columns, share, n.cost});
+    }
+    return out;
+}
+
+std::string to_string(const MissingInput& m) {
+    char pct[16];
+    std::snprintf(pct, sizeof pct, "%.0f %%", m.unknown_share * 100);
+    return "no " + m.input + " (" + m.columns + ") in " + pct + " of the frames: " + m.cost;
+}
+
 std::string frames_unread_text(const ReplayStats& st) {
     return std::to_string(st.decode_errors) + " of " + std::to_string(st.frames) +
            " frames could not be read (first: " + st.first_error + ")";
@@ -177,6 +232,8 @@ Expected<ReplayStats, std::string> replay_dataset(const dataset::Dataset& datase
         if (s != SourceStatus::Sample) break;  // fastest pacing: never NotYet or Paused
         const vision::FrameResult& res = pipeline.process(sample);
         const double t2 = wall_seconds();
+        st.concealed += sample.concealed ? 1 : 0;
+        st.rejected_steps = res.rejected_steps;
         read_ms.push_back((t1 - t0) * 1e3);
         classify_ms.push_back((t2 - t1) * 1e3);
         ++st.processed;

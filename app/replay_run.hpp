@@ -13,6 +13,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace gs::app {
@@ -42,9 +43,11 @@ struct ReplaySettings {
                                                          const std::vector<std::string>& set);
 
 struct ReplayStats {
-    std::int64_t frames = 0;         // rows in frames.csv
-    std::int64_t processed = 0;      // frames through the classifier
-    std::int64_t decode_errors = 0;  // frames that could not be read (skipped, row left empty)
+    std::int64_t frames = 0;          // rows in frames.csv
+    std::int64_t processed = 0;       // frames through the classifier
+    std::int64_t decode_errors = 0;   // frames that could not be read (skipped, row left empty)
+    std::int64_t concealed = 0;       // frames decoded with concealed damage (kept, less trusted)
+    std::int64_t rejected_steps = 0;  // frames whose time was not after the previous one's
     std::string first_error;
     std::array<std::int64_t, 3> flagged{};  // frames each region was reported unsafe
     // Frames each region had no measured decision (RegionDecision::valid false), in all and by
@@ -58,6 +61,19 @@ struct ReplayStats {
     std::vector<dataset::RegionFlags> flags;  // per frame, for scoring
     vision::ParamMap params;                  // the classifier's parameters as run
 };
+
+// An input the classifier uses that the dataset lacks (issue 14 point 7), and what that costs.
+struct MissingInput {
+    std::string input;         // "velocity", "altitude", "attitude (pitch, yaw)", "roll"
+    std::string columns;       // the frames.csv columns that are absent or empty
+    double unknown_share = 1;  // share of frames where it is unknown (1: all)
+    std::string cost;          // what the classifier cannot do without it
+};
+// The inputs `classifier` uses that are unknown in more than 10 % of `dataset`'s frames.
+std::vector<MissingInput> missing_inputs(const dataset::Dataset& dataset,
+                                         std::string_view classifier);
+// "no velocity (vx_mps, vy_mps, vz_mps) in 100 % of frames: ..." for a message line.
+std::string to_string(const MissingInput& m);
 
 // "3 of 153 frames could not be read (first: ...)": the error a run with unreadable frames ends on.
 std::string frames_unread_text(const ReplayStats& st);

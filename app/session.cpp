@@ -1,7 +1,10 @@
 #include "app/session.hpp"
 
+#include "app/replay_run.hpp"
+
 #include "drone/dataset/video_frames.hpp"
 #include "drone/sim/scenarios.hpp"
+#include "drone/video/frame_pool.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -31,17 +34,6 @@ namespace {
 constexpr TimeNs kIdleWaitNs = ms_to_ns(20);
 constexpr std::size_t kImagePool = 6;
 constexpr std::size_t kOutputPool = 3;  // the slot's, the window's copy, one being filled
-
-// A frame buffer the pipeline owns: a replayed image is copied into a buffer nobody else holds,
-// because the dataset reader reuses its own buffer for the next frame while the window may still
-// be drawing the previous one.
-cv::Mat& free_buffer(std::vector<cv::Mat>& pool) {
-    for (cv::Mat& m : pool)
-        if (m.u == nullptr || m.u->refcount <= 1) return m;
-    if (pool.size() < kImagePool) return pool.emplace_back();
-    pool.front() = cv::Mat();  // everything still in use: let the oldest go, allocate anew
-    return pool.front();
-}
 
 CameraCalibration front_calibration() {
     auto c = default_calibration(CameraId::Front, GS_ASSETS_DIR);
@@ -84,7 +76,10 @@ struct Session::Current {
     std::shared_ptr<BoundedQueue<FrameSample>> frames;
     std::unique_ptr<dataset::DatasetSource> replay;
     ReplayInfo rinfo;
-    std::vector<cv::Mat> pool;
+    // A replayed image is copied into a buffer the pipeline owns, because the dataset reader
+    // reuses its own for the next frame while the window may still be drawing the previous one:
+    // the video receiver's pool (explicit acquire and release, no reference count read).
+    std::shared_ptr<video::FramePool> pool = video::FramePool::create(kImagePool);
     // The video's camera: the dataset's (replay) or the drone's configuration (live).
     CameraId camera = CameraId::Front;
     std::uint64_t config_gen = 0;
@@ -405,6 +400,11 @@ void Session::open_replay(const std::string& path) {
         return;
     }
     for (const auto& w : ds->warnings()) message("replay: " + w);
+    std::vector<std::string> missing;
+    for (const auto& m : missing_inputs(*ds, pipeline_.classifier_name())) {
+        missing.push_back(to_string(m));
+        message("replay: " + missing.back());
+    }
     const CameraCalibration calib = ds->calibration();
     const CameraId camera = ds->info().camera;
     const double fps = ds->info().fps;
@@ -423,6 +423,7 @@ void Session::open_replay(const std::string& path) {
     c.rinfo.path = path;
     c.rinfo.frame_count = n;
     c.rinfo.fps = fps;
+    c.rinfo.missing_inputs = std::move(missing);
     c.rinfo.playing = play;
     c.camera = camera;
     // The dataset's calibration is its camera's: the odometry's for a bottom-camera flight.
@@ -622,9 +623,9 @@ void Session::process(FrameSample& f, TimeNs recv_ns) {
     Current& c = *cur_;
     update_camera();
     if (c.kind == SessionSource::Replay && !f.image.empty()) {
-        cv::Mat& buf = free_buffer(c.pool);
+        cv::Mat buf = c.pool->acquire();
         f.image.copyTo(buf);
-        f.image = buf;
+        f.image = std::move(buf);
     }
     // Outputs are recycled once nobody holds them any more (the slot keeps the latest, the window
     // a copy of it while drawing): assigning into one reuses its vectors, so a frame allocates

@@ -148,6 +148,7 @@ struct ReplayInfo {
     bool loop = false;
     bool ended = false;
     std::string error;
+    std::vector<std::string> missing_inputs;  // inputs the classifier lacks, with the cost
 };
 
 // The recorder's status plus the free space where it writes.

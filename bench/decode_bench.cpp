@@ -4,6 +4,7 @@
 // colour conversion to BGR, what the live pipeline pays per frame).
 #include "drone/protocol/pave.hpp"
 #include "drone/video/h264_decoder.hpp"
+#include "drone/video/receiver.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -51,35 +52,25 @@ void report(const std::string& name, const Result& r) {
     std::printf("\n");
 }
 
+// The link's receive pipeline (drone/video/receiver.hpp), as the video thread runs it: one
+// push per TCP read, then every unit out of next(), each decode timed with its framing.
 Result bench_pave(const std::vector<std::uint8_t>& bytes, int repeats, std::size_t chunk) {
     Result r;
-    cv::Mat img;
     for (int rep = 0; rep < repeats; ++rep) {
-        gs::protocol::PaveFramer framer;
-        gs::video::H264Decoder decoder;
+        gs::video::VideoReceiver rx;
         for (std::size_t pos = 0; pos < bytes.size(); pos += chunk) {
             const std::size_t n = std::min(chunk, bytes.size() - pos);
-            auto t0 = Clock::now();
-            framer.push(std::span<const std::uint8_t>(bytes.data() + pos, n));
+            rx.push(std::span<const std::uint8_t>(bytes.data() + pos, n), 0);
             r.bytes += n;
             for (;;) {
-                auto ev = framer.next();
-                r.framer_s += std::chrono::duration<double>(Clock::now() - t0).count();
-                if (!ev) break;
-                if (const auto* f = std::get_if<gs::protocol::PaveFrame>(&*ev)) {
-                    ++r.frames;
-                    gs::video::AccessUnit au{f->payload, f->header.frame_number,
-                                             f->header.display_width, f->header.display_height,
-                                             f->header.stream_id};
-                    const auto d0 = Clock::now();
-                    auto res = decoder.decode(au, img);
-                    const auto d1 = Clock::now();
-                    if (res && *res == gs::video::DecodeStatus::Frame) {
-                        r.decode_ms.push_back(
-                            std::chrono::duration<double, std::milli>(d1 - d0).count());
-                    }
-                }
-                t0 = Clock::now();
+                const auto d0 = Clock::now();
+                auto u = rx.next();
+                const auto d1 = Clock::now();
+                if (!u) break;
+                ++r.frames;
+                if (gs::video::has_picture(u->fate))
+                    r.decode_ms.push_back(
+                        std::chrono::duration<double, std::milli>(d1 - d0).count());
             }
         }
     }

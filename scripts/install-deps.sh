@@ -11,6 +11,8 @@ pkgs=(cmake ninja-build g++ pkg-config
       libcli11-dev nlohmann-json3-dev)
 if [[ $mode == test ]]; then
   pkgs+=(libgtest-dev libgmock-dev xvfb xauth libgl1-mesa-dri)
+  # The sanitizer and fuzzing tree: clang 14 with its runtimes (libFuzzer, ASan, UBSan).
+  pkgs+=(clang-14 libclang-rt-14-dev)
   # node and npm run the independent-client interop test; a node installed outside apt is fine.
   if ! command -v node >/dev/null || ! command -v npm >/dev/null; then pkgs+=(nodejs npm); fi
 fi

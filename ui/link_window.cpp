@@ -47,12 +47,7 @@ void LinkWindow::draw(const GuiSnapshot& s, ViewState& v) {
             "age", [&](const StreamHealth& h) { return fmt(0, h.age_ms, "ms"); },
             [](const StreamHealth& h) { return known(h.age_ms) && h.age_ms > 500; });
         rowf(
-            "bytes /s",
-            [&](const StreamHealth& h) {
-                std::string b = format_bytes(h.bytes_per_s);
-                if (h.bytes_estimated && known(h.bytes_per_s)) b.insert(b.begin(), '~');
-                return b;
-            },
+            "bytes /s", [&](const StreamHealth& h) { return format_bytes(h.bytes_per_s); },
             [](const StreamHealth&) { return false; });
         rowf(
             "packets", [&](const StreamHealth& h) { return cnt(h.packets); },
@@ -75,7 +70,7 @@ void LinkWindow::draw(const GuiSnapshot& s, ViewState& v) {
         ImGui::EndTable();
         ImGui::PushTextWrapPos(0.0f);
         ImGui::TextColored(colors::v4(colors::kDim),
-                           "rate: navdata packets, video frames, AT datagrams; ~: estimated");
+                           "rate: navdata packets, video frames, AT datagrams");
         ImGui::PopTextWrapPos();
     }
     ImGui::TextColored(

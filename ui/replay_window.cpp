@@ -50,6 +50,11 @@ void ReplayWindow::draw(const GuiSnapshot& s, ViewState& v, Actions& a) {
         ImGui::End();
         return;
     }
+    for (const auto& m : r.missing_inputs) {
+        ImGui::PushStyleColor(ImGuiCol_Text, colors::v4(colors::kWarn));
+        ImGui::TextWrapped("%s", m.c_str());
+        ImGui::PopStyleColor();
+    }
     if (ImGui::Button("|<")) a.replay_seek = 0;
     ImGui::SameLine();
     if (ImGui::Button("<")) a.replay_step = -1;

@@ -56,8 +56,7 @@ struct StreamHealth {
     // items received: falls to 0 when they stop.
     double rate_hz = kUnknown;
     double age_ms = kUnknown;  // time since the last packet
-    double bytes_per_s = kUnknown;
-    bool bytes_estimated = false;  // bytes_per_s is computed, not counted (shown as "~")
+    double bytes_per_s = kUnknown;  // counted by the link
     std::uint64_t packets = 0;
     std::uint64_t gaps = 0;   // sequence gaps (missing sequence numbers)
     std::uint64_t drops = 0;  // dropped on our side (queue full, late, reordered)
@@ -287,6 +286,7 @@ struct ReplayStatus {
     double speed = 1.0;
     bool loop = false;
     std::string error;
+    std::vector<std::string> missing_inputs;  // what the classifier lacks in this dataset
 };
 
 // ---- Camera calibration mode --------------------------------------------------------------

@@ -37,6 +37,8 @@ const char* to_string(UnknownReason r) {
             return "video stale";
         case UnknownReason::Gap:
             return "frames missing";
+        case UnknownReason::DamagedFrame:
+            return "damaged frame (concealed by the decoder)";
     }
     return "?";
 }
@@ -88,6 +90,7 @@ void TrackingClassifier::reset() {
     prev_attitude_ = {};
     for (PlotSeries& s : result_.series) s.points.clear();
     result_.regions = {};
+    result_.rejected_steps = 0;
     result_.overlay.clear();
     result_.traces.clear();
     on_reset();
@@ -124,6 +127,13 @@ cv::Point2f TrackingClassifier::stab_to_raw(cv::Point2f stab) const {
 const FrameResult& TrackingClassifier::process(const FrameInput& in) {
     const auto t_total = StageClock::now();
     if (in.image.empty()) return result_;
+    // A frame no later than the previous one (equal capture times in a dataset, a clock that
+    // stepped back) has no time step to measure motion over: it is rejected, the decisions stay
+    // as they were, and it never raises an alarm (issue 14 point 3).
+    if (have_prev_ && in.t_ns <= prev_t_ns_) {
+        ++result_.rejected_steps;
+        return result_;
+    }
     if (calib_.width != in.image.cols || calib_.height != in.image.rows) {
         calib_ = base_calib_.scaled_to(in.image.cols, in.image.rows);
         tracker_.configure(calib_, tracker_params());
@@ -142,7 +152,23 @@ const FrameResult& TrackingClassifier::process(const FrameInput& in) {
 
     auto t0 = StageClock::now();
     track_score_.assign(tracker_.tracks().size(), kUnknown);
+    std::array<bool, 3> was_unsafe{};
+    for (Region r : kRegions) {
+        const auto i = static_cast<std::size_t>(r);
+        was_unsafe[i] = result_.regions[i].valid && result_.regions[i].unsafe;
+    }
     classify(in);
+    if (in.concealed) {
+        // Less trust in a damaged frame: it may keep an alarm, not raise one.
+        for (Region r : kRegions) {
+            RegionDecision& d = result_.regions[static_cast<std::size_t>(r)];
+            if (d.unsafe && !was_unsafe[static_cast<std::size_t>(r)]) {
+                d.unsafe = false;
+                d.valid = false;
+                d.unknown = UnknownReason::DamagedFrame;
+            }
+        }
+    }
     for (Region r : kRegions) {
         const auto i = static_cast<std::size_t>(r);
         plot(s_score_[i], result_.regions[i].score);

@@ -32,6 +32,9 @@ struct FrameInput {
     // ground, NaN = unknown. Only "flow" uses them.
     double vx_mps = kUnknown, vy_mps = kUnknown, vz_mps = kUnknown;
     double altitude_m = kUnknown;
+    // Decoded with damage the video decoder concealed: tracked as usual, but it cannot turn a
+    // region unsafe by itself (the region is unknown, DamagedFrame, until a clean frame agrees).
+    bool concealed = false;
 };
 
 enum class Region : int { Left = 0, Centre = 1, Right = 2 };
@@ -50,6 +53,7 @@ enum class UnknownReason : std::uint8_t {
     Rotating,      // rotating too fast to tell expansion from rotation
     StaleVideo,    // (session) the newest frame is older than the staleness limit
     Gap,           // (session) frames missing before this one (link loss, replay gap)
+    DamagedFrame,  // the frame was decoded with concealed damage: it alone cannot raise an alarm
 };
 const char* to_string(UnknownReason r);  // short, for a tooltip: "too few tracked points"
 
@@ -82,6 +86,8 @@ struct FrameResult {
     std::int64_t t_ns = 0;
     std::array<RegionDecision, 3> regions{};
     int tracks = 0, tracks_added = 0, tracks_ended = 0;
+    // Frames refused because their time was not after the previous frame's (since reset()).
+    std::int64_t rejected_steps = 0;
     Overlay overlay;
     std::vector<PlotSeries> series;       // fixed set per classifier, x = frame index
     std::vector<TrajectoryTrace> traces;  // the longest live trajectories

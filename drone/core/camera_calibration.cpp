@@ -1,4 +1,5 @@
 #include "drone/core/camera_calibration.hpp"
+#include "drone/core/json_text.hpp"
 
 #include "drone/core/file_io.hpp"
 
@@ -155,15 +156,25 @@ CalibrationInfo notes_from_json(const json& obj, const json* root) {
 
 }  // namespace
 
+namespace {
+Expected<CalibrationDocument, FileError> read_calibration_document(std::string_view text,
+                                                                   const std::string& name,
+                                                                   const json& root);
+}  // namespace
+
 Expected<CalibrationDocument, FileError> parse_calibration(std::string_view text,
                                                            const std::string& name) {
-    json root;
-    try {
-        root = json::parse(text);
-    } catch (const json::parse_error& e) {
-        return Unexpected(FileError{FileErrorCode::Malformed, name, 0, 0,
-                                    std::string("invalid JSON: ") + e.what()});
-    }
+    // Every nlohmann exception stops at this boundary (a number overflowing a double is
+    // out_of_range, not parse_error): the error names the file, the key and its position.
+    GS_TRY_ASSIGN(const json root, parse_json_text(std::string(text), name));
+    return json_boundary(name, [&] { return read_calibration_document(text, name, root); });
+}
+
+namespace {
+
+Expected<CalibrationDocument, FileError> read_calibration_document(std::string_view text,
+                                                                   const std::string& name,
+                                                                   const json& root) {
     // A flight.json: the calibration object sits under "calibration", the size at the top.
     const bool nested = root.is_object() && root.contains("calibration");
     const json& obj = nested ? root["calibration"] : root;
@@ -194,6 +205,8 @@ Expected<CalibrationDocument, FileError> parse_calibration(std::string_view text
     }
     return doc;
 }
+
+}  // namespace
 
 Expected<CalibrationDocument, FileError> load_calibration_document(const fs::path& file) {
     const std::string name = file.string();

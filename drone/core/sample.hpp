@@ -46,6 +46,9 @@ struct FrameSample {
     std::optional<std::uint32_t> pave_timestamp_ms;
     cv::Mat image;  // BGR8, display size; shared, never deep-copied along the pipeline
     NavState nav;   // attitude etc. at capture time
+    // Decoded with damage the decoder concealed (lost or corrupt slices filled in from other
+    // frames): shown and classified, but trusted less (it cannot raise an alarm by itself).
+    bool concealed = false;
 };
 
 }  // namespace gs::inline core

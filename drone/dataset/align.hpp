@@ -4,10 +4,12 @@
 // stream has nothing on one side. Frames come out in the order they went in. Pure: times are
 // stream times (ns from the start of the flight), no clock.
 
+#include "drone/core/nav_timeline.hpp"
 #include "drone/core/sample.hpp"
 
 #include <cstdint>
 #include <deque>
+#include <vector>
 
 namespace gs::dataset {
 
@@ -16,9 +18,9 @@ public:
     // A frame waits at most `max_wait_ns` of stream time for the navdata sample after it; then it
     // takes the latest sample (video can lag navdata, navdata can stop).
     explicit NavAligner(TimeNs max_wait_ns = 500'000'000, std::size_t history = 1024)
-        : max_wait_ns_(max_wait_ns), history_cap_(history) {}
+        : max_wait_ns_(max_wait_ns), navs_(history) {}
 
-    void push_nav(const NavState& s);  // in time order
+    void push_nav(const NavState& s) { navs_.push(s); }  // in time order
     void push_frame(std::int64_t index, TimeNs capture_ns);
     // The oldest frame whose state is settled, given that the stream has reached `now_ns`.
     [[nodiscard]] bool pop_ready(TimeNs now_ns, std::int64_t& index, NavState& nav);
@@ -27,14 +29,12 @@ public:
     std::size_t pending() const { return frames_.size(); }
 
 private:
-    NavState state_at(TimeNs t) const;
     struct Pending {
         std::int64_t index;
         TimeNs capture_ns;
     };
     TimeNs max_wait_ns_;
-    std::size_t history_cap_;
-    std::deque<NavState> navs_;
+    NavTimeline navs_;
     std::deque<Pending> frames_;
     bool finished_ = false;
 };

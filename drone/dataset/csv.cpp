@@ -1,6 +1,8 @@
 #include "drone/dataset/csv.hpp"
 #include "drone/core/unknown.hpp"
 
+#include "drone/dataset/value_rules.hpp"
+
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -64,7 +66,8 @@ std::string shown(std::string_view f) {
 
 }  // namespace
 
-Expected<Table, FileError> Table::parse(std::string text, std::string file) {
+Expected<Table, FileError> Table::parse(std::string text, std::string file,
+                                        bool tolerate_cut_tail) {
     Table t;
     t.text_ = std::move(text);
     t.file_ = std::move(file);
@@ -110,6 +113,13 @@ Expected<Table, FileError> Table::parse(std::string text, std::string file) {
             continue;
         }
         if (fields.size() != t.header_.size()) {
+            if (tolerate_cut_tail && nl == std::string_view::npos) {
+                t.cut_tail_warning_ = t.file_ + ":" + std::to_string(line_no) +
+                                      ": incomplete last line (" + std::to_string(fields.size()) +
+                                      " of " + std::to_string(t.header_.size()) +
+                                      " fields, no newline) ignored: the recording was cut short";
+                break;
+            }
             return Unexpected(
                 FileError{FileErrorCode::Malformed, t.file_, line_no,
                           static_cast<int>(std::min(fields.size(), t.header_.size()) + 1),
@@ -117,6 +127,7 @@ Expected<Table, FileError> Table::parse(std::string text, std::string file) {
                               std::to_string(fields.size())});
         }
         t.rows_.push_back(Row{line_no, fields});
+        t.last_unterminated_ = nl == std::string_view::npos;
     }
     if (!have_header) {
         return Unexpected(FileError{FileErrorCode::Malformed, t.file_, 0, 0,
@@ -143,8 +154,22 @@ Expected<double, FileError> Table::number(std::size_t row, std::size_t col) cons
     if (g.size() > 1 && g.front() == '+') g.remove_prefix(1);
     double v = 0.0;
     auto [p, ec] = std::from_chars(g.data(), g.data() + g.size(), v);
+    if (ec == std::errc::result_out_of_range && p == g.data() + g.size())
+        return Unexpected(error_at(row, col, "'" + shown(f) + "' is out of the range of a double"));
     if (ec != std::errc() || p != g.data() + g.size()) {
         return Unexpected(error_at(row, col, "expected a number, got '" + shown(f) + "'"));
+    }
+    // DATASET.md 1.1: nan and inf are malformed (an empty cell is how unknown is written).
+    if (!std::isfinite(v))
+        return Unexpected(error_at(
+            row, col,
+            "expected a finite number, got '" + shown(f) + "' (leave the cell empty for unknown)"));
+    if (auto b = value_bounds(header_[col]); b && (v < b->lo || v > b->hi)) {
+        auto e = error_at(row, col,
+                          shown(f) + " is outside [" + format_number(b->lo) + ", " +
+                              format_number(b->hi) + "] " + std::string(b->unit));
+        e.code = FileErrorCode::OutOfRange;
+        return Unexpected(e);
     }
     return v;
 }

@@ -22,7 +22,16 @@ public:
     // `file` names the file in errors. Accepts LF or CRLF, a trailing newline or not, blank lines
     // (skipped) and double-quoted fields. A row with a different field count than the header is
     // an error naming its line.
-    static Expected<Table, FileError> parse(std::string text, std::string file);
+    //
+    // With `tolerate_cut_tail` (files a recording cut short may end mid-line: DATASET.md 1.1's
+    // navdata.csv), a last line that has no newline and the wrong number of fields is left out
+    // and described by cut_tail_warning() instead of refusing the file.
+    static Expected<Table, FileError> parse(std::string text, std::string file,
+                                            bool tolerate_cut_tail = false);
+    // "navdata.csv:220: incomplete last line (3 of 12 fields, no newline) ignored", or empty.
+    const std::string& cut_tail_warning() const { return cut_tail_warning_; }
+    // True when the last row's line has no newline (the file may have been cut inside it).
+    bool last_row_unterminated() const { return last_unterminated_; }
 
     // Index of a header column, or nullopt when absent.
     std::optional<std::size_t> column(std::string_view name) const;
@@ -34,8 +43,9 @@ public:
     int line_of(std::size_t row) const { return rows_[row].line; }
     const std::string& file() const { return file_; }
 
-    // Field as a double: empty = NaN; otherwise the whole field must be a number (decimal,
-    // exponent, "nan", "inf" are accepted). Errors carry file:line:column.
+    // Field as a double: empty = NaN (unknown); otherwise the whole field must be a finite
+    // decimal number within the column's physical bounds (DATASET.md 1.1, value_rules.hpp):
+    // "nan", "inf" and numbers overflowing a double are refused. Errors carry file:line:column.
     Expected<double, FileError> number(std::size_t row, std::size_t col) const;
     // Field as a signed integer (required, no fraction).
     Expected<std::int64_t, FileError> integer(std::size_t row, std::size_t col) const;
@@ -55,6 +65,8 @@ private:
     std::string file_;
     std::vector<std::string> header_;
     std::vector<Row> rows_;
+    std::string cut_tail_warning_;
+    bool last_unterminated_ = false;
 };
 
 // Shortest text that reads back to exactly `v`; empty for NaN.

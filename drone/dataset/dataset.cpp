@@ -1,5 +1,6 @@
 #include "drone/dataset/dataset.hpp"
 
+#include "drone/core/json_text.hpp"
 #include "drone/dataset/annexb.hpp"
 #include "drone/dataset/csv.hpp"
 
@@ -34,19 +35,6 @@ namespace {
 
 FileError err(FileErrorCode code, std::string file, std::string msg, int line = 0, int col = 0) {
     return FileError{code, std::move(file), line, col, std::move(msg)};
-}
-
-Expected<json, FileError> parse_json(const std::string& text, const std::string& file) {
-    try {
-        return json::parse(text);
-    } catch (const json::parse_error& e) {
-        auto [l, c] = text_line_col(text, e.byte > 0 ? e.byte - 1 : 0);
-        std::string what = e.what();
-        // nlohmann's message repeats the position; keep the part after "syntax error ".
-        const auto k = what.find("syntax error");
-        if (k != std::string::npos) what = what.substr(k);
-        return Unexpected(err(FileErrorCode::Malformed, file, "invalid JSON: " + what, l, c));
-    }
 }
 
 class JsonFields {
@@ -177,12 +165,14 @@ Expected<DatasetLabels, FileError> read_labels(const fs::path& dir, const Datase
     return out;
 }
 
-Expected<DatasetInfo, FileError> parse_flight_json(const std::string& text,
-                                                   const DatasetLimits& limits,
-                                                   std::vector<std::string>* warnings) {
+namespace {
+Expected<DatasetInfo, FileError> read_flight_json(const std::string& text,
+                                                  const DatasetLimits& limits,
+                                                  std::vector<std::string>* warnings) {
     const std::string file = "flight.json";
-    GS_TRY_ASSIGN(auto jr, parse_json(text, file));
-    const json& j = jr;
+    auto jr = parse_json_text(text, file);
+    if (!jr) return Unexpected(jr.error());
+    const json& j = *jr;
     if (!j.is_object())
         return Unexpected(err(FileErrorCode::Malformed, file, "expected a JSON object", 1, 1));
     JsonFields f(j, text, file);
@@ -259,6 +249,14 @@ Expected<DatasetInfo, FileError> parse_flight_json(const std::string& text,
     if (!unknown.empty() && warnings)
         warnings->push_back("flight.json: unknown keys ignored: " + unknown);
     return info;
+}
+
+}  // namespace
+
+Expected<DatasetInfo, FileError> parse_flight_json(const std::string& text,
+                                                   const DatasetLimits& limits,
+                                                   std::vector<std::string>* warnings) {
+    return json_boundary("flight.json", [&] { return read_flight_json(text, limits, warnings); });
 }
 
 namespace {
@@ -351,9 +349,12 @@ Expected<std::vector<FrameRow>, FileError> parse_frames_csv(std::string text) {
     return rows;
 }
 
-Expected<std::vector<NavState>, FileError> parse_navdata_csv(std::string text) {
-    GS_TRY_ASSIGN(auto tr, csv::Table::parse(std::move(text), "navdata.csv"));
-    const csv::Table& t = tr;
+Expected<std::vector<NavState>, FileError> parse_navdata_csv(std::string text,
+                                                             std::vector<std::string>* warnings) {
+    auto tr = csv::Table::parse(std::move(text), "navdata.csv", /*tolerate_cut_tail=*/true);
+    if (!tr) return Unexpected(tr.error());
+    const csv::Table& t = *tr;
+    if (warnings && !t.cut_tail_warning().empty()) warnings->push_back(t.cut_tail_warning());
     if (auto e = require_columns(t, {"t_ms"})) return Unexpected(*e);
     const NavColumns nc = nav_columns(t);
     const auto seq = t.column("seq"), state = t.column("state"), ctrl = t.column("ctrl_state"),
@@ -361,34 +362,62 @@ Expected<std::vector<NavState>, FileError> parse_navdata_csv(std::string text) {
     std::vector<NavState> rows;
     rows.reserve(t.rows());
     TimeNs prev = 0;
+    // A recording cut short may end inside its last line; when that line is refused it is
+    // left out with a warning rather than failing the whole file (DATASET.md 1.1).
+    auto cut_tail = [&](std::size_t r, const FileError& e) {
+        if (r + 1 != t.rows() || !t.last_row_unterminated()) return false;
+        if (warnings)
+            warnings->push_back(to_string(e) + " (incomplete last line, no newline: ignored)");
+        return true;
+    };
     for (std::size_t r = 0; r < t.rows(); ++r) {
         NavState s;
-        if (auto e = read_nav(t, nc, r, s, prev)) return Unexpected(*e);
+        if (auto e = read_nav(t, nc, r, s, prev)) {
+            if (cut_tail(r, *e)) break;
+            return Unexpected(*e);
+        }
         prev = s.t_ns;
         if (seq) {
-            GS_TRY_ASSIGN(auto v, t.u32(r, *seq, false, false));
-            s.seq = v;
+            auto v = t.u32(r, *seq, false, false);
+            if (!v) {
+                if (cut_tail(r, v.error())) break;
+                return Unexpected(v.error());
+            }
+            s.seq = *v;
         }
         if (state) {
-            GS_TRY_ASSIGN(auto v, t.u32(r, *state, true, true));
-            s.drone_state = v;
+            auto v = t.u32(r, *state, true, true);
+            if (!v) {
+                if (cut_tail(r, v.error())) break;
+                return Unexpected(v.error());
+            }
+            s.drone_state = *v;
         }
         if (ctrl) {
-            GS_TRY_ASSIGN(auto v, t.u32(r, *ctrl, true, false));
-            s.ctrl_state = v;
+            auto v = t.u32(r, *ctrl, true, false);
+            if (!v) {
+                if (cut_tail(r, v.error())) break;
+                return Unexpected(v.error());
+            }
+            s.ctrl_state = *v;
         }
         if (batt) {
-            GS_TRY_ASSIGN(auto v, t.number(r, *batt));
-            s.battery_pct = v;
+            auto v = t.number(r, *batt);
+            if (!v) {
+                if (cut_tail(r, v.error())) break;
+                return Unexpected(v.error());
+            }
+            s.battery_pct = *v;
         }
         rows.push_back(s);
     }
     return rows;
 }
 
-Expected<FlightLabels, FileError> parse_labels_json(const std::string& text) {
+namespace {
+Expected<FlightLabels, FileError> read_labels_json(const std::string& text) {
     const std::string file = "labels.json";
-    GS_TRY_ASSIGN(auto jr, parse_json(text, file));
+    GS_TRY_ASSIGN(auto jr, parse_json_text(text, file));
     if (!jr.is_object())
         return Unexpected(err(FileErrorCode::Malformed, file, "expected a JSON object", 1, 1));
     JsonFields f(jr, text, file);
@@ -410,9 +439,16 @@ Expected<FlightLabels, FileError> parse_labels_json(const std::string& text) {
     return l;
 }
 
+}  // namespace
+
+Expected<FlightLabels, FileError> parse_labels_json(const std::string& text) {
+    return json_boundary("labels.json", [&] { return read_labels_json(text); });
+}
+
 Expected<std::vector<LabelRow>, FileError> parse_labels_csv(std::string text) {
-    GS_TRY_ASSIGN(auto tr, csv::Table::parse(std::move(text), "labels.csv"));
-    const csv::Table& t = tr;
+    auto tr = csv::Table::parse(std::move(text), "labels.csv");
+    if (!tr) return Unexpected(tr.error());
+    const csv::Table& t = *tr;
     if (auto e = require_columns(t, {"frame", "distance_m"})) return Unexpected(*e);
     const auto fc = *t.column("frame"), dc = *t.column("distance_m");
     const auto lc = t.column("lateral_m");
@@ -623,11 +659,14 @@ Expected<Dataset, FileError> Dataset::open(const fs::path& dir, const DatasetOpe
         d.calibration_is_default_ = true;
     }
 
-    GS_TRY_ASSIGN(auto navdata_path, resolve_fixed(dir, "navdata.csv"));
-    if (fs::exists(navdata_path, ec)) {
-        GS_TRY_ASSIGN(auto text, read_text_file(navdata_path, "navdata.csv", lim.max_csv_bytes));
-        GS_TRY_ASSIGN(auto nav, parse_navdata_csv(std::move(text)));
-        d.navdata_ = std::move(nav);
+    auto navdata_path = resolve_fixed(dir, "navdata.csv");
+    if (!navdata_path) return Unexpected(navdata_path.error());
+    if (fs::exists(*navdata_path, ec)) {
+        auto text = read_text_file(*navdata_path, "navdata.csv", lim.max_csv_bytes);
+        if (!text) return Unexpected(text.error());
+        auto nav = parse_navdata_csv(std::move(*text), &d.warnings_);
+        if (!nav) return Unexpected(nav.error());
+        d.navdata_ = std::move(*nav);
         d.has_navdata_ = true;
     }
     GS_TRY_ASSIGN(auto labels, read_labels(dir, lim));

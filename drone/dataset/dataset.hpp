@@ -1,7 +1,7 @@
 #pragma once
 // Reading a flight dataset (the format of DATASET.md, version 1): flight.json, frames.csv,
 // navdata.csv, labels.*, and where the frames are (video.h264 and/or frames/). Opening validates
-// everything that is cheap to validate and reports the first problem as a DatasetError naming the
+// everything that is cheap to validate and reports the first problem as a FileError naming the
 // file, line and column. No file is read outside the dataset directory: neither the paths named
 // in flight.json nor the fixed names (navdata.csv, labels.*, raw/ ...) may lead out of it through
 // ".." or symlinks. Pixels are not read here: see frame_store.hpp.
@@ -140,7 +140,9 @@ Expected<DatasetInfo, FileError> parse_flight_json(const std::string& text,
                                                    const DatasetLimits& limits = {},
                                                    std::vector<std::string>* warnings = nullptr);
 Expected<std::vector<FrameRow>, FileError> parse_frames_csv(std::string text);
-Expected<std::vector<NavState>, FileError> parse_navdata_csv(std::string text);
+// A last line cut short (no newline, too few fields) is left out with a warning in `warnings`.
+Expected<std::vector<NavState>, FileError> parse_navdata_csv(
+    std::string text, std::vector<std::string>* warnings = nullptr);
 Expected<FlightLabels, FileError> parse_labels_json(const std::string& text);
 Expected<std::vector<LabelRow>, FileError> parse_labels_csv(std::string text);
 

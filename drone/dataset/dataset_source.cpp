@@ -53,6 +53,7 @@ SourceStatus DatasetSource::deliver(FrameSample& out) {
     out.frame_number.reset();
     out.image = image_;
     out.nav = row.nav;
+    out.concealed = frames_->last_concealed();
     ++next_frame_;
     return SourceStatus::Sample;
 }

@@ -17,6 +17,8 @@ public:
     virtual std::int64_t count() const = 0;
     // Frame `index` into `out` (reused when the size matches). nullopt on success.
     [[nodiscard]] virtual std::optional<FileError> read(std::int64_t index, cv::Mat& out) = 0;
+    // The frame read last was decoded with concealed damage (video only).
+    virtual bool last_concealed() const { return false; }
 };
 
 // Frames from the dataset's image files (frames/ or a thesis folder). Each image must decode and

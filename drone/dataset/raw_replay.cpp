@@ -1,11 +1,61 @@
 #include "drone/dataset/raw_replay.hpp"
 
 #include "drone/dataset/align.hpp"
+#include "drone/dataset/csv.hpp"
 #include "drone/dataset/raw.hpp"
 
 #include <fstream>
 
 namespace gs::dataset {
+
+Expected<std::vector<VideoConnection>, FileError> parse_video_connections(std::string text) {
+    auto t = csv::Table::parse(std::move(text), "raw/video_connections.csv", true);
+    if (!t) return Unexpected(t.error());
+    const auto oc = t->column("offset"), tc = t->column("t_us");
+    if (!oc || !tc)
+        return Unexpected(FileError{FileErrorCode::Missing, "raw/video_connections.csv", 1, 0,
+                                    "expected the columns offset,t_us"});
+    std::vector<VideoConnection> out;
+    for (std::size_t r = 0; r < t->rows(); ++r) {
+        auto o = t->integer(r, *oc);
+        auto tu = t->integer(r, *tc);
+        if (!o || !tu) {
+            if (r + 1 == t->rows() && t->last_row_unterminated()) break;  // cut short
+            return Unexpected(!o ? o.error() : tu.error());
+        }
+        if (*o < 0 || (!out.empty() && static_cast<std::uint64_t>(*o) < out.back().offset))
+            return Unexpected(t->error_at(r, *oc, "offsets must not decrease"));
+        out.push_back({static_cast<std::uint64_t>(*o), *tu});
+    }
+    return out;
+}
+
+Expected<std::vector<RecordedCapture>, FileError> parse_capture_times(std::string text) {
+    auto t = csv::Table::parse(std::move(text), "raw/capture_times.csv", true);
+    if (!t) return Unexpected(t.error());
+    const auto fc = t->column("frame_number"), sc = t->column("timestamp_ms"),
+               tc = t->column("t_us");
+    if (!fc || !sc || !tc)
+        return Unexpected(FileError{FileErrorCode::Missing, "raw/capture_times.csv", 1, 0,
+                                    "expected the columns frame_number,timestamp_ms,t_us"});
+    std::vector<RecordedCapture> out;
+    for (std::size_t r = 0; r < t->rows(); ++r) {
+        auto f = t->u32(r, *fc, false, false);
+        auto s = t->u32(r, *sc, false, false);
+        auto tu = t->integer(r, *tc);
+        if (!f || !s || !tu || !*f || !*s) {
+            if (r + 1 == t->rows() && t->last_row_unterminated()) break;  // cut short
+            if (!f) return Unexpected(f.error());
+            if (!s) return Unexpected(s.error());
+            if (!tu) return Unexpected(tu.error());
+            return Unexpected(t->error_at(r, *fc, "empty field"));
+        }
+        if (*tu < -(std::int64_t{1} << 50) || *tu > (std::int64_t{1} << 50))
+            return Unexpected(t->error_at(r, *tc, "time out of range"));
+        out.push_back({**f, **s, *tu * 1000});
+    }
+    return out;
+}
 
 Expected<std::vector<FrameRow>, FileError> replay_raw(const std::filesystem::path& raw_dir,
                                                       RawReplayDecoders& dec,
@@ -23,6 +73,29 @@ Expected<std::vector<FrameRow>, FileError> replay_raw(const std::filesystem::pat
             return Unexpected(
                 FileError{FileErrorCode::Missing, "raw/video.pave", 0, 0, "file not found"});
     }
+    // Connection boundaries and recorded capture times (DATASET.md 1.1; both optional).
+    std::vector<VideoConnection> connections;
+    if (std::filesystem::exists(raw_dir / "video_connections.csv", ec)) {
+        auto p = raw_file_path(raw_dir, "video_connections.csv");
+        if (!p) return Unexpected(p.error());
+        auto text = read_text_file(*p, "raw/video_connections.csv", 64u << 20);
+        if (!text) return Unexpected(text.error());
+        auto c = parse_video_connections(std::move(*text));
+        if (!c) return Unexpected(c.error());
+        connections = std::move(*c);
+    }
+    if (std::filesystem::exists(raw_dir / "capture_times.csv", ec) && dec.capture_times) {
+        auto p = raw_file_path(raw_dir, "capture_times.csv");
+        if (!p) return Unexpected(p.error());
+        auto text = read_text_file(*p, "raw/capture_times.csv", 256u << 20);
+        if (!text) return Unexpected(text.error());
+        auto c = parse_capture_times(std::move(*text));
+        if (!c) return Unexpected(c.error());
+        dec.capture_times(std::move(*c));
+    }
+    std::size_t next_connection = 0;
+    std::uint64_t pave_offset = 0;  // of the next chunk in raw/video.pave
+
     NavAligner aligner(max_nav_wait_ns);
     std::vector<FrameRow> rows;
     std::vector<TimeNs> captured;
@@ -43,7 +116,7 @@ Expected<std::vector<FrameRow>, FileError> replay_raw(const std::filesystem::pat
         if (take_nav) {
             const TimeNs t = recs[ni].t_us * 1000;
             latest = std::max(latest, t);
-            if (auto s = dec.navdata ? dec.navdata(recs[ni].payload) : std::nullopt) {
+            if (auto s = dec.navdata ? dec.navdata(recs[ni].payload, t) : std::nullopt) {
                 s->t_ns = t;
                 aligner.push_nav(*s);
             }
@@ -56,9 +129,27 @@ Expected<std::vector<FrameRow>, FileError> replay_raw(const std::filesystem::pat
             pave.read(reinterpret_cast<char*>(buf.data()), c.length);
             if (static_cast<std::size_t>(pave.gcount()) != c.length) break;  // killed mid-chunk
             captured.clear();
-            if (dec.video) dec.video(buf, t, captured);
+            // Connections that begin inside this chunk (normally at its first byte): the bytes
+            // before and after the boundary go to different connections, never joined.
+            std::size_t fed = 0;
+            while (next_connection < connections.size() &&
+                   connections[next_connection].offset < pave_offset + c.length) {
+                const VideoConnection& vc = connections[next_connection++];
+                if (vc.offset == 0 && next_connection == 1) continue;  // the first one: implied
+                const std::size_t cut = static_cast<std::size_t>(
+                    std::max<std::uint64_t>(vc.offset, pave_offset) - pave_offset);
+                if (dec.video && cut > fed)
+                    dec.video(std::span(buf).subspan(fed, cut - fed), t, captured);
+                fed = std::max(fed, cut);
+                if (dec.begin_connection) dec.begin_connection(vc.t_us * 1000);
+            }
+            pave_offset += c.length;
+            if (dec.video && fed < buf.size()) dec.video(std::span(buf).subspan(fed), t, captured);
             for (TimeNs cap : captured) {
-                cap = std::max(cap, last_frame);
+                cap = cap >= 0 ? cap / 1000 * 1000 : -((-cap + 999) / 1000 * 1000);  // whole us
+                // As the writer does: frames.csv times strictly increase (1 us apart at least).
+                if (!(rows.empty() && aligner.pending() == 0) && cap <= last_frame)
+                    cap = last_frame + 1000;
                 last_frame = cap;
                 aligner.push_frame(static_cast<std::int64_t>(rows.size() + aligner.pending()), cap);
                 latest = std::max(latest, cap);

@@ -14,12 +14,26 @@
 
 namespace gs::dataset {
 
+// A PaVE frame's capture time as the recording's live receiver gave it (raw/capture_times.csv).
+struct RecordedCapture {
+    std::uint32_t frame_number = 0;
+    std::uint32_t pave_timestamp_ms = 0;
+    TimeNs t_ns = 0;  // stream time
+};
+
 struct RawReplayDecoders {
-    // One navdata datagram -> its state (nullopt when it does not parse; it is then skipped).
-    std::function<std::optional<NavState>(std::span<const std::uint8_t>)> navdata;
+    // One navdata datagram -> its state when the link would have accepted it (nullopt when it
+    // does not parse, or is a duplicate or a late packet: it is then skipped, as navdata.csv
+    // holds only what the link accepted).
+    // `recv_ns` is its receive time (stream ns).
+    std::function<std::optional<NavState>(std::span<const std::uint8_t>, TimeNs recv_ns)> navdata;
     // A chunk of the video stream received at stream time `recv_ns`; appends the capture time
     // (stream ns) of every frame the chunk completed that the recorder would have written.
     std::function<void(std::span<const std::uint8_t>, TimeNs recv_ns, std::vector<TimeNs>&)> video;
+    // A new video connection begins with the next chunk (raw/video_connections.csv).
+    std::function<void(TimeNs opened_ns)> begin_connection;
+    // The capture times the recording used (raw/capture_times.csv), when it has them.
+    std::function<void(std::vector<RecordedCapture>)> capture_times;
 };
 
 // The real protocol parsers, mirroring what a recording keeps: every navdata datagram that
@@ -31,7 +45,18 @@ RawReplayDecoders make_protocol_replay_decoders();
 // One navdata datagram as the recorder stores it in navdata.csv (nullopt when it does not parse).
 std::optional<NavState> navdata_state(std::span<const std::uint8_t> datagram);
 
-// Replays `raw_dir` (raw/navdata.bin, raw/video.pave, raw/video_chunks.bin) into frames.csv rows.
+// raw/video_connections.csv: the byte offsets in raw/video.pave where each connection begins and
+// when it opened (DATASET.md 1.1). Absent: one connection (offset 0). A cut last line is ignored.
+struct VideoConnection {
+    std::uint64_t offset = 0;
+    std::int64_t t_us = 0;
+};
+Expected<std::vector<VideoConnection>, FileError> parse_video_connections(std::string text);
+// raw/capture_times.csv (an extension of this recorder); a cut last line is ignored.
+Expected<std::vector<RecordedCapture>, FileError> parse_capture_times(std::string text);
+
+// Replays `raw_dir` (raw/navdata.bin, raw/video.pave, raw/video_chunks.bin, and when present
+// raw/video_connections.csv and raw/capture_times.csv) into frames.csv rows.
 Expected<std::vector<FrameRow>, FileError> replay_raw(const std::filesystem::path& raw_dir,
                                                       RawReplayDecoders& decoders,
                                                       TimeNs max_nav_wait_ns = 500'000'000);

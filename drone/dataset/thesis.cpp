@@ -1,6 +1,8 @@
 #include "drone/dataset/thesis.hpp"
 
+#include "drone/core/json_text.hpp"
 #include "drone/dataset/csv.hpp"
+#include "drone/dataset/value_rules.hpp"
 #include "drone/dataset/writer.hpp"
 
 #include <nlohmann/json.hpp>
@@ -83,12 +85,21 @@ Expected<std::vector<ImuLine>, FileError> parse_imu(const std::string& text,
             std::string_view tok = line.substr(i, e - i);
             if (tok.size() > 1 && tok.front() == '+') tok.remove_prefix(1);
             auto [p, ec] = std::from_chars(tok.data(), tok.data() + tok.size(), v[n]);
-            if (ec != std::errc() || p != tok.data() + tok.size())
-                return Unexpected(
-                    derr(FileErrorCode::Malformed, name,
-                         "expected a number, got '" +
-                             std::string(line.substr(i, std::min<std::size_t>(e - i, 40))) + "'",
-                         line_no, col));
+            const std::string shown(line.substr(i, std::min<std::size_t>(e - i, 40)));
+            // "nan" is how this layout writes unknown (export_thesis); infinities are malformed.
+            if (ec != std::errc() || p != tok.data() + tok.size() || std::isinf(v[n]))
+                return Unexpected(derr(FileErrorCode::Malformed, name,
+                                       "expected a finite number or nan, got '" + shown + "'",
+                                       line_no, col));
+            // The value rules of frames.csv (DATASET.md 1.1) hold for the same quantities here.
+            static constexpr std::string_view kColumns[5] = {"roll_deg", "pitch_deg", "yaw_deg",
+                                                             "vx_mps", "vy_mps"};
+            if (auto b = value_bounds(kColumns[n]); b && (v[n] < b->lo || v[n] > b->hi))
+                return Unexpected(derr(FileErrorCode::OutOfRange, name,
+                                       std::string(kColumns[n]) + ": " + shown + " is outside [" +
+                                           csv::format_number(b->lo) + ", " +
+                                           csv::format_number(b->hi) + "] " + std::string(b->unit),
+                                       line_no, col));
             ++n;
             i = e;
         }
@@ -114,13 +125,9 @@ Expected<ThesisMeta, FileError> parse_thesis_meta(const std::string& text,
                                                   const DatasetLimits& limits,
                                                   std::vector<std::string>& warnings) {
     const std::string file = kThesisMetaFile;
-    nlohmann::json j;
-    try {
-        j = nlohmann::json::parse(text);
-    } catch (const nlohmann::json::parse_error& e) {
-        auto [l, c] = text_line_col(text, e.byte > 0 ? e.byte - 1 : 0);
-        return Unexpected(derr(FileErrorCode::Malformed, file, "invalid JSON", l, c));
-    }
+    auto parsed = parse_json_text(text, file);
+    if (!parsed) return Unexpected(parsed.error());
+    const nlohmann::json& j = *parsed;
     if (!j.is_object())
         return Unexpected(derr(FileErrorCode::Malformed, file, "expected a JSON object", 1, 1));
     auto at = [&](FileErrorCode code, const std::string& key, const std::string& msg) {
@@ -249,6 +256,20 @@ std::optional<FileError> write_labels(const Dataset& d, const fs::path& dst) {
 
 }  // namespace
 
+Expected<std::size_t, FileError> read_thesis_texts(const std::string& imu_text,
+                                                   const std::string& meta_text) {
+    if (!meta_text.empty()) {
+        std::vector<std::string> warnings;
+        auto m = json_boundary(kThesisMetaFile, [&] {
+            return parse_thesis_meta(meta_text, DatasetLimits{}, warnings);
+        });
+        if (!m) return Unexpected(m.error());
+    }
+    auto imu = parse_imu(imu_text, "imu.txt");
+    if (!imu) return Unexpected(imu.error());
+    return imu->size();
+}
+
 Expected<Dataset, FileError> open_thesis_folder(const fs::path& dir,
                                                 const ThesisImportOptions& opts,
                                                 const DatasetOpenOptions& open_opts) {
@@ -305,11 +326,15 @@ Expected<Dataset, FileError> open_thesis_folder(const fs::path& dir,
     // The side files, when present.
     std::vector<std::string> warnings;
     ThesisMeta meta;
-    GS_TRY_ASSIGN(auto meta_path, resolve_fixed(dir, kThesisMetaFile));
-    if (fs::exists(meta_path, ec)) {
-        GS_TRY_ASSIGN(auto t, read_text_file(meta_path, kThesisMetaFile, lim.max_json_bytes));
-        GS_TRY_ASSIGN(auto m, parse_thesis_meta(t, lim, warnings));
-        meta = std::move(m);
+    auto meta_path = resolve_fixed(dir, kThesisMetaFile);
+    if (!meta_path) return Unexpected(meta_path.error());
+    if (fs::exists(*meta_path, ec)) {
+        auto t = read_text_file(*meta_path, kThesisMetaFile, lim.max_json_bytes);
+        if (!t) return Unexpected(t.error());
+        auto m =
+            json_boundary(kThesisMetaFile, [&] { return parse_thesis_meta(*t, lim, warnings); });
+        if (!m) return Unexpected(m.error());
+        meta = std::move(*m);
     }
     std::optional<ThesisExtra> extra;
     GS_TRY_ASSIGN(auto extra_path, resolve_fixed(dir, kThesisExtraFile));

@@ -44,6 +44,12 @@ Expected<Dataset, FileError> open_thesis_folder(const std::filesystem::path& dir
                                                 const ThesisImportOptions& opts = {},
                                                 const DatasetOpenOptions& open_opts = {});
 
+// The folder's two texts read from memory as open_thesis_folder reads them (for fuzzing): the
+// number of IMU lines of `imu_text` (imu.txt), after `meta_text` (imu_meta.json; empty: none)
+// was checked, or the first error.
+Expected<std::size_t, FileError> read_thesis_texts(const std::string& imu_text,
+                                                   const std::string& meta_text);
+
 // Converts a thesis folder into a dataset directory `dst` (must not exist or be empty):
 // flight.json (source "imported"), frames.csv, frames/ (the image files copied), labels.* when
 // the folder has them. Returns it opened.

@@ -4,12 +4,15 @@
 #include "drone/dataset/annexb.hpp"
 #include "drone/dataset/csv.hpp"
 #include "drone/dataset/raw.hpp"
+#include "drone/dataset/value_rules.hpp"
 
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
+#include <array>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -66,10 +69,19 @@ std::string frames_csv_row(const FrameRow& r) {
     const NavState& s = r.nav;
     std::string out = std::to_string(r.frame);
     out += ',' + csv::format_ms(s.t_ns);
-    for (double v : {s.roll_deg, s.pitch_deg, s.yaw_deg, s.vx_mps, s.vy_mps, s.vz_mps, s.altitude_m,
-                     r.gt.x_m, r.gt.y_m, r.gt.z_m, r.gt.yaw_deg}) {
+    for (auto [column, v] : {std::pair{"roll_deg", s.roll_deg},
+                             {"pitch_deg", s.pitch_deg},
+                             {"yaw_deg", s.yaw_deg},
+                             {"vx_mps", s.vx_mps},
+                             {"vy_mps", s.vy_mps},
+                             {"vz_mps", s.vz_mps},
+                             {"altitude_m", s.altitude_m},
+                             {"gt_x_m", r.gt.x_m},
+                             {"gt_y_m", r.gt.y_m},
+                             {"gt_z_m", r.gt.z_m},
+                             {"gt_yaw_deg", r.gt.yaw_deg}}) {
         out += ',';
-        out += csv::format_number(v);
+        out += csv::format_number(writable_value(column, v));
     }
     out += '\n';
     return out;
@@ -82,10 +94,15 @@ std::string navdata_csv_header() {
 
 std::string navdata_csv_row(const NavState& s) {
     std::string out = csv::format_ms(s.t_ns);
-    for (double v :
-         {s.roll_deg, s.pitch_deg, s.yaw_deg, s.vx_mps, s.vy_mps, s.vz_mps, s.altitude_m}) {
+    for (auto [column, v] : {std::pair{"roll_deg", s.roll_deg},
+                             {"pitch_deg", s.pitch_deg},
+                             {"yaw_deg", s.yaw_deg},
+                             {"vx_mps", s.vx_mps},
+                             {"vy_mps", s.vy_mps},
+                             {"vz_mps", s.vz_mps},
+                             {"altitude_m", s.altitude_m}}) {
         out += ',';
-        out += csv::format_number(v);
+        out += csv::format_number(writable_value(column, v));
     }
     out += ',';
     if (s.seq) out += std::to_string(*s.seq);
@@ -94,7 +111,7 @@ std::string navdata_csv_row(const NavState& s) {
     out += ',';
     if (s.ctrl_state) out += std::to_string(*s.ctrl_state);
     out += ',';
-    out += csv::format_number(s.battery_pct);
+    out += csv::format_number(writable_value("battery_pct", s.battery_pct));
     out += '\n';
     return out;
 }
@@ -110,6 +127,9 @@ struct OutFile {
     int fd = -1;
     std::string buf;
     bool failed = false;
+    std::uint64_t good_size = 0;  // bytes on disk, ending with a whole line or record
+    // Test hook (DatasetWriterOptions::inject_failure_*): fail once this many bytes are on disk.
+    std::optional<std::uint64_t> fail_at;
 
     std::optional<FileError> open_new(const fs::path& p, std::string n) {
         path = p;
@@ -122,7 +142,9 @@ struct OutFile {
         return std::nullopt;
     }
     bool is_open() const { return fd >= 0; }
-    // One write loop per flush: whole lines/records reach the file together.
+    // One write loop per flush: whole lines/records reach the file together. When a write fails
+    // part-way, the file is cut back to its last whole line or record (readers then see a file
+    // that ends cleanly) and the failure is recorded; the file takes nothing more.
     bool flush(DatasetWriterStats& st) {
         if (buf.empty()) return !failed;
         if (failed || fd < 0) {
@@ -131,18 +153,41 @@ struct OutFile {
         }
         std::size_t done = 0;
         while (done < buf.size()) {
-            const ssize_t n = ::write(fd, buf.data() + done, buf.size() - done);
-            if (n < 0 && errno == EINTR) continue;
-            if (n <= 0) {
-                failed = true;
-                ++st.write_errors;
-                if (st.first_error.empty())
-                    st.first_error = name + ": write failed: " + std::strerror(errno);
-                buf.clear();
-                return false;
+            std::size_t want = buf.size() - done;
+            bool injected = false;
+            if (fail_at) {
+                const std::uint64_t on_disk = good_size + done;
+                const std::uint64_t room = *fail_at > on_disk ? *fail_at - on_disk : 0;
+                if (room < want) {
+                    want = static_cast<std::size_t>(room);
+                    injected = true;
+                }
             }
-            done += static_cast<std::size_t>(n);
+            int e = ENOSPC;  // an injected failure, or a write that wrote nothing
+            if (want > 0) {
+                const ssize_t n = ::write(fd, buf.data() + done, want);
+                if (n < 0 && errno == EINTR) continue;
+                if (n > 0) {
+                    done += static_cast<std::size_t>(n);
+                    continue;
+                }
+                if (n < 0) e = errno;
+            } else if (!injected) {
+                continue;
+            }
+            failed = true;
+            ++st.write_errors;
+            // Whole lines and records only: what part of this flush reached the disk goes.
+            const bool cut = ::ftruncate(fd, static_cast<off_t>(good_size)) == 0;
+            if (st.first_error.empty()) {
+                st.first_error = name + ": write failed: " + std::strerror(e);
+                if (!cut) st.first_error += " (could not cut it back to its last whole line)";
+                st.first_errno = e;
+            }
+            buf.clear();
+            return false;
         }
+        good_size += buf.size();
         st.bytes_written += buf.size();
         buf.clear();
         return true;
@@ -157,7 +202,8 @@ struct OutFile {
 
 struct DatasetWriter::Files {
     DatasetInfo info;
-    OutFile frames_csv, navdata_csv, labels_csv, video, raw_nav, raw_pave, raw_chunks, raw_at;
+    OutFile frames_csv, navdata_csv, labels_csv, video, raw_nav, raw_pave, raw_chunks, raw_at,
+        raw_connections, raw_captures;
     NavAligner aligner;
     DatasetWriterStats st;
 
@@ -167,7 +213,8 @@ struct DatasetWriter::Files {
     std::int64_t next_index = 0;
     std::int64_t durable = 0;  // frames [0, durable) have their pixels on disk
     TimeNs last_frame_t = 0;
-    TimeNs last_nav_t = 0;
+    TimeNs last_nav_t = 0;                                 // navdata.csv
+    TimeNs last_raw_nav_t = 0;                             // raw/navdata.bin
     TimeNs latest_t = 0;                                   // newest stream time seen in any record
     std::deque<std::optional<FrameLabel>> pending_labels;  // same order as aligner frames
     struct ReadyRow {
@@ -179,9 +226,20 @@ struct DatasetWriter::Files {
 
     explicit Files(TimeNs max_wait) : aligner(max_wait) {}
 
-    std::size_t buffered() const {
-        return frames_csv.buf.size() + navdata_csv.buf.size() + video.buf.size() +
-               raw_nav.buf.size() + raw_pave.buf.size() + raw_chunks.buf.size() + raw_at.buf.size();
+    std::array<OutFile*, 10> files() {
+        return {&frames_csv, &navdata_csv, &labels_csv,      &video,        &raw_nav,
+                &raw_pave,   &raw_chunks,  &raw_connections, &raw_captures, &raw_at};
+    }
+    std::size_t buffered() {
+        std::size_t n = 0;
+        for (OutFile* o : files()) n += o->buf.size();
+        return n;
+    }
+    // The first write failure stops the writer: nothing more goes to any file.
+    bool stopped() {
+        for (OutFile* o : files())
+            if (o->failed) return true;
+        return st.write_errors > 0;
     }
     void note_error(const FileError& e) {
         ++st.write_errors;
@@ -241,6 +299,24 @@ Expected<std::unique_ptr<DatasetWriter>, FileError> DatasetWriter::create(
             return Unexpected(*e);
         if (auto e = f->raw_at.open_new(dir / "raw/at.log", "raw/at.log")) return Unexpected(*e);
     }
+    if (opts2.write_raw) {
+        if (auto e = f->raw_connections.open_new(dir / "raw/video_connections.csv",
+                                                 "raw/video_connections.csv"))
+            return Unexpected(*e);
+        // The connection open when the recording began starts at offset 0 (DATASET.md 1.1).
+        f->raw_connections.buf = "offset,t_us\n0,0\n";
+        f->raw_connections.flush(f->st);
+        f->st.video_connections = 1;
+        if (auto e =
+                f->raw_captures.open_new(dir / "raw/capture_times.csv", "raw/capture_times.csv"))
+            return Unexpected(*e);
+        f->raw_captures.buf = "frame_number,timestamp_ms,t_us\n";
+        f->raw_captures.flush(f->st);
+    }
+    if (!opts2.inject_failure_file.empty()) {
+        for (OutFile* o : f->files())
+            if (o->name == opts2.inject_failure_file) o->fail_at = opts2.inject_failure_after_bytes;
+    }
     if (opts2.write_images) {
         fs::create_directories(dir / "frames", ec);
         if (ec) return Unexpected(io_error("frames/", "cannot create directory: " + ec.message()));
@@ -256,6 +332,7 @@ DatasetWriter::~DatasetWriter() {
 }
 
 bool DatasetWriter::push(Record r) {
+    if (stopped_.load(std::memory_order_relaxed)) return false;  // counted by the worker's stats
     if (queue_.push(std::move(r))) {
         enqueued_.fetch_add(1, std::memory_order_relaxed);
         return true;
@@ -295,6 +372,15 @@ bool DatasetWriter::add_frame(TimeNs capture_ns, std::span<const std::uint8_t> a
                         {access_unit.begin(), access_unit.end()},
                         opts_.write_images ? image : cv::Mat(),
                         label});
+}
+
+bool DatasetWriter::add_video_connection(TimeNs opened_ns) {
+    return push(ConnectIn{opened_ns});
+}
+
+bool DatasetWriter::add_capture_time(std::uint32_t frame_number, std::uint32_t pave_timestamp_ms,
+                                     TimeNs capture_ns) {
+    return push(CaptureIn{frame_number, pave_timestamp_ms, capture_ns});
 }
 
 bool DatasetWriter::add_at(TimeNs send_ns, std::string_view datagram) {
@@ -351,15 +437,51 @@ void DatasetWriter::run() {
         }
     };
 
+    // Files opened late (video.h264 at the first frame, labels.csv at the first label) get the
+    // test hook's failure point too.
+    auto arm = [&](OutFile& o) {
+        if (!opts_.inject_failure_file.empty() && o.name == opts_.inject_failure_file)
+            o.fail_at = opts_.inject_failure_after_bytes;
+    };
+    std::uint64_t rows_buffered = 0;  // frames.csv rows appended since the last flush
+
+    // At the first failure: nothing more is written; what was waiting is counted as lost.
+    auto stop_writing = [&] {
+        if (!f.st.stopped) {
+            f.st.stopped = true;
+            stopped_ = true;
+        }
+        for (OutFile* o : f.files()) o->buf.clear();
+        f.st.frames_lost_io += f.ready.size();  // frames still in the aligner come here later
+        f.ready.clear();
+    };
+
     auto flush_all = [&] {
-        f.raw_nav.flush(f.st);
-        f.raw_pave.flush(f.st);
-        f.raw_chunks.flush(f.st);
-        f.raw_at.flush(f.st);
+        if (f.stopped()) {
+            stop_writing();
+            stats_.publish(f.st);
+            return;
+        }
+        // Whole records everywhere; the first failure stops the rest (stop_writing).
+        auto flushed = [&](OutFile& o) {
+            if (f.stopped()) return false;
+            o.flush(f.st);
+            return !f.stopped();
+        };
+        if (!flushed(f.raw_nav) || !flushed(f.raw_pave) || !flushed(f.raw_chunks) ||
+            !flushed(f.raw_connections) || !flushed(f.raw_captures) || !flushed(f.raw_at)) {
+            stop_writing();
+            stats_.publish(f.st);
+            return;
+        }
         if (f.video_mode.value_or(false)) {
             if (f.video.flush(f.st) && !f.video.failed) f.durable = f.next_index;
         }
-        f.navdata_csv.flush(f.st);
+        if (!flushed(f.navdata_csv)) {
+            stop_writing();
+            stats_.publish(f.st);
+            return;
+        }
         // Rows go out only for frames whose pixels are on disk.
         while (!f.ready.empty() && f.ready.front().index < f.durable) {
             f.frames_csv.buf += f.ready.front().row;
@@ -367,12 +489,13 @@ void DatasetWriter::run() {
                 if (!f.labels_csv.is_open() && !f.labels_csv.failed) {
                     if (auto e = f.labels_csv.open_new(dir_ / "labels.csv", "labels.csv"))
                         f.note_error(*e);
+                    arm(f.labels_csv);
                     f.labels_csv.buf = "frame,distance_m,lateral_m\n";
                 }
                 f.labels_csv.buf += f.ready.front().label_row;
             }
             f.ready.pop_front();
-            ++f.st.frames_written;
+            ++rows_buffered;  // counted as written once the flush below succeeds
         }
         // Frames whose pixels can never reach the disk any more.
         const bool pixels_dead = f.video_mode.value_or(false) && f.video.failed;
@@ -380,15 +503,26 @@ void DatasetWriter::run() {
             f.ready.pop_front();
             ++f.st.frames_lost_io;
         }
-        f.frames_csv.flush(f.st);
-        f.labels_csv.flush(f.st);
+        if (flushed(f.frames_csv)) {
+            f.st.frames_written += rows_buffered;
+            flushed(f.labels_csv);
+        } else {
+            f.st.frames_lost_io += rows_buffered;  // their rows did not reach frames.csv
+        }
+        rows_buffered = 0;
+        if (f.stopped()) stop_writing();
         ++f.st.flushes;
         stats_.publish(f.st);
     };
 
     auto on_frame = [&](FrameIn& in) {
         TimeNs t = to_stream(in.capture_ns);
-        if (t < f.last_frame_t) t = f.last_frame_t;  // frames.csv t_ms must not go backwards
+        // frames.csv t_ms strictly increases (DATASET.md 1.1): a capture time equal to or before
+        // the previous frame's moves 1 us past it (counted; the capture clock should not do it).
+        if (f.next_index > 0 && t <= f.last_frame_t) {
+            t = f.last_frame_t + 1000;
+            ++f.st.frame_time_adjusted;
+        }
         const bool have_au = !in.au.empty();
         const bool have_img = opts_.write_images && !in.image.empty();
         if (!f.video_mode) {
@@ -412,6 +546,7 @@ void DatasetWriter::run() {
             }
             if (!f.video.is_open() && !f.video.failed) {
                 if (auto e = f.video.open_new(dir_ / "video.h264", "video.h264")) f.note_error(*e);
+                arm(f.video);
             }
             if (f.video.failed) {
                 ++f.st.frames_lost_io;
@@ -459,15 +594,44 @@ void DatasetWriter::run() {
     };
 
     auto process = [&](Record& r) {
+        if (f.st.stopped) {
+            ++f.st.records_lost_stopped;
+            if (std::holds_alternative<FrameIn>(r)) ++f.st.frames_lost_io;
+            return;
+        }
+        if (auto* c = std::get_if<ConnectIn>(&r)) {
+            if (f.raw_connections.is_open() && f.raw_pave.is_open()) {
+                const std::uint64_t offset = f.raw_pave.good_size + f.raw_pave.buf.size();
+                const TimeNs t = std::max<TimeNs>(to_stream(c->opened_ns), 0);
+                f.raw_connections.buf +=
+                    std::to_string(offset) + ',' + std::to_string(us(t)) + '\n';
+                ++f.st.video_connections;
+            }
+            return;
+        }
+        if (auto* ci = std::get_if<CaptureIn>(&r)) {
+            if (f.raw_captures.is_open()) {
+                // The same rounding as frames.csv's t_ms (whole microseconds of stream time).
+                f.raw_captures.buf += std::to_string(ci->frame_number) + ',' +
+                                      std::to_string(ci->pave_timestamp_ms) + ',' +
+                                      std::to_string(to_stream(ci->capture_ns) / 1000) + '\n';
+            }
+            return;
+        }
         if (auto* n = std::get_if<NavIn>(&r)) {
-            const TimeNs t = std::max(to_stream(n->recv_ns), f.last_nav_t);
-            f.last_nav_t = t;
-            f.latest_t = std::max(f.latest_t, t);
+            // raw/navdata.bin (every datagram) and navdata.csv (the accepted samples) arrive as
+            // two streams, each in its own time order: each keeps its own.
+            const TimeNs t_in = to_stream(n->recv_ns);
+            f.latest_t = std::max(f.latest_t, t_in);
             if (f.raw_nav.is_open() && !n->bytes.empty()) {
+                const TimeNs t = std::max(t_in, f.last_raw_nav_t);
+                f.last_raw_nav_t = t;
                 append_raw_record(f.raw_nav.buf, us(t), n->bytes);
                 ++f.st.raw_navdata_records;
             }
             if (n->nav) {
+                const TimeNs t = std::max(t_in, f.last_nav_t);
+                f.last_nav_t = t;
                 NavState s = *n->nav;
                 s.t_ns = t;
                 f.navdata_csv.buf += navdata_csv_row(s);
@@ -498,8 +662,14 @@ void DatasetWriter::run() {
                 if (!j.is_object()) j = nlohmann::json::object();
             }
             j["scenario"] = to_string(l->labels.scenario);
-            if (auto e = write_file_atomic(dir_ / "labels.json", j.dump(2) + "\n", "labels.json"))
+            auto e = opts_.inject_failure_file == "labels.json"
+                         ? std::optional(io_error("labels.json", "write failed: injected ENOSPC"))
+                         : write_file_atomic(dir_ / "labels.json", j.dump(2) + "\n", "labels.json");
+            if (e) {
                 f.note_error(*e);
+                f.st.first_errno = ENOSPC;
+                stop_writing();
+            }
         }
     };
 
@@ -527,11 +697,21 @@ void DatasetWriter::run() {
     f.aligner.finish();
     settle_rows(f.latest_t);
     flush_all();
-    f.info.frames = f.st.frames_written;
-    if (auto e = write_file_atomic(dir_ / "flight.json", flight_json_text(f.info), "flight.json"))
-        f.note_error(*e);
-    for (OutFile* o : {&f.frames_csv, &f.navdata_csv, &f.labels_csv, &f.video, &f.raw_nav,
-                       &f.raw_pave, &f.raw_chunks, &f.raw_at}) {
+    // flight.json with the frame count; after a failure the one written at the start stays (it
+    // has no count, and frames.csv says how many frames there are).
+    if (!f.st.stopped) {
+        f.info.frames = f.st.frames_written;
+        auto e =
+            opts_.inject_failure_file == "flight.json"
+                ? std::optional(io_error("flight.json", "write failed: injected ENOSPC"))
+                : write_file_atomic(dir_ / "flight.json", flight_json_text(f.info), "flight.json");
+        if (e) {
+            f.note_error(*e);
+            f.st.first_errno = ENOSPC;
+            f.st.stopped = true;
+        }
+    }
+    for (OutFile* o : f.files()) {
         if (o->fd >= 0 && ::fsync(o->fd) != 0) f.note_error(io_error(o->name, "fsync failed"));
         o->close_file();
     }

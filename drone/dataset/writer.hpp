@@ -1,10 +1,16 @@
 #pragma once
 // Recording a flight as a dataset (DATASET.md) while flying. The link threads hand over what they
 // receive and send through add_*(), which never block: records go through a bounded queue to a
-// worker thread that does all file I/O. A full queue or a failing disk drops records and counts
-// them; it never stalls flight control. Files are flushed at least every flush_interval (<= 1 s)
-// in an order that keeps the dataset readable if the process is killed: video bytes before the
-// frames.csv rows that describe them, whole lines and whole records only.
+// worker thread that does all file I/O. A full queue drops records and counts them; it never
+// stalls flight control. Files are flushed at least every flush_interval (<= 1 s) in an order
+// that keeps the dataset readable if the process is killed: video bytes before the frames.csv
+// rows that describe them, whole lines and whole records only.
+//
+// A failing disk (full, or any write error) stops the writer at the first failure: the file that
+// failed is cut back to its last whole line or record, nothing more is written to any file, the
+// records still queued or buffered are counted as lost, and what is on disk stays a dataset that
+// opens and replays (frames.csv describes only frames whose bytes are in video.h264). stats()
+// says so (stopped, first_error naming the file and the reason) for the recorder to report.
 
 #include "drone/core/clock.hpp"
 #include "drone/core/sample.hpp"
@@ -43,6 +49,11 @@ struct DatasetWriterOptions {
     // When set, every frames.csv row is also pushed here as soon as its attitude is settled
     // (before it reaches the disk): a live consumer sees exactly what replay will read.
     std::shared_ptr<BoundedQueue<FrameRow>> row_tap;
+    // Tests: the write that would take `inject_failure_file` (a dataset-relative name such as
+    // "frames.csv" or "raw/video.pave") past `inject_failure_after_bytes` writes only up to that
+    // size and then fails with ENOSPC, as a full disk does.
+    std::string inject_failure_file;
+    std::uint64_t inject_failure_after_bytes = 0;
 };
 
 struct DatasetWriterStats {
@@ -58,7 +69,12 @@ struct DatasetWriterStats {
     std::uint64_t bytes_written = 0;
     std::uint64_t write_errors = 0;
     std::uint64_t flushes = 0;
-    std::string first_error;  // first I/O error, empty when none
+    std::uint64_t video_connections = 0;     // raw/video_connections.csv rows
+    std::uint64_t frame_time_adjusted = 0;   // capture times moved 1 us past an equal predecessor
+    std::uint64_t records_lost_stopped = 0;  // records dropped because the writer had stopped
+    std::string first_error;                 // first I/O error, empty when none
+    int first_errno = 0;                     // its errno (ENOSPC: the disk is full), 0 when none
+    bool stopped = false;                    // a write failed: nothing more is written (see above)
     bool closed = false;
 };
 
@@ -91,6 +107,15 @@ public:
     // A chunk of the video TCP stream as received (raw/video.pave).
     bool add_video_bytes(TimeNs recv_ns, std::span<const std::uint8_t> bytes);
     bool take_video_bytes(TimeNs recv_ns, std::vector<std::uint8_t>&& bytes);
+    // A new video TCP connection begins with the next video bytes (DATASET.md 1.1
+    // raw/video_connections.csv). The bytes before the first call are the connection that was
+    // open when the recording began (offset 0).
+    bool add_video_connection(TimeNs opened_ns);
+    // The capture time the live video receiver gave a PaVE frame whose bytes are in raw/ (raw/
+    // capture_times.csv, an extension: the receiver's clock model has history from before the
+    // recording, so replay takes the times it used instead of re-deriving them).
+    bool add_capture_time(std::uint32_t frame_number, std::uint32_t pave_timestamp_ms,
+                          TimeNs capture_ns);
     // One frame: its Annex-B access unit (video.h264) and/or decoded image (frames/ when
     // write_images), captured at `capture_ns`. Frames before the first IDR are skipped.
     bool add_frame(TimeNs capture_ns, std::span<const std::uint8_t> access_unit,
@@ -133,7 +158,14 @@ private:
     struct LabelsIn {
         FlightLabels labels;
     };
-    using Record = std::variant<NavIn, VideoIn, FrameIn, AtIn, LabelsIn>;
+    struct ConnectIn {
+        TimeNs opened_ns;
+    };
+    struct CaptureIn {
+        std::uint32_t frame_number, pave_timestamp_ms;
+        TimeNs capture_ns;
+    };
+    using Record = std::variant<NavIn, VideoIn, FrameIn, AtIn, LabelsIn, ConnectIn, CaptureIn>;
     struct Files;
 
     DatasetWriter(std::filesystem::path dir, DatasetWriterOptions opts, const Clock& clock);
@@ -150,6 +182,7 @@ private:
     std::unique_ptr<Files> files_;
     std::thread worker_;
     std::atomic<bool> closed_{false};
+    std::atomic<bool> stopped_{false};  // set by the worker at the first write failure
 };
 
 // flight.json text for `info` (what the writer and the thesis import write).

@@ -1,8 +1,7 @@
 #include "drone/link/drone_link.hpp"
 #include "drone/core/unknown.hpp"
 
-#include "drone/video/capture_clock.hpp"
-
+#include "drone/core/nav_timeline.hpp"
 #include "drone/protocol/pave.hpp"
 #include "drone/transport/net.hpp"
 #include "drone/video/h264_decoder.hpp"
@@ -42,9 +41,9 @@ void erase_queue(std::vector<std::shared_ptr<BoundedQueue<T>>>& subs, const void
 }
 }  // namespace
 
-void RateMeter::tick(TimeNs now) {
+void RateMeter::tick(TimeNs now, std::uint64_t count) {
     if (window_start_ == 0) window_start_ = now;
-    ++count_;
+    count_ += count;
     const TimeNs span = now - window_start_;
     if (span >= ms_to_ns(1000)) {
         last_rate_ = static_cast<double>(count_) * 1e9 / static_cast<double>(span);
@@ -136,6 +135,12 @@ std::uint16_t DroneLink::navdata_local_port() const {
     return e ? e->port : 0;
 }
 
+std::uint16_t DroneLink::at_local_port() const {
+    if (!sockets_) return 0;
+    auto e = sockets_->at.local_endpoint();
+    return e ? e->port : 0;
+}
+
 ConnectionState DroneLink::state() const {
     auto m = machine_slot_.latest();
     return m ? m->state : ConnectionState::Disconnected;
@@ -189,6 +194,14 @@ void DroneLink::unsubscribe(const void* queue) {
         erase_queue(s.raw, queue);
         erase_queue(s.access_units, queue);
     });
+    const std::uint64_t gen = subscribers_.generation();
+    const bool active[3] = {true, true, config_.video};
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(2);
+    for (int i = 0; i < 3; ++i) {
+        while (running_ && active[i] && subs_seen_[static_cast<std::size_t>(i)].load() < gen &&
+               std::chrono::steady_clock::now() < deadline)
+            std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
 }
 
 void DroneLink::push_at(AtRequest r) {
@@ -366,18 +379,11 @@ CommandResult DroneLink::execute(Command c, std::chrono::milliseconds timeout) {
 
 // ---- Threads -----------------------------------------------------------------------------
 
-void DroneLink::publish_raw(RawEvent::Kind kind, TimeNs t, std::span<const std::uint8_t> bytes) {
-    auto subs = subscribers_.latest();
-    if (!subs || subs->raw.empty()) return;
-    RawEvent e{kind, t, std::vector<std::uint8_t>(bytes.begin(), bytes.end())};
-    fan_out(subs->raw, e);
-}
-
 void DroneLink::navdata_loop() {
     LinkStateMachine sm(config_.setup);
     LinkActions actions;
     NavdataStats stats;
-    RateMeter rate;
+    RateMeter rate, byte_rate;
     std::vector<std::pair<std::uint64_t, NavRequest>> pending;  // awaiting the machine's verdict
     std::array<std::uint8_t, kNavdataMax + 1> buf{};
     std::uint64_t dumps = 0;
@@ -457,8 +463,8 @@ void DroneLink::navdata_loop() {
     publish_machine();
 
     while (running_) {
-        if (subscribers_.read_if_newer(subs_gen, subs)) {
-        }
+        subscribers_.read_if_newer(subs_gen, subs);
+        subs_seen_[0] = subs_gen;
         while (auto r = nav_queue_.try_pop()) {
             if (r->read_dump) {
                 sm.request_config_dump();
@@ -485,9 +491,11 @@ void DroneLink::navdata_loop() {
                 stats.last_error = "datagram larger than 4096 bytes";
             } else {
                 ++stats.datagrams;
-                if (!subs.raw.empty())
-                    fan_out(subs.raw,
-                            RawEvent{RawEvent::Kind::Navdata, now, {bytes.begin(), bytes.end()}});
+                stats.bytes += got->size;
+                byte_rate.tick(now, got->size);
+                // Handed to recorders with the link's verdict, below (one event per datagram).
+                RawEvent raw_event = RawEvent::of(RawEvent::Kind::Navdata, now);
+                if (!subs.raw.empty()) raw_event.bytes.assign(bytes.begin(), bytes.end());
                 auto nd = protocol::navdata::parse_navdata(bytes);
                 if (!nd) {
                     if (nd.error().code == protocol::navdata::NavdataErrc::BadChecksum)
@@ -508,10 +516,13 @@ void DroneLink::navdata_loop() {
                             nd->time->time.seconds() + nd->time->time.microseconds() * 1e-6;
                     }
                     s.state = protocol::navdata::to_nav_state(*nd, now - start_ns_);
+                    if (config_.video) nav_to_video_.push(s.state);
+                    raw_event.accepted = s.state;
                     s.data = std::move(*nd);
                     if (!subs.navdata.empty()) fan_out(subs.navdata, s);
                     nav_slot_.publish(std::move(s));
                 }
+                if (!subs.raw.empty()) fan_out(subs.raw, std::move(raw_event));
             }
         } else if (got.error().code != transport::NetErrc::Timeout) {
             stats.last_error = got.error().message();
@@ -520,6 +531,7 @@ void DroneLink::navdata_loop() {
         apply(now);
         if (now - last_publish >= ms_to_ns(20)) {
             stats.rate_hz = rate.rate_hz(now);
+            stats.bytes_per_s = byte_rate.rate_hz(now);
             nav_stats_slot_.publish(stats);
             publish_machine();
             last_publish = now;
@@ -528,15 +540,6 @@ void DroneLink::navdata_loop() {
     LinkActions final_actions;
     sm.stop(final_actions);
     for (auto& [id, r] : pending) r.done.set_value({ResultCode::NotConnected, "link stopped"});
-}
-
-bool accept_video_codec(const protocol::PaveHeader& h, VideoStats& stats) {
-    if (h.video_codec == protocol::PaveCodec::H264) return true;
-    ++stats.unsupported_codec_frames;
-    stats.last_error = "PaVE frame " + std::to_string(h.frame_number) + " has codec " +
-                       to_string(h.video_codec) +
-                       ": only H.264 is decoded (set video:video_codec to an H.264 mode)";
-    return false;
 }
 
 double AtStats::period_ms_quantile(double q) const {
@@ -562,6 +565,8 @@ void DroneLink::at_loop() {
     stats.realtime = pthread_setschedparam(pthread_self(), SCHED_FIFO, &sp) == 0;
     prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
     std::vector<std::string> datagrams;
+    std::array<std::uint8_t, 2048> drain{};
+    RateMeter byte_rate;
     std::uint64_t subs_gen = 0;
     Subscribers subs;
     TimeNs next = clock_.now_ns();
@@ -610,13 +615,26 @@ void DroneLink::at_loop() {
         if (auto n = nav_slot_.latest()) drone_state = n->data.header.drone_state.raw;
         sched.build(now, drone_state, datagrams);
         subscribers_.read_if_newer(subs_gen, subs);
+        subs_seen_[1] = subs_gen;
         for (const auto& d : datagrams) {
             auto sent = sockets_->at.send_to(d, sockets_->at_to, transport::Millis{5});
-            if (!sent) ++stats.send_errors;
+            if (!sent) {
+                ++stats.send_errors;
+            } else {
+                stats.bytes_sent += d.size();
+                byte_rate.tick(now, d.size());
+            }
             if (!subs.raw.empty()) {
                 const auto* p = reinterpret_cast<const std::uint8_t*>(d.data());
-                fan_out(subs.raw, RawEvent{RawEvent::Kind::At, now, {p, p + d.size()}});
+                fan_out(subs.raw, RawEvent::of(RawEvent::Kind::At, now, std::span(p, d.size())));
             }
+        }
+        // Drain the AT socket: nothing legitimate arrives there (bounded per cycle).
+        for (int i = 0; i < 64; ++i) {
+            auto got = sockets_->at.recv_from(std::span<std::uint8_t>(drain), transport::Millis{0});
+            if (!got) break;
+            ++stats.foreign_datagrams;
+            stats.foreign_bytes += got->size;
         }
         if (last_cycle != 0) {
             const double gap = ns_to_ms(now - last_cycle);
@@ -631,33 +649,50 @@ void DroneLink::at_loop() {
         last_cycle = now;
         stats.counters = sched.counters();
         stats.intent = sched.intent();
+        stats.bytes_per_s = byte_rate.rate_hz(now);
         at_stats_slot_.publish(stats);
     }
 }
 
 void DroneLink::video_loop() {
     VideoStats stats;
-    RateMeter rate;
-    protocol::PaveFramer framer;
-    video::H264Decoder decoder;
-    std::array<cv::Mat, kFramePool> pool;
+    RateMeter rate, byte_rate;
+    // The one receive pipeline (drone/video/receiver.hpp): framing, decoding into pooled
+    // buffers, capture times; connections are announced to it so no frame spans two.
+    video::ReceiverOptions ro;
+    ro.pool_slots = kFramePool;
+    video::VideoReceiver rx(ro);
+    NavTimeline navs(1024);  // accepted navdata, for each frame's attitude at its capture
     std::vector<std::uint8_t> buf(64 * 1024);
     std::int64_t index = 0;
     std::uint64_t subs_gen = 0;
     Subscribers subs;
     TimeNs last_publish = 0;
 
-    auto free_slot = [&]() -> cv::Mat& {
-        for (auto& m : pool) {
-            if (m.empty() || (m.u != nullptr && m.u->refcount == 1)) return m;
-        }
-        ++stats.pool_exhausted;
-        pool[0] = cv::Mat();  // everyone still holds a frame: give up the oldest slot's reuse
-        return pool[0];
+    auto publish = [&](TimeNs now) {
+        const video::ReceiverStats& r = rx.stats();
+        const video::H264DecoderStats& d = rx.decoder_stats();
+        stats.pave_frames = r.units;
+        stats.decoded = r.pictures;
+        stats.concealed = r.concealed;
+        stats.no_picture = r.no_picture;
+        stats.cut_by_reset = r.cut_by_reset;
+        stats.decode_errors = d.decode_errors;
+        stats.idr_waits = r.waiting_idr;
+        stats.frame_gaps = d.frame_gaps;
+        stats.resyncs = r.resyncs;
+        stats.bytes_skipped = r.bytes_skipped;
+        stats.pool_exhausted = r.pool_exhausted;
+        stats.unsupported_codec_frames = r.not_h264;
+        stats.fps = rate.rate_hz(now);
+        stats.bytes_per_s = byte_rate.rate_hz(now);
+        video_stats_slot_.publish(stats);
+        last_publish = now;
     };
 
-    video::CaptureClock capture_clock;  // kept across reconnects: the drone's clock goes on
     while (running_) {
+        subscribers_.read_if_newer(subs_gen, subs);  // nothing is pushed while disconnected
+        subs_seen_[2] = subs_gen;
         auto stream = transport::TcpStream::connect(sockets_->video_to, transport::Millis{500});
         if (!stream) {
             stats.last_error = stream.error().message();
@@ -667,13 +702,18 @@ void DroneLink::video_loop() {
         }
         ++stats.connects;
         stats.connected = true;
-        framer.reset();
-        decoder.reset();
-        TimeNs last_data = clock_.now_ns();
+        const TimeNs opened = clock_.now_ns();
+        rx.begin_connection(opened);
+        subscribers_.read_if_newer(subs_gen, subs);
+        subs_seen_[2] = subs_gen;
+        if (!subs.raw.empty())
+            fan_out(subs.raw, RawEvent::of(RawEvent::Kind::VideoConnect, opened));
+        TimeNs last_data = opened;
         while (running_) {
             auto got = stream->read_some(std::span<std::uint8_t>(buf), transport::Millis{20});
             const TimeNs now = clock_.now_ns();
             subscribers_.read_if_newer(subs_gen, subs);
+            subs_seen_[2] = subs_gen;
             if (!got) {
                 if (got.error().code == transport::NetErrc::Timeout) {
                     if (now - last_data > config_.video_silence_reconnect_ns) {
@@ -681,11 +721,7 @@ void DroneLink::video_loop() {
                             "no video for " + std::to_string((now - last_data) / 1'000'000) + " ms";
                         break;
                     }
-                    if (now - last_publish >= ms_to_ns(50)) {  // the last frames' counts, fps
-                        stats.fps = rate.rate_hz(now);
-                        video_stats_slot_.publish(stats);
-                        last_publish = now;
-                    }
+                    if (now - last_publish >= ms_to_ns(50)) publish(now);  // counts, fps
                     continue;
                 }
                 stats.last_error = got.error().message();
@@ -693,74 +729,69 @@ void DroneLink::video_loop() {
             }
             last_data = now;
             stats.bytes += *got;
+            byte_rate.tick(now, *got);
             const std::span<const std::uint8_t> chunk(buf.data(), *got);
             if (!subs.raw.empty())
                 fan_out(subs.raw,
-                        RawEvent{RawEvent::Kind::Video, now, {chunk.begin(), chunk.end()}});
-            framer.push(chunk);
-            while (auto ev = framer.next()) {
-                auto* frame = std::get_if<protocol::PaveFrame>(&*ev);
-                if (frame == nullptr) continue;  // resync events are counted by the framer
-                ++stats.pave_frames;
-                if (!accept_video_codec(frame->header, stats)) continue;
-                video::AccessUnit au;
-                au.data = frame->payload;
-                au.frame_number = frame->header.frame_number;
-                au.display_width = frame->header.display_width;
-                au.display_height = frame->header.display_height;
-                au.stream_id = frame->header.stream_id;
-                cv::Mat& out = free_slot();
+                        RawEvent::of(RawEvent::Kind::Video, now, chunk, rx.bytes_pushed()));
+            while (auto n = nav_to_video_.try_pop()) navs.push(*n);
+            rx.push(chunk, now);
+            rx.clear_resyncs();  // counted in its stats; the link lists none
+            while (true) {
                 const TimeNs t0 = clock_.now_ns();
-                auto res = decoder.decode(au, out);
-                stats.decode_ms_last = ns_to_ms(clock_.now_ns() - t0);
-                if (!res || *res != video::DecodeStatus::Frame) continue;
-                FrameSample fs;
-                fs.index = index++;
-                fs.recv_ns = now;
+                auto u = rx.next();
+                if (!u) break;
+                if (u->fate == video::UnitFate::NotH264 || u->fate == video::UnitFate::NoPicture)
+                    stats.last_error = rx.stats().last_error;
+                const bool picture = video::has_picture(u->fate);
+                if (picture) stats.decode_ms_last = ns_to_ms(clock_.now_ns() - t0);
                 // Capture time (DATASET.md's t_ms): the drone's frame clock mapped onto ours,
                 // free of the network's and this thread's jitter (drone/capture_clock.hpp).
-                fs.t_ns = capture_clock.map(frame->header.timestamp, now) - start_ns_;
-                fs.frame_number = frame->header.frame_number;
-                fs.pave_timestamp_ms = frame->header.timestamp;
-                fs.image = out;  // shares the pooled buffer; the pool skips it while held
-                if (auto n = nav_slot_.latest()) {
-                    fs.nav = n->state;
-                    fs.nav.t_ns = fs.t_ns;
-                }
-                rate.tick(now);
-                stats.last_frame_ns = now;
+                const TimeNs t_ns = u->capture_ns - start_ns_;
                 if (!subs.access_units.empty()) {
                     AccessUnitEvent e;
-                    e.index = fs.index;
-                    e.recv_ns = now;
-                    e.t_ns = fs.t_ns;
-                    e.frame_number = frame->header.frame_number;
-                    e.pave_timestamp_ms = frame->header.timestamp;
-                    e.is_idr = video::contains_idr(frame->payload);
-                    e.bytes.assign(frame->payload.begin(), frame->payload.end());
-                    e.image = out;
+                    e.index = picture ? index : -1;
+                    e.unit = u->unit;
+                    e.connection = u->connection;
+                    e.stream_offset = u->stream_offset;
+                    e.stream_end = u->stream_offset + u->header.header_size + u->bytes.size();
+                    e.recv_ns = u->recv_ns;
+                    e.capture_ns = u->capture_ns;
+                    e.t_ns = t_ns;
+                    e.frame_number = u->frame_number;
+                    e.pave_timestamp_ms = u->pave_timestamp_ms;
+                    e.is_idr = u->idr;
+                    e.fate = u->fate;
+                    e.bytes.assign(u->bytes.begin(), u->bytes.end());
+                    e.image = u->image;
                     fan_out(subs.access_units, std::move(e));
                 }
+                if (!picture) continue;
+                FrameSample fs;
+                fs.index = index++;
+                fs.recv_ns = u->recv_ns;
+                fs.t_ns = t_ns;
+                fs.frame_number = u->frame_number;
+                fs.pave_timestamp_ms = u->pave_timestamp_ms;
+                fs.concealed = u->fate == video::UnitFate::Concealed;
+                fs.image = std::move(u->image);  // a pooled buffer, free again when dropped
+                // The attitude at the capture time, interpolated as a recording does
+                // (drone/core/nav_timeline.hpp), not the newest sample relabelled.
+                fs.nav = navs.state_at(t_ns);
+                if (!navs.empty() && navs.newest_t() >= t_ns)
+                    ++stats.nav_interpolated;
+                else
+                    ++stats.nav_nearest;
+                rate.tick(now);
+                stats.last_frame_ns = now;
                 if (!subs.frames.empty()) fan_out(subs.frames, fs);
                 frame_slot_.publish(std::move(fs));
             }
-            const auto& fst = framer.stats();
-            stats.resyncs = fst.resyncs;
-            stats.bytes_skipped = fst.bytes_skipped;
-            const auto& dst = decoder.stats();
-            stats.decoded = dst.decoded;
-            stats.decode_errors = dst.decode_errors;
-            stats.idr_waits = dst.skipped_waiting_idr;
-            stats.frame_gaps = dst.frame_gaps;
-            if (now - last_publish >= ms_to_ns(50)) {
-                stats.fps = rate.rate_hz(now);
-                video_stats_slot_.publish(stats);
-                last_publish = now;
-            }
+            if (now - last_publish >= ms_to_ns(50)) publish(now);
         }
         stats.connected = false;
         ++stats.disconnects;
-        video_stats_slot_.publish(stats);
+        publish(clock_.now_ns());
     }
 }
 

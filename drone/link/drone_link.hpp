@@ -16,6 +16,7 @@
 #include "drone/protocol/config.hpp"
 #include "drone/protocol/navdata.hpp"
 #include "drone/protocol/pave.hpp"
+#include "drone/video/receiver.hpp"
 
 #include <array>
 #include <atomic>
@@ -55,31 +56,56 @@ struct NavSample {
     protocol::navdata::Navdata data;  // every decoded option
 };
 
-// Raw bytes as they crossed the wire, for recording (DATASET.md raw/).
+// Raw bytes as they crossed the wire, for recording (DATASET.md raw/). VideoConnect (no bytes)
+// marks where a new video TCP connection begins: the Video bytes after it are the new one's.
 struct RawEvent {
-    enum class Kind : std::uint8_t { Navdata, Video, At };
+    enum class Kind : std::uint8_t { Navdata, Video, At, VideoConnect };
     Kind kind = Kind::Navdata;
     TimeNs t_ns = 0;  // monotonic receive / send time
     std::vector<std::uint8_t> bytes;
+    std::uint64_t stream_offset = 0;  // Video: the offset of bytes[0] in the video receiver's
+                                      // stream (AccessUnitEvent::stream_offset counts the same)
+    // Navdata: the sample the link accepted from this datagram (its state, t_ns from the link's
+    // start); nullopt when it was refused (bad checksum, malformed, duplicate, late). One event
+    // carries both, so a recording's raw/ and navdata.csv come from the same datagrams.
+    std::optional<NavState> accepted;
+
+    static RawEvent of(Kind kind, TimeNs t_ns, std::span<const std::uint8_t> bytes = {},
+                       std::uint64_t stream_offset = 0) {
+        RawEvent e;
+        e.kind = kind;
+        e.t_ns = t_ns;
+        e.bytes.assign(bytes.begin(), bytes.end());
+        e.stream_offset = stream_offset;
+        return e;
+    }
 };
 
-// One H.264 access unit the link decoded into a frame (the PaVE payload, Annex-B), for a recorder:
-// what video.h264 stores and what replaying raw/ reproduces. Only built when someone subscribed.
+// Every access unit the video receiver cut from the stream (the PaVE payload, Annex-B), with what
+// became of it, for a recorder: the units that produced a picture are what video.h264 stores and
+// what replaying raw/ reproduces; the others are drops with their reason. Only built when someone
+// subscribed.
 struct AccessUnitEvent {
-    std::int64_t index = 0;  // the decoded frame's FrameSample::index
-    TimeNs recv_ns = 0;      // monotonic receive time of the chunk that completed it (capture)
-    TimeNs t_ns = 0;         // recv_ns from the link's start (FrameSample::t_ns)
-    std::uint32_t frame_number = 0;                  // PaVE frame_number
+    std::int64_t index = -1;       // the decoded frame's FrameSample::index; -1 without a picture
+    std::int64_t unit = 0;         // 0-based over every unit received
+    std::uint32_t connection = 0;  // the video connection it came on (0-based)
+    std::uint64_t stream_offset = 0;  // where its PaVE header began (RawEvent::stream_offset)
+    std::uint64_t stream_end = 0;     // one past its last byte
+    TimeNs recv_ns = 0;               // monotonic receive time of the chunk that completed it
+    TimeNs capture_ns = 0;            // monotonic capture time (the drone's timestamp, mapped)
+    TimeNs t_ns = 0;                  // capture_ns from the link's start (FrameSample::t_ns)
+    std::uint32_t frame_number = 0;   // PaVE frame_number
     std::optional<std::uint32_t> pave_timestamp_ms;  // PaVE timestamp (drone clock, ms)
     bool is_idr = false;                             // contains an IDR slice
+    video::UnitFate fate = video::UnitFate::NoPicture;
     std::vector<std::uint8_t> bytes;
-    cv::Mat image;  // the decoded frame (shares the link's pooled buffer: drop it soon)
+    cv::Mat image;  // the decoded frame (a pooled buffer: drop it soon)
 };
 
-// Events per second over the last second.
+// Events (or bytes) per second over the last second.
 class RateMeter {
 public:
-    void tick(TimeNs now);
+    void tick(TimeNs now, std::uint64_t count = 1);
     double rate_hz(TimeNs now) const;
 
 private:
@@ -95,6 +121,8 @@ struct NavdataStats {
     std::uint64_t checksum_failures = 0;
     std::uint64_t foreign_dropped = 0;  // from any other address or port
     std::uint64_t oversize = 0;         // datagrams larger than the 4096-byte maximum
+    std::uint64_t bytes = 0;            // bytes of the datagrams from the drone's address
+    double bytes_per_s = 0;             // over the last second
     double rate_hz = 0;
     TimeNs last_ns = 0;
     std::string last_error;
@@ -103,6 +131,7 @@ struct NavdataStats {
 struct VideoStats {
     bool connected = false;
     std::uint64_t bytes = 0;
+    double bytes_per_s = 0;  // over the last second
     std::uint64_t pave_frames = 0;
     std::uint64_t decoded = 0;
     std::uint64_t decode_errors = 0;
@@ -114,19 +143,23 @@ struct VideoStats {
     std::uint64_t disconnects = 0;               // resets, silences, errors
     std::uint64_t pool_exhausted = 0;            // every pooled frame still in use: one allocated
     std::uint64_t unsupported_codec_frames = 0;  // PaVE frames not H.264: skipped (last_error)
+    std::uint64_t concealed = 0;                 // frames shown with damage the decoder concealed
+    std::uint64_t no_picture = 0;    // access units that gave no picture (damaged beyond repair)
+    std::uint64_t cut_by_reset = 0;  // frames a connection ended inside (never joined to the next)
+    std::uint64_t nav_interpolated = 0;  // frames whose attitude lies between two samples
+    std::uint64_t nav_nearest = 0;       // frames captured past the newest sample (or before the
+                                         // oldest): the nearest one is used
     double fps = 0;
     double decode_ms_last = 0;
     TimeNs last_frame_ns = 0;
     std::string last_error;
 };
 
-// True when the frame's codec is H.264 (the only one decoded); otherwise counts it in
-// stats.unsupported_codec_frames and says why in stats.last_error.
-[[nodiscard]] bool accept_video_codec(const protocol::PaveHeader& h, VideoStats& stats);
-
 struct AtStats {
     AtCounters counters;
     std::uint64_t send_errors = 0;
+    std::uint64_t bytes_sent = 0;  // AT datagram bytes handed to the socket
+    double bytes_per_s = 0;        // over the last second
     double period_ms_last = 0;
     double period_ms_max = 0;  // worst gap between two cycles since start
     // Every gap between two cycles since start: bin i counts gaps in [i, i + 1) ms, the last bin
@@ -135,7 +168,11 @@ struct AtStats {
     static constexpr std::size_t kPeriodBins = 100;
     std::array<std::uint32_t, kPeriodBins> period_hist{};
     std::uint64_t periods = 0;
-    std::uint64_t periods_off_by_3ms = 0;   // gaps outside the period +- 3 ms
+    std::uint64_t periods_off_by_3ms = 0;  // gaps outside the period +- 3 ms
+    // The drone never writes to the AT socket: whatever arrives there (a stray or hostile peer)
+    // is read every cycle, counted and dropped, so it cannot fill the kernel buffer.
+    std::uint64_t foreign_datagrams = 0;
+    std::uint64_t foreign_bytes = 0;
     bool realtime = false;                  // the sender thread got a real-time priority
     FlyIntent intent = FlyIntent::Unknown;  // the take-off intent REF carries (at_scheduler.hpp)
     // The gap (ms, bin resolution) below which a share q of the gaps fell; NaN before any.
@@ -196,8 +233,9 @@ public:
     std::shared_ptr<BoundedQueue<RawEvent>> subscribe_raw(std::size_t capacity);
     // The access unit of every decoded frame (see AccessUnitEvent).
     std::shared_ptr<BoundedQueue<AccessUnitEvent>> subscribe_access_units(std::size_t capacity);
-    // Stops feeding the queue returned by any subscribe_*(); the link threads may still push
-    // an item or two that they were handing over while this ran.
+    // Stops feeding the queue returned by any subscribe_*(). Returns once every link thread has
+    // moved on to the new list (within one of its cycles, tens of ms): nothing is pushed into
+    // the queue after that, so a recorder that drains it then has everything.
     void unsubscribe(const void* queue);
     // The clock every *_ns of the link is on (a recorder must use the same one).
     const Clock& clock() const { return clock_; }
@@ -205,6 +243,8 @@ public:
     const LinkConfig& config_used() const { return config_; }
     // The local port navdata arrives on (after start; 0 before).
     std::uint16_t navdata_local_port() const;
+    // The local port AT commands are sent from (after start; 0 before).
+    std::uint16_t at_local_port() const;
     TimeNs start_ns() const { return start_ns_; }
 
 private:
@@ -238,7 +278,6 @@ private:
     void video_loop();
     void control_loop();
     void push_at(AtRequest r);
-    void publish_raw(RawEvent::Kind kind, TimeNs t, std::span<const std::uint8_t> bytes);
 
     LinkConfig config_;
     Clock& clock_;
@@ -252,6 +291,9 @@ private:
     BoundedQueue<AtRequest> at_queue_{256};
     BoundedQueue<NavRequest> nav_queue_{64};
     BoundedQueue<protocol::ConfigMap> dump_queue_{4};
+    // Accepted navdata for the video thread, which times each frame's attitude at its capture
+    // (the newest samples win when it falls behind).
+    BoundedQueue<NavState> nav_to_video_{512, QueueFull::DropOldest};
 
     LatestValue<NavSample> nav_slot_;
     LatestValue<FrameSample> frame_slot_;
@@ -275,6 +317,9 @@ private:
         std::vector<std::shared_ptr<BoundedQueue<AccessUnitEvent>>> access_units;
     };
     LatestValue<Subscribers> subscribers_;
+    // The subscriber list generation each thread (navdata, AT, video) works with, for
+    // unsubscribe() to wait on; a thread sets it after reading the list at the top of its cycle.
+    std::array<std::atomic<std::uint64_t>, 3> subs_seen_{};
 };
 
 }  // namespace gs::link

@@ -38,10 +38,17 @@ struct NavdataIds {  // multi-configuration ids (PROTOCOL.md §2.8), 8 hex digit
     }
 };
 
+// The navdata options the ground station reads (PROTOCOL.md §3.4): demo (attitude, velocities,
+// altitude, battery: what the classifier and the odometry use) and time (the drone's clock).
+inline constexpr std::uint32_t kNavdataOptionsUsed = (1u << 0) | (1u << 1);
+
 struct LinkSetup {
-    bool navdata_demo = true;  // demo (15 Hz) or full (200 Hz)
-    std::uint32_t navdata_options =
-        0;  // full mode: general:navdata_options mask (0 = drone default)
+    // Full navdata (200 Hz) by default: the attitude of a frame is interpolated between samples
+    // 5 ms apart instead of 65 ms. A drone that stays in demo mode (15 Hz) is used as it is
+    // (link_state: "navdata demo although full was configured").
+    bool navdata_demo = false;
+    // Full mode: general:navdata_options mask (0 = the drone's default, every option).
+    std::uint32_t navdata_options = kNavdataOptionsUsed;
     NavdataIds ids;
     LinkTiming timing;
 };

@@ -1,10 +1,11 @@
 #include "drone/record/recorder.hpp"
 
-#include "drone/dataset/annexb.hpp"
-#include "drone/dataset/raw_replay.hpp"
-#include "drone/protocol/pave.hpp"
-
 #include <nlohmann/json.hpp>
+
+#include <sys/statvfs.h>
+
+#include <cerrno>
+#include <cstdio>
 
 #include <algorithm>
 #include <cmath>
@@ -15,7 +16,6 @@ namespace gs::record {
 namespace {
 
 constexpr std::size_t kTruthHistory = 1024;  // 20 s at the virtual drone's 50 Hz
-constexpr std::size_t kCompleteHistory = 256;
 constexpr std::size_t kTapPending = 256;
 constexpr TimeNs kStatusPeriod = 100'000'000;
 
@@ -51,6 +51,34 @@ TruthPose pose_at(const std::deque<TruthSample>& h, TimeNs t) {
     return p;
 }
 
+// "the disk holding /media/x is full: 0 B free" for a recording's failure message.
+std::string disk_text(const std::filesystem::path& dir, int err) {
+    // The mount point: the longest mount path that is a prefix of the dataset's real path.
+    std::error_code ec;
+    const std::string real = std::filesystem::weakly_canonical(dir, ec).string();
+    std::string mount = "/";
+    if (std::FILE* m = std::fopen("/proc/self/mounts", "r")) {
+        char dev[512], at[512];
+        while (std::fscanf(m, "%511s %511s %*[^\n]", dev, at) == 2) {
+            const std::string a = at;
+            const bool prefix = real.rfind(a, 0) == 0 &&
+                                (a == "/" || real.size() == a.size() || real[a.size()] == '/');
+            if (prefix && a.size() > mount.size()) mount = a;
+        }
+        std::fclose(m);
+    }
+    struct statvfs v {};
+    std::string free_text;
+    if (::statvfs(mount.c_str(), &v) == 0) {
+        char b[64];
+        std::snprintf(b, sizeof b, "%.1f MB free",
+                      static_cast<double>(v.f_bavail) * static_cast<double>(v.f_frsize) / 1e6);
+        free_text = b;
+    }
+    return (err == ENOSPC ? "the disk holding it is full: " : "the disk holding it failed: ") +
+           mount + (free_text.empty() ? "" : ", " + free_text);
+}
+
 // The camera the link's last configuration dump names (front when there is none).
 CameraId reported_camera(const link::DroneLink& link) {
     const auto cfg = link.config().latest();
@@ -75,13 +103,17 @@ struct Recorder::State {
     std::shared_ptr<BoundedQueue<link::RawEvent>> raw;
     std::shared_ptr<BoundedQueue<link::AccessUnitEvent>> units;
     std::shared_ptr<BoundedQueue<dataset::FrameRow>> rows;  // the writer's row tap (frame_tap only)
+    link::VideoStats video_at_start;  // the link's counters when recording began
 
-    // A frame is recorded only when the recorded video bytes hold it whole: the link may have
-    // been in the middle of a frame when the recording began, and replaying raw/ must find
-    // every frame frames.csv has. This framer sees exactly what raw/video.pave holds.
-    protocol::PaveFramer framer;
-    std::deque<std::uint32_t> complete;  // frame numbers it completed, oldest first
+    // A unit is recorded only when raw/video.pave holds it whole: the link may have been in the
+    // middle of a frame when the recording began. Offsets are the video receiver's (RawEvent and
+    // AccessUnitEvent count the same bytes), so nothing is framed twice.
+    std::optional<std::uint64_t> raw_video_from;  // stream offset of the first recorded byte
+    std::uint64_t raw_video_end = 0;              // one past the last recorded byte
     std::uint64_t not_in_raw = 0;
+    std::uint64_t dropped_reference_lost = 0, dropped_no_picture = 0, dropped_not_h264 = 0;
+    std::uint64_t concealed = 0;
+    std::uint64_t navdata_accepted = 0;
 
     // Frames waiting for a ground-truth sample after their capture.
     std::deque<link::AccessUnitEvent> pending;
@@ -150,8 +182,11 @@ Expected<void, StartError> Recorder::start(const std::filesystem::path& dir, Rec
     }
     tap_ =
         opts.frame_tap > 0 ? std::make_shared<BoundedQueue<FrameSample>>(opts.frame_tap) : nullptr;
-    s->raw = link_.subscribe_raw(opts.raw_queue);
+    s->video_at_start = link_.status().video;
+    // Units before raw bytes (and the reverse when stopping): a frame wholly in raw/ is then a
+    // unit the recorder saw, and a unit is kept only when its bytes are all in raw/ (offsets).
     s->units = link_.subscribe_access_units(opts.access_unit_queue);
+    s->raw = link_.subscribe_raw(opts.raw_queue);
     state_ = std::move(s);
 
     RecorderStatus st;
@@ -167,8 +202,6 @@ Expected<void, StartError> Recorder::start(const std::filesystem::path& dir, Rec
 
 RecorderStatus Recorder::stop() {
     if (!running_.load()) return status();
-    link_.unsubscribe(state_->raw.get());
-    link_.unsubscribe(state_->units.get());
     stop_ = true;
     if (thread_.joinable()) thread_.join();
     running_ = false;
@@ -190,20 +223,21 @@ void Recorder::run() {
 
     auto on_raw = [&](link::RawEvent& e) {
         switch (e.kind) {
-            case link::RawEvent::Kind::Navdata: {
-                const auto nav = dataset::navdata_state(e.bytes);
-                (void)w.take_navdata(e.t_ns, std::move(e.bytes), nav);
+            case link::RawEvent::Kind::Navdata:
+                // raw/navdata.bin keeps every datagram received, navdata.csv the samples the
+                // link accepted from them, in the order it accepted them.
+                if (e.accepted) ++s.navdata_accepted;
+                (void)w.take_navdata(e.t_ns, std::move(e.bytes), e.accepted);
                 break;
-            }
             case link::RawEvent::Kind::Video:
-                s.framer.push(e.bytes);
-                while (auto ev = s.framer.next()) {
-                    const auto* f = std::get_if<protocol::PaveFrame>(&*ev);
-                    if (f == nullptr) continue;
-                    s.complete.push_back(f->header.frame_number);
-                    if (s.complete.size() > kCompleteHistory) s.complete.pop_front();
-                }
+                if (!s.raw_video_from) s.raw_video_from = e.stream_offset;
+                s.raw_video_end = e.stream_offset + e.bytes.size();
                 (void)w.take_video_bytes(e.t_ns, std::move(e.bytes));
+                break;
+            case link::RawEvent::Kind::VideoConnect:
+                // A connection that opens before any video byte was recorded is the first one:
+                // raw/video.pave starts with it (offset 0).
+                if (s.raw_video_from) (void)w.add_video_connection(e.t_ns);
                 break;
             case link::RawEvent::Kind::At:
                 (void)w.add_at(e.t_ns,
@@ -224,7 +258,7 @@ void Recorder::run() {
         if (truth_ != nullptr) {
             dataset::FrameLabel l;
             if (!s.truth.empty()) {
-                const TruthPose p = pose_at(s.truth, e.recv_ns);
+                const TruthPose p = pose_at(s.truth, e.capture_ns);
                 l.gt = dataset::GroundTruthPose{p.x_m, p.y_m, p.z_m, p.yaw_deg};
                 if (const auto hit = truth_->target_offset(p)) {
                     l.distance_m = hit->distance_m;
@@ -233,9 +267,11 @@ void Recorder::run() {
             }
             label = l;
         }
-        const bool idr = dataset::annexb_has_idr(e.bytes);
+        const bool idr = e.is_idr;
         cv::Mat image = std::move(e.image);  // released at the end of this call unless tapped
-        if (!w.take_frame(e.recv_ns, std::move(e.bytes), {}, label)) return;  // counted there
+        // Stamped with the capture clock the live path uses (PaVE timestamp mapped onto ours),
+        // not the time of the TCP read that completed the frame.
+        if (!w.take_frame(e.capture_ns, std::move(e.bytes), {}, label)) return;  // counted there
         if (!s.seen_idr && !idr) return;  // the writer skips it too (and counts it)
         s.seen_idr = true;
         const std::int64_t index = s.next_index++;
@@ -249,17 +285,41 @@ void Recorder::run() {
     };
 
     auto on_unit = [&](link::AccessUnitEvent& e) {
-        auto it = std::find(s.complete.begin(), s.complete.end(), e.frame_number);
-        if (it == s.complete.end()) {
+        // Begun before the recording, or ended after it (its bytes are not all in raw/): not
+        // part of it.
+        if (!s.raw_video_from || e.stream_offset < *s.raw_video_from ||
+            e.stream_end > s.raw_video_end) {
             ++s.not_in_raw;
             return;
         }
-        s.complete.erase(s.complete.begin(), it + 1);
+        if (e.pave_timestamp_ms)
+            (void)w.add_capture_time(e.frame_number, *e.pave_timestamp_ms, e.capture_ns);
+        switch (e.fate) {
+            case video::UnitFate::Decoded:
+                break;
+            case video::UnitFate::Concealed:
+                ++s.concealed;
+                break;
+            case video::UnitFate::WaitingIdr:
+                // Before the recording's first kept frame this is the stream's start, not a loss.
+                if (s.seen_idr)
+                    ++s.dropped_reference_lost;
+                else
+                    ++s.not_in_raw;
+                return;
+            case video::UnitFate::NotH264:
+                ++s.dropped_not_h264;
+                return;
+            case video::UnitFate::NoPicture:
+            case video::UnitFate::NotDecoded:
+                ++s.dropped_no_picture;
+                return;
+        }
         s.pending.push_back(std::move(e));
     };
 
     auto drain_pending = [&](TimeNs now, bool flushing) {
-        while (!s.pending.empty() && truth_ready(s.pending.front().recv_ns, now, flushing)) {
+        while (!s.pending.empty() && truth_ready(s.pending.front().capture_ns, now, flushing)) {
             write_frame(s.pending.front());
             s.pending.pop_front();
         }
@@ -288,6 +348,7 @@ void Recorder::run() {
 
     auto publish = [&](TimeNs now, bool recording) {
         const auto ws = w.stats();
+        const auto video = link_.status().video;
         RecorderStatus st;
         st.recording = recording;
         st.path = s.dir.string();
@@ -300,10 +361,27 @@ void Recorder::run() {
         st.dropped_writer = ws.dropped_queue_full + ws.frames_lost_io;
         st.dropped_tap =
             s.tap_lost + (tap_ ? tap_->dropped() : 0) + (s.rows ? s.rows->dropped() : 0);
-        st.drops = st.dropped_link + st.dropped_writer + st.dropped_tap;
+        st.dropped_reference_lost = s.dropped_reference_lost;
+        st.dropped_no_picture = s.dropped_no_picture;
+        st.dropped_not_h264 = s.dropped_not_h264;
+        st.dropped_cut_by_reset = video.cut_by_reset - s.video_at_start.cut_by_reset;
+        st.drops = st.dropped_link + st.dropped_writer + st.dropped_tap +
+                   st.dropped_reference_lost + st.dropped_no_picture + st.dropped_not_h264 +
+                   st.dropped_cut_by_reset;
+        st.concealed = s.concealed;
         st.frames_skipped = ws.frames_skipped + s.not_in_raw;
+        st.video_connections = ws.video_connections;
+        st.navdata_accepted = s.navdata_accepted;
         st.write_errors = ws.write_errors;
-        st.error = ws.first_error;
+        st.disk_full = ws.stopped;
+        if (ws.stopped) {
+            st.error = "recording stopped: " + s.dir.string() + ": " + ws.first_error + " (" +
+                       disk_text(s.dir, ws.first_errno) + "); the " +
+                       std::to_string(ws.frames_written) +
+                       " frames on disk are kept and the dataset opens";
+        } else {
+            st.error = ws.first_error;
+        }
         st.labels = truth_ != nullptr;
         st.cpu_ms = thread_cpu_ms() - cpu0;
         status_.publish(std::move(st));
@@ -311,7 +389,7 @@ void Recorder::run() {
 
     auto cycle = [&](bool flushing) {
         // Access units first, then raw: the chunk completing a frame was queued before the
-        // frame's access unit, so it is already in hand when the unit is looked at.
+        // frame's access unit, so the first recorded offset is known when the unit is looked at.
         while (auto u = s.units->try_pop()) units.push_back(std::move(*u));
         while (auto r = s.raw->try_pop()) raws.push_back(std::move(*r));
         for (auto& r : raws) on_raw(r);
@@ -329,18 +407,27 @@ void Recorder::run() {
         drain_rows();
     };
 
+    bool failed = false;
     while (!stop_.load()) {
         // Wake on the busiest stream (AT alone is ~33 Hz), never sleep long.
         if (auto first = s.raw->pop_for(std::chrono::milliseconds(10)))
             raws.push_back(std::move(*first));
         cycle(false);
         const TimeNs now = clock.now_ns();
+        // The disk failed: stop at once (the writer has already stopped writing).
+        if (w.stats().stopped) {
+            failed = true;
+            break;
+        }
         if (now - last_status >= kStatusPeriod) {
             publish(now, true);
             last_status = now;
         }
     }
-    cycle(true);
+    // The reverse of start()'s order (unsubscribe() returns once the link threads moved on).
+    link_.unsubscribe(s.raw.get());
+    link_.unsubscribe(s.units.get());
+    if (!failed) cycle(true);
     const TimeNs end = clock.now_ns();
     w.close();  // settles every row
     drain_rows();

@@ -1,10 +1,18 @@
 #pragma once
-// Recording a live flight as a dataset (DATASET.md): attaches to a running DroneLink through its
-// recording subscriptions (raw bytes of every stream, the access unit of every decoded frame) and
-// drains them on its own thread into a DatasetWriter: raw/, navdata.csv, video.h264, frames.csv
-// (attitude interpolated by the writer), flight.json. Attached to the virtual drone as well, it
-// writes the ground truth: labels.json (the scene's scenario) and labels.csv + gt_* columns (the
-// pose at each frame's capture time against the scene's target obstacle).
+// Recording a live flight as a dataset (DATASET.md 1.1): attaches to a running DroneLink through
+// its recording subscriptions and drains them on its own thread into a DatasetWriter:
+//   raw/           every byte received and sent (raw events), with the video connections;
+//   navdata.csv    the navdata samples the link accepted, in the order it accepted them;
+//   video.h264     the access units the link's video receiver turned into a picture (the
+//                  receiver's own units, never re-framed here), from the recording's first IDR;
+//   frames.csv     one row per kept unit, at its capture time, attitude interpolated by the writer.
+// A unit that gave no picture (its reference lost to a reset or a gap, damaged beyond repair, not
+// H.264) is not kept and is counted as a drop with its reason, so a recording whose counters say 0
+// drops replays every frame. A failing disk stops the recording at once with a message naming the
+// dataset and the disk (status().error); what is on disk opens; the link is not affected. Attached
+// to the virtual drone as well, it writes the ground truth: labels.json (the scene's scenario) and
+// labels.csv + gt_* columns (the pose at each frame's capture time against the scene's target
+// obstacle).
 //
 // Nothing here can block the link: the subscriptions reject what does not fit and the writer's
 // queue does the same; every loss is counted in status().drops. status() is a latest-value read,
@@ -58,10 +66,19 @@ struct RecorderStatus {
     std::uint64_t dropped_writer = 0;  // writer queue full or frames lost to I/O (disk too slow)
     std::uint64_t dropped_tap = 0;     // frames the live consumer did not take in time
     std::uint64_t frames_skipped = 0;  // before the first IDR, or begun before the recording
+    // Frames not kept, by reason (each also in drops):
+    std::uint64_t dropped_reference_lost = 0;  // P-frames after a video reset or a frame gap
+    std::uint64_t dropped_no_picture = 0;      // damaged beyond what the decoder conceals
+    std::uint64_t dropped_not_h264 = 0;        // another codec on the video port
+    std::uint64_t dropped_cut_by_reset = 0;    // a frame a connection ended inside
+    std::uint64_t concealed = 0;               // kept, with damage the decoder concealed
+    std::uint64_t video_connections = 0;       // raw/video_connections.csv rows
+    std::uint64_t navdata_accepted = 0;        // samples the link accepted while recording
     std::uint64_t write_errors = 0;
-    std::string error;    // the first I/O error
-    bool labels = false;  // ground truth is being written
-    double cpu_ms = 0;    // CPU time of the recorder's own thread (not the writer's)
+    bool disk_full = false;  // stopped because the disk is full (or another write failed)
+    std::string error;       // the first I/O error, as the pilot reads it
+    bool labels = false;     // ground truth is being written
+    double cpu_ms = 0;       // CPU time of the recorder's own thread (not the writer's)
 };
 
 // Why Recorder::start() failed; `message` is the sentence shown to the user.

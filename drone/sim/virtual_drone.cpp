@@ -8,6 +8,7 @@
 #include <sys/socket.h>
 
 #include <array>
+#include <cerrno>
 #include <chrono>
 #include <optional>
 
@@ -174,7 +175,11 @@ void VirtualDrone::core_loop() {
                 }
                 void operator()(const FaultVideoStall& s) { vd.video_stalls_.push(s); }
                 void operator()(const FaultVideoReset& r) { vd.video_resets_.push(r); }
-                void operator()(const FaultReboot& r) { core.reboot(now, ms_to_ns(r.boot_ms)); }
+                void operator()(const FaultReboot& r) {
+                    core.reboot(now, ms_to_ns(r.boot_ms));
+                    const auto gen = vd.boot_.latest().value_or(BootState{}).generation;
+                    vd.boot_.publish({gen + 1, now + ms_to_ns(r.boot_ms)});
+                }
             };
             std::visit(V{core, *this, now}, *f);
         }
@@ -202,6 +207,8 @@ void VirtualDrone::core_loop() {
             st.video_frames_sent = report.frames_sent;
             st.video_clients = report.clients;
             st.video_resets = report.resets;
+            st.reboot_closes = reboot_closes_.load();
+            if (auto b = boot_.latest()) st.booting = now < b->up_at_ns;
             st.render_ms_last = report.render_ms;
             st.encode_ms_last = report.encode_ms;
             st.autopilot_done = core.autopilot_done();
@@ -267,7 +274,16 @@ void VirtualDrone::video_loop() {
         return slot ? &*slot : (front ? &*front : nullptr);
     };
 
+    std::uint64_t boot_gen = 0;
+    BootState boot;
     while (running_) {
+        if (boot_.read_if_newer(boot_gen, boot) && !wait_for_boot(sockets_->video, 2, boot)) break;
+        if (!sockets_->video.is_open()) {  // could not listen again: report, retry slowly
+            report.error = "video port: cannot listen again after the reboot";
+            video_report_.publish(report);
+            std::this_thread::sleep_for(std::chrono::milliseconds(100));
+            continue;
+        }
         auto client = sockets_->video.accept(transport::Millis{100});
         if (!client) continue;
         ++report.clients;
@@ -282,6 +298,15 @@ void VirtualDrone::video_loop() {
             if (!sleep_until(clk, next, running_)) break;
             const TimeNs due = next;  // this frame's time
             next += period;
+            if (boot_.read_if_newer(boot_gen, boot)) {
+                // Rebooting: the connection dies with the drone's network stack (RST).
+                linger l{1, 0};
+                ::setsockopt(client->native_handle(), SOL_SOCKET, SO_LINGER, &l, sizeof l);
+                client->close();
+                ++reboot_closes_;
+                if (!wait_for_boot(sockets_->video, 2, boot)) return;
+                break;
+            }
             if (auto stall = video_stalls_.try_pop()) {
                 const TimeNs until = clk.now_ns() + ms_to_ns(stall->ms);
                 video_next_due_.store(until + period);  // no frame is due while it stalls
@@ -359,7 +384,12 @@ void VirtualDrone::video_loop() {
             auto sent =
                 client->write_all(std::span<const std::uint8_t>(packet), transport::Millis{500});
             if (!sent) {
-                report.error = "video client: " + sent.error().message();
+                // A client that went away (closed or reset its end) is a normal end of its
+                // connection, not a fault of the drone's; anything else is reported.
+                const int why = sent.error().sys_errno;
+                if (why != EPIPE && why != ECONNRESET &&
+                    sent.error().code != transport::NetErrc::Closed)
+                    report.error = "video client: " + sent.error().message();
                 video_report_.publish(report);
                 break;
             }
@@ -375,9 +405,39 @@ void VirtualDrone::video_loop() {
     }
 }
 
+bool VirtualDrone::wait_for_boot(transport::TcpListener& listener, int which,
+                                 const BootState& boot) {
+    listener.close();  // connecting is refused while the drone boots
+    while (running_ && mono_now() < boot.up_at_ns)
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    if (!running_) return false;
+    auto ep =
+        transport::Endpoint::parse(options_.bind_address + ":" + std::to_string(ports_[which]));
+    for (int attempt = 0; ep && running_ && attempt < 200; ++attempt) {
+        auto l = transport::TcpListener::listen(*ep);
+        if (l) {
+            listener = std::move(*l);
+            return true;
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    return running_.load();
+}
+
 void VirtualDrone::control_loop() {
     transport::TcpStream client;
+    std::uint64_t boot_gen = 0;
+    BootState boot;
     while (running_) {
+        if (boot_.read_if_newer(boot_gen, boot)) {
+            if (client.is_open()) {
+                linger l{1, 0};
+                ::setsockopt(client.native_handle(), SOL_SOCKET, SO_LINGER, &l, sizeof l);
+                client.close();
+                ++reboot_closes_;
+            }
+            if (!wait_for_boot(sockets_->control, 3, boot)) return;
+        }
         if (!client.is_open()) {
             auto c = sockets_->control.accept(transport::Millis{50});
             if (c) client = std::move(*c);

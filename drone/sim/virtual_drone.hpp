@@ -10,6 +10,7 @@
 #include "drone/sim/drone_core.hpp"
 #include "drone/sim/renderer.hpp"
 #include "drone/sim/scene.hpp"
+#include "drone/transport/net.hpp"
 
 #include <atomic>
 #include <chrono>
@@ -55,7 +56,8 @@ struct FaultVideoReset {
     bool during_idr = false;
 };
 // The drone restarts: sequences, configuration and client reset, back on the ground. It is down
-// (deaf and silent) for `boot_ms`, as a real one is for seconds.
+// (deaf and silent) for `boot_ms`, as a real one is for seconds: the video and configuration
+// connections are cut at once and connecting to those ports is refused until it is back up.
 struct FaultReboot {
     int boot_ms = 1000;
 };
@@ -69,6 +71,8 @@ struct VirtualDroneStatus {
     std::uint64_t video_frames_sent = 0;
     std::uint64_t video_clients = 0;
     std::uint64_t video_resets = 0;
+    std::uint64_t reboot_closes = 0;  // video/control connections cut by a reboot
+    bool booting = false;             // down after a reboot: ports closed, nothing sent
     double render_ms_last = 0, encode_ms_last = 0;
     bool autopilot_done = false;
     bool autopilot_active = false;  // flying its script (false once a pilot took over)
@@ -166,6 +170,17 @@ private:
         std::string error;
     };
     LatestValue<VideoReport> video_report_;
+    // A reboot as the core thread saw it, for the video and control threads: a new generation
+    // closes their connections and listeners, which listen again once the drone is up.
+    struct BootState {
+        std::uint64_t generation = 0;
+        TimeNs up_at_ns = 0;
+    };
+    LatestValue<BootState> boot_;
+    std::atomic<std::uint64_t> reboot_closes_{0};
+    // Closes the listener `which` (2 video, 3 control) until the drone is up again, then listens
+    // on the same port. Returns false when stopping.
+    bool wait_for_boot(transport::TcpListener& listener, int which, const BootState& boot);
     LatestValue<VirtualDroneStatus> status_;
     LatestValue<GroundTruth> truth_;
 };

@@ -4,7 +4,7 @@
 #
 #   drone/core       the base: nothing of ours
 #   drone/protocol   core                  drone/transport  core
-#   drone/video      core                  drone/link       core protocol transport video
+#   drone/video      core protocol         drone/link       core protocol transport video
 #   drone/dataset    core protocol video   drone/record     core protocol video link dataset
 #   drone/sim        core protocol transport video dataset record (the virtual drone; nothing
 #                    below it includes sim)
@@ -22,7 +22,7 @@ endif()
 set(allowed_drone/core "drone/core")
 set(allowed_drone/protocol "drone/core;drone/protocol")
 set(allowed_drone/transport "drone/core;drone/transport")
-set(allowed_drone/video "drone/core;drone/video")
+set(allowed_drone/video "drone/core;drone/protocol;drone/video")
 set(allowed_drone/link "drone/core;drone/protocol;drone/transport;drone/video;drone/link")
 set(allowed_drone/dataset "drone/core;drone/protocol;drone/video;drone/dataset")
 set(allowed_drone/record "drone/core;drone/protocol;drone/video;drone/link;drone/dataset;drone/record")

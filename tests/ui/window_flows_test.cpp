@@ -6,6 +6,7 @@
 #include "app/gui_adapter.hpp"
 #include "app/session.hpp"
 #include "session_fixture.hpp"
+#include "support/wait.hpp"
 
 #include <gtest/gtest.h>
 
@@ -141,17 +142,15 @@ TEST_F(WindowFlows, ClosingWhileFlyingLandThenQuitLandsTheVirtualDroneThenCloses
         << "never quit; drone " << static_cast<int>(drone->status().flight.major);
     EXPECT_FALSE(quit_while_flying);
     EXPECT_FALSE(snap.telemetry.state->flying);
-    // The drone's own status is published every 20 ms of its clock: it may trail the navdata
-    // that said "landed" by one publication.
-    const auto t0 = std::chrono::steady_clock::now();
-    auto landed = [&] {
+    // The simulator publishes its status every 20 ms, navdata every 5 ms (full navdata): the
+    // window may have seen "landed" before the status caught up with it.
+    const auto landed = [&] {
         const auto f = drone->status().flight;
         return (f.major == sim::CtrlMajor::Landed || f.major == sim::CtrlMajor::Default) &&
                !f.motors_on;
     };
-    while (!landed() && std::chrono::steady_clock::now() - t0 < 2s)
-        std::this_thread::sleep_for(5ms);
-    EXPECT_TRUE(landed()) << static_cast<int>(drone->status().flight.major);
+    EXPECT_TRUE(gs::test::wait_until(landed, 2s)) << static_cast<int>(drone->status().flight.major)
+                                                  << " motors " << drone->status().flight.motors_on;
 }
 
 }  // namespace

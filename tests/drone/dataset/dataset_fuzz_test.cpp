@@ -18,7 +18,7 @@ TEST(DatasetFuzz, ParsersSurviveTruncationAndGarbage) {
         R"({"format": "ardrone-dataset", "version": 1, "camera": "front", "width": 640,
             "height": 360, "fps": 30, "frames": 2, "video": "video.h264",
             "calibration": {"fx": 1, "fy": 2, "cx": 3, "cy": 4, "dist": [0, 0, 0, 0, 0]}})";
-    const std::string frames = "frame,t_ms,roll_deg,gt_x_m\n0,0,1.5,\"2\"\n1,33.3,-2e3,\n";
+    const std::string frames = "frame,t_ms,roll_deg,gt_x_m\n0,0,1.5,\"2\"\n1,33.3,-20,\n";
     const std::string nav = "t_ms,state,ctrl_state,seq\n0,0x1,0x2,3\n5,0xFFFFFFFF,4,5\n";
     const std::string at = "1 AT*REF=1,290717696\\r\n2 AT\\x01\\\\\n";
     std::string bin;

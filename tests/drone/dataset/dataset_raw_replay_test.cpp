@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 
 namespace gs {
@@ -17,7 +18,7 @@ using namespace dataset;
 // before it arrived.
 RawReplayDecoders fake_decoders() {
     RawReplayDecoders d;
-    d.navdata = [](std::span<const std::uint8_t> b) -> std::optional<NavState> {
+    d.navdata = [](std::span<const std::uint8_t> b, TimeNs) -> std::optional<NavState> {
         if (b.size() != 8) return std::nullopt;
         NavState s;
         std::memcpy(&s.roll_deg, b.data(), 8);
@@ -40,7 +41,7 @@ TEST(RawReplay, ReproducesTheRecordedFramesCsv) {
     int frame = 0;
     for (int i = 0; i < 400; ++i) {  // 2 s of 200 Hz navdata, a frame about every 33 ms
         const TimeNs tn = i * 5 * kNsPerMs + 1;
-        const double roll = 0.1 * i * i - i;
+        const double roll = 80 * std::sin(0.0005 * i * i);  // not linear, within ±90°
         std::uint8_t b[8];
         std::memcpy(b, &roll, 8);
         NavState s;

@@ -210,7 +210,7 @@ TEST(Thesis, NaturalOrderOnlyTxtAndErrors) {
     test::write_file(t / "thesis/log.txt", imu + "12 0 0 1 x\n");
     e = open_thesis_folder(t / "thesis", o, oo);
     ASSERT_FALSE(e);
-    EXPECT_EQ(to_string(e.error()), "log.txt:12:10: expected a number, got 'x'");
+    EXPECT_EQ(to_string(e.error()), "log.txt:12:10: expected a finite number or nan, got 'x'");
     test::write_file(t / "thesis/log.txt", imu + "12 0 0 1 2\n");
     e = open_thesis_folder(t / "thesis", o, oo);
     ASSERT_FALSE(e);

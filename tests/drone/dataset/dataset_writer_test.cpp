@@ -240,8 +240,8 @@ TEST(RawFiles, TruncatedTailAndAbsurdLengths) {
     bad[9] = '\xFF';
     bad[10] = '\xFF';
     bad[11] = '\x7F';
-    auto r = parse_navdata_bin(
-        std::span(reinterpret_cast<const std::uint8_t*>(bad.data()), bad.size()));
+    auto r =
+        parse_navdata_bin(std::span(reinterpret_cast<const std::uint8_t*>(bad.data()), bad.size()));
     ASSERT_FALSE(r);
     EXPECT_EQ(to_string(r.error()),
               "raw/navdata.bin: record 0 at byte 0 claims 2147483647 bytes (limit 65507)");
@@ -280,7 +280,8 @@ TEST(DatasetWriter, KilledRecordingIsReadableToWithinOneSecond) {
         const std::vector<std::uint8_t> chunk(4000, 0x22);
         for (int i = 0;; ++i) {  // 200 Hz navdata, 25 fps frames, until killed
             const TimeNs now = clock.now_ns();
-            (*w)->add_navdata(now, dgram, nav_at(i, 0, 0));
+            // roll grows with the sample index (within the ±90° DATASET.md allows)
+            (*w)->add_navdata(now, dgram, nav_at(std::min(i * 0.1, 89.0), 0, 0));
             if (i % 8 == 0) {
                 (*w)->add_video_bytes(now, chunk);
                 (*w)->add_frame(now - 1 * kNsPerMs, test::fake_access_unit(i % 240 == 0, 3000, 3));

@@ -1,5 +1,6 @@
 // The ground station's link against the virtual drone over real loopback sockets (ephemeral
 // ports): bootstrap, configuration, flight, video, and the faults a Wi-Fi link suffers.
+#include "drone/dataset/align.hpp"
 #include "drone/link/drone_link.hpp"
 #include "drone/protocol/pave.hpp"
 #include "drone/sim/scenarios.hpp"
@@ -12,6 +13,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <functional>
 #include <map>
@@ -59,17 +61,29 @@ struct Rig {
     // The simulator's truth, not the link's view of it.
     bool drone_flying() const { return drone->status().flight.flying(); }
     std::uint32_t drone_bits() const { return drone->status().drone_state; }
-    // Watches the drone for `span`: true when it never flew (motors, FLY bit or height).
-    bool stays_on_the_ground(std::chrono::milliseconds span) const {
-        const auto t0 = std::chrono::steady_clock::now();
+    // Watches the drone while the link sends `cycles` more AT cycles (about 30 ms each, more on
+    // a slow machine: the watch is counted in what the link did, not in time): true when it
+    // never flew (motors, FLY bit or height).
+    bool stays_on_the_ground(std::uint64_t cycles) const {
+        const auto until = link->status().at.counters.cycles + cycles;
         bool ground = true;
-        while (std::chrono::steady_clock::now() - t0 < span) {
-            const auto st = drone->status();
-            ground &= !st.flight.flying() && !st.flight.motors_on && st.flight.z_m == 0.0 &&
-                      !(st.drone_state & test::kFly);
-            std::this_thread::sleep_for(10ms);
-        }
-        return ground;
+        const bool done = wait_until(
+                              [&] {
+                                  const auto st = drone->status();
+                                  ground &= !st.flight.flying() && !st.flight.motors_on &&
+                                            st.flight.z_m == 0.0 && !(st.drone_state & test::kFly);
+                                  return link->status().at.counters.cycles >= until;
+                              },
+                              30s)
+                              .has_value();
+        return ground && done;
+    }
+    // Waits until the link accepted `n` more navdata packets (so whatever the drone sent before
+    // has been received and judged).
+    bool accepts_more(std::uint64_t n) const {
+        const auto until = link->status().navdata.accepted + n;
+        return wait_until([&] { return link->status().navdata.accepted >= until; }, 10s)
+            .has_value();
     }
 };
 
@@ -78,7 +92,8 @@ struct Rig {
 TEST(LinkIntegration, BootstrapsConfiguresTakesOffFliesForwardAndLands) {
     Rig rig;
     ASSERT_TRUE(wait_until([&] { return rig.connected(); }, 5s)) << rig.link->status().reason;
-    EXPECT_EQ(rig.drone->status().counters.configs, 1u);  // general:navdata_demo
+    // general:navdata_demo FALSE and general:navdata_options (full navdata, issue 17 item 5)
+    EXPECT_EQ(rig.drone->status().counters.configs, 2u);
     EXPECT_TRUE(rig.link->status().machine.configs_sent >= 1);
 
     auto r = rig.link->execute(Takeoff{}, 1s);
@@ -87,14 +102,18 @@ TEST(LinkIntegration, BootstrapsConfiguresTakesOffFliesForwardAndLands) {
     const double x0 = rig.drone->ground_truth().pose.x_m;
 
     ASSERT_TRUE(rig.link->execute(Move{0, -0.5f, 0, 0}, 1s).ok());
-    std::this_thread::sleep_for(3s);
+    // Flying forward: 1.5 m covered (about 2 s at the virtual drone's speed).
+    ASSERT_TRUE(wait_until([&] { return rig.drone->ground_truth().pose.x_m - x0 > 1.5; }, 20s));
+    ASSERT_TRUE(wait_until(
+        [&] {
+            auto n = rig.link->navdata().latest();
+            return n && n->state.vx_mps > 0.5;
+        },
+        5s));
     auto nav = rig.link->navdata().latest();
     ASSERT_TRUE(nav);
     EXPECT_EQ(nav->data.demo->ctrl_state.major(), 3);  // flying
-    EXPECT_GT(nav->state.vx_mps, 0.5);
     EXPECT_NEAR(nav->state.pitch_deg, -6.0, 1.0);
-    const double x1 = rig.drone->ground_truth().pose.x_m;
-    EXPECT_GT(x1 - x0, 1.5);
     // The link's telemetry and the simulator's truth agree.
     EXPECT_NEAR(nav->state.altitude_m, rig.drone->ground_truth().pose.z_m, 0.1);
 
@@ -106,8 +125,12 @@ TEST(LinkIntegration, BootstrapsConfiguresTakesOffFliesForwardAndLands) {
     ASSERT_TRUE(frame);
     EXPECT_EQ(frame->image.cols, 640);
     EXPECT_EQ(frame->image.rows, 360);
+    // Every frame the drone sent was decoded (none missed, whatever the machine's speed; the
+    // one in flight at the end aside), the stream start's P-frames aside.
     const auto st = rig.link->status();
-    EXPECT_GT(st.video.decoded, 100u);
+    const auto sent = rig.drone->status().video_frames_sent;
+    EXPECT_GT(st.video.decoded, 10u);
+    EXPECT_GE(st.video.decoded + st.video.idr_waits + 2, sent);
     EXPECT_EQ(st.video.decode_errors, 0u);
     EXPECT_EQ(st.video.resyncs, 0u);
     EXPECT_EQ(st.navdata.checksum_failures, 0u);
@@ -147,16 +170,22 @@ TEST(LinkIntegration, ThirtyPercentNavdataLossKeepsTheLinkConnectedAndCountsGaps
     sim::NavdataFaults f;
     f.loss = 0.3;
     rig.drone->inject(sim::FaultNavdata{f});
+    // Connected all the while the drone loses 200 packets (about 3 s of 200 Hz navdata).
     bool always_connected = true;
-    const auto t0 = std::chrono::steady_clock::now();
-    while (std::chrono::steady_clock::now() - t0 < 4s) {
-        always_connected &= rig.connected();
-        std::this_thread::sleep_for(10ms);
-    }
+    ASSERT_TRUE(wait_until(
+        [&] {
+            always_connected &= rig.connected();
+            return rig.drone->status().counters.navdata_dropped >= 200;
+        },
+        30s));
     EXPECT_TRUE(always_connected);
-    // Stop the loss and let a few packets through so the last gap is closed, then compare.
+    // Stop the loss and let packets through so the last gap is closed, then compare.
     rig.drone->inject(sim::FaultNavdata{});
-    std::this_thread::sleep_for(400ms);
+    ASSERT_TRUE(wait_until([&] { return rig.drone->status().counters.navdata_sent > 0; }, 1s));
+    const auto sent = rig.drone->status().counters.navdata_sent;
+    ASSERT_TRUE(
+        wait_until([&] { return rig.drone->status().counters.navdata_sent > sent + 20; }, 5s));
+    ASSERT_TRUE(rig.accepts_more(10));
     const auto gaps = rig.link->status().machine.sequence_gaps;
     const auto dropped = rig.drone->status().counters.navdata_dropped;
     EXPECT_GT(dropped, 10u);
@@ -182,13 +211,13 @@ TEST(LinkIntegration, ABlackoutIsLinkLostWithinHalfASecondAndRecoveredWithinOne)
 TEST(LinkIntegration, AVideoResetMidFrameReconnectsAndResumesAtTheNextIdr) {
     Rig rig;
     ASSERT_TRUE(wait_until([&] { return rig.connected(); }, 5s));
-    ASSERT_TRUE(wait_until([&] { return rig.link->status().video.decoded > 5; }, 5s));
+    ASSERT_TRUE(wait_until([&] { return rig.link->status().video.decoded > 5; }, 20s));
     const auto waits_before = rig.link->status().video.idr_waits;
     // Cut inside an IDR frame: the new connection starts with P-frames of the same GOP.
     rig.drone->inject(sim::FaultVideoReset{true});
-    ASSERT_TRUE(wait_until([&] { return rig.link->status().video.disconnects >= 1; }, 3s));
+    ASSERT_TRUE(wait_until([&] { return rig.link->status().video.disconnects >= 1; }, 10s));
     const auto before = rig.link->status().video.decoded;
-    ASSERT_TRUE(wait_until([&] { return rig.link->status().video.decoded > before + 5; }, 5s));
+    ASSERT_TRUE(wait_until([&] { return rig.link->status().video.decoded > before + 5; }, 30s));
     const auto st = rig.link->status();
     EXPECT_GE(st.video.connects, 2u);
     EXPECT_EQ(rig.drone->status().video_resets, 1u);
@@ -243,23 +272,6 @@ TEST(LinkIntegration, VideoFramesCarryThePaveFrameNumberAndTimestampTheDroneSent
         ++units_checked;
     }
     EXPECT_GT(units_checked, 15);
-}
-
-TEST(LinkVideo, OnlyH264IsAcceptedOtherCodecsAreCountedWithTheReason) {
-    VideoStats st;
-    PaveHeader h;
-    h.frame_number = 7;
-    EXPECT_TRUE(accept_video_codec(h, st));
-    EXPECT_EQ(st.unsupported_codec_frames, 0u);
-    EXPECT_TRUE(st.last_error.empty());
-    h.video_codec = PaveCodec::Mpeg4Visual;
-    EXPECT_FALSE(accept_video_codec(h, st));
-    h.video_codec = PaveCodec::Vlib;
-    EXPECT_FALSE(accept_video_codec(h, st));
-    EXPECT_EQ(st.unsupported_codec_frames, 2u);
-    EXPECT_NE(st.last_error.find("frame 7"), std::string::npos) << st.last_error;
-    EXPECT_NE(st.last_error.find(to_string(PaveCodec::Vlib)), std::string::npos)
-        << st.last_error;
 }
 
 TEST(LinkIntegration, PaveFramesInAnotherCodecAreCountedNotDecoded) {
@@ -323,12 +335,12 @@ TEST(LinkIntegration, ADroneRebootMidFlightIsRecoveredAndTheDroneStaysOnTheGroun
         << rig.link->status().reason;
     EXPECT_FALSE(flew);
     EXPECT_EQ(rig.drone->status().counters.reboots, 1u);
-    EXPECT_EQ(rig.drone->status().counters.configs, 2u);  // configured again after the reboot
+    EXPECT_EQ(rig.drone->status().counters.configs, 4u);  // configured again after the reboot
     auto nav = rig.link->navdata().latest();
     ASSERT_TRUE(nav);
     EXPECT_LT(nav->seq, 200u);  // the new sequence is accepted
     // No stale take-off: the pilot has to press Take off again.
-    EXPECT_TRUE(rig.stays_on_the_ground(1500ms));
+    EXPECT_TRUE(rig.stays_on_the_ground(50));
     const auto st = rig.link->status();
     EXPECT_EQ(st.at.intent, FlyIntent::Land);
     EXPECT_EQ(st.machine.drone_restarts, 1u);
@@ -353,7 +365,7 @@ TEST(LinkIntegration, CuttingTheMotorsThenResettingTheEmergencyDoesNotTakeOffAga
         1s));
     ASSERT_TRUE(rig.link->execute(Emergency{}, 1s).ok());  // reset it
     ASSERT_TRUE(wait_until([&] { return (rig.drone_bits() & test::kEmergency) == 0; }, 2s));
-    EXPECT_TRUE(rig.stays_on_the_ground(1500ms));
+    EXPECT_TRUE(rig.stays_on_the_ground(50));
     EXPECT_EQ(rig.link->status().at.intent, FlyIntent::Land);
 }
 
@@ -363,7 +375,9 @@ TEST(LinkIntegration, TheLinkAdoptsAnAutopilotedFlightAndLandLandsIt) {
     // Connected to a drone already flying: it keeps flying (REF carries the take-off bit).
     ASSERT_TRUE(wait_until([&] { return rig.link->status().at.intent == FlyIntent::Fly; }, 1s));
     EXPECT_EQ(rig.link->status().at.counters.flying_adopted, 1u);
-    std::this_thread::sleep_for(700ms);
+    // The autopilot climbs to its 1 m and holds it.
+    ASSERT_TRUE(
+        wait_until([&] { return std::abs(rig.drone->status().flight.z_m - 1.0) < 0.1; }, 10s));
     auto st = rig.drone->status();
     EXPECT_TRUE(st.autopilot_active);
     EXPECT_TRUE(st.flight.flying());
@@ -371,10 +385,11 @@ TEST(LinkIntegration, TheLinkAdoptsAnAutopilotedFlightAndLandLandsIt) {
     // The pilot wins: Land clears the take-off bit and the autopilot yields.
     ASSERT_TRUE(rig.link->execute(Land{}, 1s).ok());
     ASSERT_TRUE(wait_until([&] { return rig.major() == 2; }, 5s)) << "never landed";
+    // Landed is reported as the drone touches down (200 Hz navdata sees it within 5 ms).
+    ASSERT_TRUE(wait_until([&] { return rig.drone->status().flight.z_m == 0.0; }, 2s));
     st = rig.drone->status();
     EXPECT_FALSE(st.autopilot_active);
     EXPECT_EQ(st.counters.autopilot_yields, 1u);
-    EXPECT_EQ(st.flight.z_m, 0.0);
 }
 
 TEST(LinkIntegration, FlightAnimationsGoAsConfigAndLedAnimationsAsAtLed) {
@@ -430,7 +445,7 @@ TEST(LinkIntegration, CorruptChecksumsAreCountedAndDropped) {
     ASSERT_TRUE(
         wait_until([&] { return rig.drone->status().counters.navdata_corrupted >= 4; }, 3s));
     rig.drone->inject(sim::FaultNavdata{});
-    std::this_thread::sleep_for(300ms);
+    ASSERT_TRUE(rig.accepts_more(20));  // whatever was faulty has come and been judged
     const auto corrupted = rig.drone->status().counters.navdata_corrupted;
     const auto st = rig.link->status();
     EXPECT_EQ(st.navdata.checksum_failures, corrupted);  // every one, and only those
@@ -458,7 +473,7 @@ TEST(LinkIntegration, ReorderedAndDuplicatedNavdataIsDroppedAsOutOfOrder) {
         },
         3s));
     rig.drone->inject(sim::FaultNavdata{});
-    std::this_thread::sleep_for(300ms);
+    ASSERT_TRUE(rig.accepts_more(20));  // whatever was faulty has come and been judged
     const auto c = rig.drone->status().counters;
     const auto st = rig.link->status();
     // A held-back packet arrives after a newer one, a duplicate after itself: both are dropped.
@@ -479,7 +494,7 @@ TEST(LinkIntegration, PacketsFromAnyOtherAddressAreDroppedAndCounted) {
     auto to = transport::Endpoint::loopback(rig.link->navdata_local_port());
     for (int i = 0; i < 5; ++i) ASSERT_TRUE(intruder->send_to("spoofed navdata", to));
     ASSERT_TRUE(wait_until([&] { return rig.link->status().navdata.foreign_dropped == 5; }, 2s));
-    std::this_thread::sleep_for(200ms);
+    ASSERT_TRUE(rig.accepts_more(20));  // and the drone's packets after them: none dropped
     const auto st = rig.link->status();
     EXPECT_EQ(st.navdata.foreign_dropped, 5u);  // those five, and the drone's packets none
     EXPECT_EQ(st.navdata.checksum_failures, 0u);
@@ -487,4 +502,103 @@ TEST(LinkIntegration, PacketsFromAnyOtherAddressAreDroppedAndCounted) {
     EXPECT_EQ(st.machine.out_of_order, 0u);
     EXPECT_EQ(st.machine.sequence_gaps, 0u);
     EXPECT_TRUE(rig.connected());
+}
+
+TEST(LinkIntegration, DatagramsSentToTheAtSocketAreDrainedCountedAndDropped) {
+    // Issue 14 point 10: the drone never writes to the AT socket; before, whatever did piled up
+    // in the kernel buffer (125 KB after 40 datagrams).
+    Rig rig(100.0, false);
+    ASSERT_TRUE(wait_until([&] { return rig.connected(); }, 5s));
+    auto intruder = transport::UdpSocket::bind(transport::Endpoint::loopback(0));
+    ASSERT_TRUE(intruder);
+    ASSERT_NE(rig.link->at_local_port(), 0);
+    const auto to = transport::Endpoint::loopback(rig.link->at_local_port());
+    const std::string junk(1000, 'x');
+    for (int i = 0; i < 40; ++i) ASSERT_TRUE(intruder->send_to(junk, to));
+    ASSERT_TRUE(wait_until([&] { return rig.link->status().at.foreign_datagrams == 40; }, 3s))
+        << rig.link->status().at.foreign_datagrams;
+    const auto st = rig.link->status();
+    EXPECT_EQ(st.at.foreign_bytes, 40u * 1000u);
+    EXPECT_EQ(st.at.send_errors, 0u);
+    EXPECT_TRUE(rig.connected());
+}
+
+TEST(LinkIntegration, ARebootCutsVideoRefusesItWhileBootingAndVideoComesBackAfter) {
+    // Issue 14 point 11: a real drone's video and configuration connections die with it and its
+    // ports refuse connections until it is back up; the link must recover video by itself.
+    Rig rig;
+    ASSERT_TRUE(wait_until([&] { return rig.connected(); }, 5s));
+    ASSERT_TRUE(wait_until([&] { return rig.link->status().video.decoded > 5; }, 5s));
+    ASSERT_TRUE(wait_until([&] { return rig.link->status().control_connected; }, 5s));
+    const auto disconnects = rig.link->status().video.disconnects;
+    rig.drone->inject(sim::FaultReboot{2000});
+    ASSERT_TRUE(wait_until([&] { return rig.link->status().video.disconnects > disconnects; }, 2s))
+        << "the reboot did not cut the video connection";
+    ASSERT_TRUE(wait_until([&] { return rig.drone->status().reboot_closes >= 2; }, 2s))
+        << "video and control connections: " << rig.drone->status().reboot_closes;
+    // Early in the 2 s boot: both ports refuse a connection.
+    ASSERT_TRUE(rig.drone->status().booting);
+    auto video = transport::TcpStream::connect(
+        transport::Endpoint::loopback(rig.drone->video_port()), transport::Millis{300});
+    EXPECT_FALSE(video) << "video port accepted a connection while the drone boots";
+    auto control = transport::TcpStream::connect(
+        transport::Endpoint::loopback(rig.drone->control_port()), transport::Millis{300});
+    EXPECT_FALSE(control) << "control port accepted a connection while the drone boots";
+    EXPECT_TRUE(rig.drone->status().booting);
+    // Once up, the link reconnects and decodes again (from the next IDR).
+    const auto decoded = rig.link->status().video.decoded;
+    ASSERT_TRUE(wait_until([&] { return rig.link->status().video.decoded > decoded + 10; }, 8s))
+        << rig.link->status().video.last_error;
+    EXPECT_TRUE(wait_until([&] { return rig.link->status().control_connected; }, 3s));
+    EXPECT_FALSE(rig.drone->status().booting);
+    EXPECT_GE(rig.link->status().video.connects, 2u);
+}
+
+TEST(LinkIntegration, NavdataRunsAtTwoHundredHertzAndFramesCarryTheAttitudeAtTheirCapture) {
+    // Issue 17 item 5 / issue 15 item 3: full navdata by default, and every live frame's state
+    // is the accepted navdata interpolated at the frame's capture time, as a recording does
+    // (drone/dataset/align.hpp), not the newest sample relabelled.
+    Rig rig;
+    auto navs = rig.link->subscribe_navdata(4096);
+    auto frames = rig.link->subscribe_frames(256);
+    ASSERT_TRUE(wait_until([&] { return rig.connected(); }, 5s));
+    ASSERT_TRUE(rig.link->execute(Takeoff{}, 1s).ok());  // attitude that changes
+    ASSERT_TRUE(wait_until([&] { return rig.link->status().video.decoded > 60; }, 10s));
+    ASSERT_TRUE(wait_until([&] { return rig.link->status().navdata.rate_hz > 150; }, 3s))
+        << rig.link->status().navdata.rate_hz << " Hz";
+    EXPECT_FALSE(rig.drone_bits() & test::kDemo) << "the drone stayed in demo mode";
+    rig.link->unsubscribe(navs.get());
+    rig.link->unsubscribe(frames.get());
+    NavTimeline accepted(1 << 14);
+    std::vector<link::NavSample> samples;
+    while (auto n = navs->try_pop()) {
+        accepted.push(n->state);
+        samples.push_back(*n);
+    }
+    int checked = 0;
+    while (auto f = frames->try_pop()) {
+        // Only frames whose capture the link could bracket: the sample after the capture time
+        // had arrived (5 ms) before the frame's last byte. The others took the newest sample.
+        auto after = std::find_if(samples.begin(), samples.end(), [&](const link::NavSample& n) {
+            return n.state.t_ns >= f->t_ns;
+        });
+        if (after == samples.end() || after == samples.begin() ||
+            after->recv_ns + ms_to_ns(5) > f->recv_ns)
+            continue;
+        const NavState want = accepted.state_at(f->t_ns);
+        ASSERT_EQ(f->nav.t_ns, f->t_ns);
+        if (std::isnan(want.roll_deg)) continue;
+        EXPECT_DOUBLE_EQ(f->nav.roll_deg, want.roll_deg) << "frame " << f->index;
+        EXPECT_DOUBLE_EQ(f->nav.pitch_deg, want.pitch_deg) << "frame " << f->index;
+        EXPECT_DOUBLE_EQ(f->nav.altitude_m, want.altitude_m) << "frame " << f->index;
+        ++checked;
+    }
+    EXPECT_GT(checked, 10);
+    const auto st = rig.link->status().video;
+    EXPECT_GT(st.nav_interpolated, 0u);
+    // Every byte counted, per stream.
+    const auto ls = rig.link->status();
+    EXPECT_GT(ls.navdata.bytes, ls.navdata.accepted * 24);
+    EXPECT_GT(ls.at.bytes_sent, ls.at.counters.datagrams * 10);
+    EXPECT_GT(ls.video.bytes_per_s, 1000.0);
 }

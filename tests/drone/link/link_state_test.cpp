@@ -19,7 +19,13 @@ struct Harness {
     std::uint32_t seq = 100;
     LinkActions out;
 
-    explicit Harness(LinkSetup s = {}) : sm(std::move(s)) {}
+    // Demo mode unless told: most tests here are about the machine, not the navdata mode.
+    static LinkSetup demo() {
+        LinkSetup s;
+        s.navdata_demo = true;
+        return s;
+    }
+    explicit Harness(LinkSetup s = demo()) : sm(std::move(s)) {}
     void start() {
         out.clear();
         sm.start(now, out);
@@ -145,6 +151,33 @@ TEST(LinkState, FullModeWritesTheOptionsMaskAndCustomIdsFirst) {
     h.advance(5);
     h.nav(kThreads);  // full mode: demo bit clear, options present
     EXPECT_EQ(h.sm.state(), ConnectionState::Connected);
+}
+
+TEST(LinkState, FullNavdataWithTheOptionsUsedIsTheDefaultAndDemoTheFallback) {
+    // Issue 17 item 5: 200 Hz navdata (demo off) with the options the classifier and the
+    // odometry read (demo: attitude, velocities, altitude; time), by default.
+    const LinkSetup defaults;
+    EXPECT_FALSE(defaults.navdata_demo);
+    EXPECT_EQ(defaults.navdata_options, (1u << 0) | (1u << 1));
+    Harness h(defaults);
+    h.start();
+    h.nav(kBootstrapState, 1);
+    std::vector<std::string> keys;
+    for (int i = 0; i < 2; ++i) {
+        ASSERT_EQ(h.out.configs.size(), 1u) << "exchange " << i;
+        keys.push_back(h.out.configs[0].first + "=" + h.out.configs[0].second);
+        h.ack_config(kBootstrapState & ~kDemo);
+    }
+    EXPECT_EQ(keys, (std::vector<std::string>{"general:navdata_demo=FALSE",
+                                              "general:navdata_options=3"}));
+    // A drone that keeps sending demo navdata (15 Hz) is used as it is once settled.
+    for (int i = 0; i < 100 && h.sm.state() != ConnectionState::Connected; ++i) {
+        h.advance(65);
+        h.nav(kThreads | kDemo);
+    }
+    ASSERT_EQ(h.sm.state(), ConnectionState::Connected);
+    EXPECT_NE(h.sm.state_reason().find("demo although full"), std::string::npos)
+        << h.sm.state_reason();
 }
 
 TEST(LinkState, AnUnacknowledgedConfigIsRetriedThenTheSequenceRestarts) {
