@@ -147,6 +147,9 @@ int import_video_cmd(const Opts& o) {
                   << " access units before the first IDR could not be decoded and were left out\n";
     if (!o.quiet && r->decode_errors > 0)
         std::cout << "  " << r->decode_errors << " packets the decoder refused\n";
+    if (!o.quiet && r->untimed)
+        std::cout << "  the file has no frame times: frame n at n / " << fixed(r->fps, 2)
+                  << " s (give --fps if the camera ran at another rate)\n";
     if (!o.quiet && r->timestamp_repairs > 0)
         std::cout << "  " << r->timestamp_repairs
                   << " frames without an increasing timestamp were placed one frame interval on\n";

@@ -71,8 +71,10 @@ public:
         if (given_fps_ > 0) {
             t = static_cast<std::int64_t>(std::llround(static_cast<double>(n_) * 1e9 / given_fps_));
         } else if (pts == AV_NOPTS_VALUE) {
+            // A raw elementary stream has no times at all: frames at the nominal rate. One
+            // frame without a time among timed ones is placed one interval on, and counted.
             t = n_ == 0 ? 0 : last_ + step_ns_;
-            if (n_ > 0) ++repairs_;
+            if (first_) ++repairs_;
         } else {
             if (!first_) first_ = pts;
             t = av_rescale_q(pts - *first_, tb_, AVRational{1, 1'000'000'000});
@@ -86,6 +88,7 @@ public:
         return t;
     }
     std::int64_t repairs() const { return repairs_; }
+    bool untimed() const { return given_fps_ <= 0 && !first_; }
     std::int64_t last_ns() const { return last_; }
 
 private:
@@ -326,6 +329,7 @@ Expected<VideoImportSummary, std::string> import_video(const fs::path& input,
     if (sum.frames == 0) return Unexpected(in_name + ": no frame could be imported");
     if (sum.width == 0) return Unexpected(in_name + ": no frame could be decoded");
     sum.timestamp_repairs = clock.repairs();
+    sum.untimed = clock.untimed();
     sum.fps = o.fps > 0 ? o.fps : rate;
     if (!(sum.fps > 0))  // no rate in the container: the mean over the frames' times
         sum.fps =

@@ -47,6 +47,7 @@ struct VideoImportSummary {
     std::int64_t skipped_before_keyframe = 0;  // copy: access units before the first IDR
     std::int64_t decode_errors = 0;            // encode: packets the decoder refused
     std::int64_t timestamp_repairs = 0;        // frames with no or non-increasing time, given one
+    bool untimed = false;  // the file has no frame times (raw H.264): frame n at n / fps
 };
 
 // Imports `input` into `out_dir` (created; must not exist or be empty). The error names the file
