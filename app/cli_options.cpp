@@ -53,12 +53,12 @@ void add_dataset_input_options(CLI::App& sub, DatasetInputOptions& o,
     add_thesis_fps_option(sub, o.fps);
 }
 
-Expected<Dataset, std::string> open_input_dataset(const std::string& path,
-                                                  const DatasetInputOptions& o) {
+Expected<dataset::Dataset, std::string> open_input_dataset(const std::string& path,
+                                                           const DatasetInputOptions& o) {
     return open_any_dataset(path, given_fps(o.fps));
 }
 
-Expected<CameraCalibration, std::string> input_calibration(const Dataset& d,
+Expected<CameraCalibration, std::string> input_calibration(const dataset::Dataset& d,
                                                            const DatasetInputOptions& o) {
     ReplaySettings rs;
     if (!o.calibration.empty()) rs.calibration_file = o.calibration;

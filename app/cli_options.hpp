@@ -8,9 +8,9 @@
 //                        thesis-style image folder (which has no timestamps)
 //   --classifier, --set  replay, eval: the obstacle classifier and its parameter overrides
 
-#include "drone/calibration.hpp"
+#include "drone/core/camera_calibration.hpp"
+#include "drone/core/expected.hpp"
 #include "drone/dataset/dataset.hpp"
-#include "drone/expected.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -44,12 +44,12 @@ void add_dataset_input_options(CLI::App& sub, DatasetInputOptions& o,
                                const std::string& calibration_instead_of);
 // A dataset directory or thesis-style folder, opened as the options say; the error names the
 // path and the problem.
-[[nodiscard]] Expected<Dataset, std::string> open_input_dataset(const std::string& path,
-                                                                const DatasetInputOptions& o);
+[[nodiscard]] Expected<dataset::Dataset, std::string> open_input_dataset(
+    const std::string& path, const DatasetInputOptions& o);
 // The calibration the run uses for `d`'s frames: --calibration's file scaled to the frame size,
 // else the dataset's.
 [[nodiscard]] Expected<CameraCalibration, std::string> input_calibration(
-    const Dataset& d, const DatasetInputOptions& o);
+    const dataset::Dataset& d, const DatasetInputOptions& o);
 
 // --classifier NAME (thesis or flow) and --set key=value (repeatable).
 void add_classifier_options(CLI::App& sub, std::string& classifier, std::vector<std::string>& set);

@@ -3,10 +3,10 @@
 // views whose error stands out, and reports per-image and overall error, the parameters with
 // their uncertainty and the coverage of the field of view. Writes flight.json's calibration shape.
 #include "app/command.hpp"
+#include "drone/core/camera_calibration.hpp"
 #include "drone/dataset/dataset.hpp"
 #include "drone/dataset/video_frames.hpp"
 #include "vision/calibration.hpp"
-#include "vision/calibration_file.hpp"
 
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -43,8 +43,8 @@ struct Opts {
 // A dataset's frames, read through the dataset reader (the path rules of DATASET.md apply) and
 // its FrameStore: video.h264 decoded, else the frames/ images.
 struct DatasetFrames {
-    Dataset dataset;
-    std::unique_ptr<FrameStore> store;
+    dataset::Dataset dataset;
+    std::unique_ptr<dataset::FrameStore> store;
     std::int64_t last = -1;  // last frame read (video decodes forward from it)
 };
 
@@ -107,13 +107,13 @@ std::vector<Input> folder_images(const fs::path& dir, int step) {
 // A recorded dataset (DATASET.md), opened by the dataset reader: every `step`-th frame, from
 // video.h264 when it has one (the source of truth), else from its image folder.
 std::vector<Input> dataset_frames(const fs::path& dir, int step, std::string& camera) {
-    auto d = Dataset::open(dir);
+    auto d = dataset::Dataset::open(dir);
     if (!d) throw fail(dir.string() + ": " + to_string(d.error()));
-    auto store = open_frames(*d);
+    auto store = dataset::open_frames(*d);
     if (!store) throw fail(dir.string() + ": " + to_string(store.error()));
     if (camera.empty()) camera = to_string(d->info().camera);
     auto frames = std::make_shared<DatasetFrames>(DatasetFrames{std::move(*d), std::move(*store)});
-    const Dataset& ds = frames->dataset;
+    const dataset::Dataset& ds = frames->dataset;
     std::vector<Input> out;
     for (std::int64_t i = 0; i < ds.frame_count(); i += step) {
         std::string name;
@@ -300,7 +300,7 @@ void run(const Opts& o) {
     const double cal_s = ms_since(t_cal) / 1000;
     if (!res) throw fail(res.error().message() + ". No calibration written.");
     const CalibrationResult& r = *res;
-    const vision::CameraCalibration& cam = r.camera;
+    const CameraCalibration& cam = r.camera;
 
     std::cout << "\nPer image                      RMS px   lines raw/undist px   status\n";
     for (const ImageRow& row : rows) {
@@ -372,17 +372,18 @@ void run(const Opts& o) {
 
     CalibrationInfo info = r.info();
     info.camera = camera;
-    info.source =
+    CameraCalibration file_cam = cam;
+    file_cam.source =
         "ardrone-gs calibrate: " + std::to_string(used) + " views of a " + o.board + " board, " +
         shortest(board.square_m * 1000) + " mm squares, from " +
         (o.inputs.size() == 1 ? o.inputs[0] : std::to_string(o.inputs.size()) + " inputs");
     if (o.out.empty()) {
         std::cout << "\nCalibration (not saved; --out FILE writes it):\n"
-                  << calibration_to_json(cam, info);
+                  << calibration_to_json(file_cam, true, info).dump(2) << '\n';
         return;
     }
-    auto saved = save_calibration_file(o.out, cam, info);
-    if (!saved) throw fail(saved.error().message());
+    auto saved = save_calibration_file(o.out, file_cam, info);
+    if (!saved) throw fail(to_string(saved.error()));
     std::cout << "\nWrote " << o.out << '\n';
 }
 
@@ -418,7 +419,7 @@ CommandRegistration reg(70, [](CLI::App& root) {
                 "Retry images without a board with OpenCV's sector-based detector (robust, ~2 s "
                 "per image)");
     c->add_flag("--fix-k3", o->fix_k3, "Fit k1 k2 p1 p2 only (few views, or all near the centre)");
-    c->callback([o] { run(*o); });
+    set_action(*c, [o] { run(*o); });
 });
 
 }  // namespace

@@ -38,7 +38,7 @@ struct Opts {
 int info(const Opts& o) {
     auto d = open_any_dataset(o.in, given_fps(o.fps));
     if (!d) throw fail(d.error());
-    const DatasetInfo& i = d->info();
+    const dataset::DatasetInfo& i = d->info();
     const double dur =
         d->frames().empty() ? 0.0 : static_cast<double>(d->frames().back().nav.t_ns) * 1e-9;
     std::cout << o.in << ": " << to_string(i.camera) << " camera, " << i.width << "x" << i.height
@@ -65,9 +65,9 @@ int info(const Opts& o) {
 int export_thesis_cmd(const Opts& o) {
     auto d = open_any_dataset(o.in);
     if (!d) throw fail(d.error());
-    auto frames = open_frames(*d);
+    auto frames = dataset::open_frames(*d);
     if (!frames) throw fail(o.in + ": " + to_string(frames.error()));
-    if (auto e = export_thesis(*d, **frames, o.out)) throw fail(to_string(*e));
+    if (auto e = dataset::export_thesis(*d, **frames, o.out)) throw fail(to_string(*e));
     std::cout << "wrote " << d->frame_count() << " images, imu.txt, imu_extra.csv and imu_meta.json"
               << (d->labels() || d->label_rows() ? " and the labels" : "") << " to " << o.out
               << '\n';
@@ -75,9 +75,9 @@ int export_thesis_cmd(const Opts& o) {
 }
 
 int import_thesis_cmd(const Opts& o) {
-    ThesisImportOptions to;
+    dataset::ThesisImportOptions to;
     to.fps = given_fps(o.fps);
-    auto d = import_thesis(o.in, o.out, to);
+    auto d = dataset::import_thesis(o.in, o.out, to);
     if (!d) throw fail(to_string(d.error()));
     std::cout << "imported " << d->frame_count() << " frames at " << fixed(d->info().fps, 2)
               << " fps into " << o.out << '\n';
@@ -87,7 +87,7 @@ int import_thesis_cmd(const Opts& o) {
 int frames_cmd(const Opts& o) {
     auto d = open_any_dataset(o.in);
     if (!d) throw fail(d.error());
-    auto frames = open_frames(*d);
+    auto frames = dataset::open_frames(*d);
     if (!frames) throw fail(o.in + ": " + to_string(frames.error()));
     std::error_code ec;
     fs::create_directories(o.out, ec);
@@ -111,7 +111,8 @@ int frames_cmd(const Opts& o) {
 }
 
 int import_video_cmd(const Opts& o) {
-    VideoImportOptions vo;
+    using dataset::VideoImportMode;
+    dataset::VideoImportOptions vo;
     vo.mode = o.mode == "copy"     ? VideoImportMode::Copy
               : o.mode == "encode" ? VideoImportMode::Encode
                                    : VideoImportMode::Auto;
@@ -129,7 +130,7 @@ int import_video_cmd(const Opts& o) {
         vo.progress = [](std::int64_t n) {
             if (n % 25 == 0) std::cerr << "\rimport-video: " << n << " frames" << std::flush;
         };
-    auto r = import_video(o.in, o.out, vo);
+    auto r = dataset::import_video(o.in, o.out, vo);
     if (tty) std::cerr << "\r\033[K" << std::flush;
     if (!r) throw fail(r.error());
     if (vo.calibration && (vo.calibration->width != 0 && (vo.calibration->width != r->width ||
@@ -162,7 +163,7 @@ CommandRegistration reg_info(
         auto* c = parent.add_subcommand("info", "What a dataset holds");
         c->add_option("DATASET", o->in, "Dataset or thesis-style folder")->required();
         add_thesis_fps_option(*c, o->fps);
-        c->callback([o] { (void)info(*o); });
+        set_action(*c, [o] { return info(*o); });
     });
 
 CommandRegistration reg_export(
@@ -179,7 +180,7 @@ CommandRegistration reg_export(
             "flight, so a replay decides the same.");
         c->add_option("DATASET", o->in, "Dataset directory")->required();
         c->add_option("OUT", o->out, "Folder to create (new or empty)")->required();
-        c->callback([o] { (void)export_thesis_cmd(*o); });
+        set_action(*c, [o] { return export_thesis_cmd(*o); });
     });
 
 CommandRegistration reg_import(
@@ -190,7 +191,7 @@ CommandRegistration reg_import(
         c->add_option("FOLDER", o->in, "Images + one IMU text line per image")->required();
         c->add_option("OUT", o->out, "Dataset directory to create (new or empty)")->required();
         add_thesis_fps_option(*c, o->fps);
-        c->callback([o] { (void)import_thesis_cmd(*o); });
+        set_action(*c, [o] { return import_thesis_cmd(*o); });
     });
 
 CommandRegistration reg_frames(
@@ -202,7 +203,7 @@ CommandRegistration reg_frames(
         c->add_option("--every", o->every, "Every Nth frame")->check(CLI::PositiveNumber);
         c->add_option("--from", o->from, "First frame")->check(CLI::NonNegativeNumber);
         c->add_option("--to", o->to, "Last frame (default: the last)");
-        c->callback([o] { (void)frames_cmd(*o); });
+        set_action(*c, [o] { return frames_cmd(*o); });
     });
 
 CommandRegistration reg_import_video(
@@ -236,7 +237,7 @@ CommandRegistration reg_import_video(
         c->add_option("--max-frames", o->max_frames, "Import at most this many frames")
             ->check(CLI::NonNegativeNumber);
         c->add_flag("--quiet,-q", o->quiet, "No summary line");
-        c->callback([o] { (void)import_video_cmd(*o); });
+        set_action(*c, [o] { return import_video_cmd(*o); });
     });
 
 }  // namespace

@@ -48,7 +48,7 @@ struct FlightResult {
     std::string split;       // labels.json "split" (free key), else ""
     std::string error;       // non-empty: the flight could not be evaluated
     std::string read_error;  // non-empty: evaluated, but some frames could not be read
-    FlightScore score;
+    dataset::FlightScore score;
     ReplayStats stats;
     nlohmann::json labels;  // labels.json as read
 };
@@ -165,8 +165,9 @@ FlightResult evaluate(const fs::path& path, const Opts& o, const fs::path& out,
     if (r.stats.decode_errors > 0)
         r.read_error = path.string() + ": " + frames_unread_text(r.stats) +
                        " (scored on the frames that could)";
-    r.score = score_flight(ds->labels()->scenario,
-                           ds->label_rows().value_or(std::vector<LabelRow>{}), r.stats.flags);
+    r.score = dataset::score_flight(ds->labels()->scenario,
+                                    ds->label_rows().value_or(std::vector<dataset::LabelRow>{}),
+                                    r.stats.flags);
     nlohmann::json j = summary_json(*ds, rs, r.stats);
     j["score"] = score_json(r.score);
     if (auto e = write_json_file(dir / "summary.json", j)) r.error = *e;
@@ -183,7 +184,7 @@ std::string pct(double v) {
     return std::isfinite(v) ? fixed(100 * v, 1) + " %" : "-";
 }
 
-nlohmann::json summary_to_json(const ScoreSummary& s) {
+nlohmann::json summary_to_json(const dataset::ScoreSummary& s) {
     auto num = [](double v) {
         return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
     };
@@ -196,34 +197,35 @@ nlohmann::json summary_to_json(const ScoreSummary& s) {
             {"side_tp", s.side_tp},
             {"side_tpr", num(s.side_tpr())},
             {"side_wrong_side_alarms", s.side_wrong},
-            {"side_mean_detection_m", num(ScoreSummary::mean(s.side_distances_m))},
-            {"side_min_detection_m", num(ScoreSummary::min(s.side_distances_m))},
+            {"side_mean_detection_m", num(dataset::ScoreSummary::mean(s.side_distances_m))},
+            {"side_min_detection_m", num(dataset::ScoreSummary::min(s.side_distances_m))},
             {"centre_flights", s.centre_flights},
             {"centre_tp", s.centre_tp},
             {"centre_tpr", num(s.centre_tpr())},
-            {"centre_mean_detection_m", num(ScoreSummary::mean(s.centre_distances_m))},
-            {"centre_min_detection_m", num(ScoreSummary::min(s.centre_distances_m))},
+            {"centre_mean_detection_m", num(dataset::ScoreSummary::mean(s.centre_distances_m))},
+            {"centre_min_detection_m", num(dataset::ScoreSummary::min(s.centre_distances_m))},
             {"open_flights", s.open_flights},
             {"open_fp", s.open_fp},
             {"open_fpr", num(s.open_fpr())},
             {"open_fp_involving_centre", s.open_fp_centre}};
 }
 
-std::string summary_row(const std::string& name, const ScoreSummary& s) {
+std::string summary_row(const std::string& name, const dataset::ScoreSummary& s) {
     std::ostringstream o;
     o << "| " << name << " | " << s.flights << " | "
       << (s.side_flights ? std::to_string(s.side_tp) + "/" + std::to_string(s.side_flights) + " (" +
                                pct(s.side_tpr()) + ")"
                          : "-")
       << " | " << (s.side_flights ? std::to_string(s.side_wrong) : "-") << " | "
-      << (s.side_flights ? fixed(ScoreSummary::mean(s.side_distances_m), 2) : "-") << " | "
+      << (s.side_flights ? fixed(dataset::ScoreSummary::mean(s.side_distances_m), 2) : "-") << " | "
       << (s.centre_flights ? std::to_string(s.centre_tp) + "/" + std::to_string(s.centre_flights) +
                                  " (" + pct(s.centre_tpr()) + ")"
                            : "-")
-      << " | " << (s.centre_flights ? fixed(ScoreSummary::mean(s.centre_distances_m), 2) : "-")
       << " | "
-      << fixed(std::min(ScoreSummary::min(s.side_distances_m),
-                        ScoreSummary::min(s.centre_distances_m)),
+      << (s.centre_flights ? fixed(dataset::ScoreSummary::mean(s.centre_distances_m), 2) : "-")
+      << " | "
+      << fixed(std::min(dataset::ScoreSummary::min(s.side_distances_m),
+                        dataset::ScoreSummary::min(s.centre_distances_m)),
                2)
       << " | "
       << (s.open_flights ? std::to_string(s.open_fp) + "/" + std::to_string(s.open_flights) + " (" +
@@ -305,8 +307,8 @@ int run(const Opts& o) {
     if (tty) std::cerr << "\r\033[K" << std::flush;
 
     // Tables.
-    std::map<std::string, ScoreSummary> groups;
-    ScoreSummary all;
+    std::map<std::string, dataset::ScoreSummary> groups;
+    dataset::ScoreSummary all;
     std::vector<std::string> errors;
     std::int64_t frames = 0;
     double cpu_s = 0;
@@ -328,7 +330,7 @@ int run(const Opts& o) {
         all.add(r.score);
         frames += r.stats.processed;
         cpu_s += r.stats.cpu_s;
-        const FlightScore& s = r.score;
+        const dataset::FlightScore& s = r.score;
         std::string notes = s.false_regions_text();
         if (s.late_detection_distance_m)
             notes += (notes.empty() ? "" : "; ") +
@@ -431,10 +433,7 @@ CommandRegistration reg(31, [](CLI::App& root) {
         ->capture_default_str()
         ->check(CLI::Range(1, 16));
     sub->add_flag("--quiet,-q", o->quiet, "No progress or summary line");
-    sub->callback([o] {
-        const int rc = run(*o);
-        if (rc != 0) throw CLI::RuntimeError(rc);
-    });
+    set_action(*sub, [o] { return run(*o); });
 });
 
 }  // namespace

@@ -130,10 +130,9 @@ CommandRegistration reg(45, [](CLI::App& root) {
         ->capture_default_str()
         ->check(CLI::Range(1, 16));
     sub->add_flag("--quiet,-q", o->quiet, "No per-flight lines");
-    sub->callback([o, scene, suite] {
+    set_action(*sub, [o, scene, suite] {
         if (scene->count() == 0 && suite->count() == 0) throw fail("give --scene NAME or --suite");
-        const int rc = run(*o);
-        if (rc != 0) throw CLI::RuntimeError(rc);
+        return run(*o);
     });
 });
 

@@ -101,11 +101,11 @@ int run_gui() {
         if (auto sc = sim::resolve_scene(scenario); !sc) return err(sim::to_string(sc.error()), 2);
     }
     if (!o.replay.empty()) {
-        if (auto d = Dataset::open(o.replay); !d)
+        if (auto d = dataset::Dataset::open(o.replay); !d)
             return err("cannot replay " + o.replay + ": " + to_string(d.error()), 2);
     }
     if (!o.classifier.empty()) {
-        if (!vision::make_classifier(o.classifier, vision::CameraCalibration{}))
+        if (!vision::make_classifier(o.classifier, CameraCalibration{}))
             return err("unknown classifier '" + o.classifier + "'", 2);
     }
     if (!ui::display_available()) return err(ui::no_display_message(), 3);

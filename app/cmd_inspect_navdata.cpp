@@ -1,9 +1,9 @@
 // `ardrone-gs inspect navdata FILE [--json]`: decodes one saved navdata datagram and prints every
 // field (grouped by option, units shown), the drone_state bits by name and any skipped options.
 #include "app/command.hpp"
-#include "drone/navdata.hpp"
-#include "drone/navdata_json.hpp"
-#include "drone/navdata_layout.hpp"
+#include "drone/protocol/navdata.hpp"
+#include "drone/protocol/navdata_json.hpp"
+#include "drone/protocol/navdata_layout.hpp"
 
 #include <charconv>
 #include <cstdio>
@@ -18,7 +18,7 @@
 namespace gs::app {
 namespace {
 
-using namespace gs::navdata;
+using namespace gs::protocol::navdata;
 
 struct Opts {
     std::string file;
@@ -174,7 +174,7 @@ const CommandRegistration reg(
             "navdata", "Decode one navdata datagram (a UDP 5554 payload saved to a file)");
         cmd->add_option("file", opts->file, "File holding exactly one datagram")->required();
         cmd->add_flag("--json", opts->json, "Print JSON (PROTOCOL.md field names) instead of text");
-        cmd->callback([opts] { run(*opts); });
+        set_action(*cmd, [opts] { run(*opts); });
     });
 
 }  // namespace

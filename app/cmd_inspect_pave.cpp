@@ -2,9 +2,9 @@
 // (bytes as read from port 5555/5553) through the framer and lists every frame, every resync and
 // the trailing partial frame; --decode also decodes the H.264 and writes DIR/NNNNNN.png.
 #include "app/command.hpp"
-#include "drone/h264_decoder.hpp"
-#include "drone/pave.hpp"
-#include "drone/pave_json.hpp"
+#include "drone/protocol/pave.hpp"
+#include "drone/protocol/pave_json.hpp"
+#include "drone/video/h264_decoder.hpp"
 
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -27,7 +27,7 @@ struct Opts {
     std::string decode_dir;
 };
 
-nlohmann::json decoder_json(const H264DecoderStats& s) {
+nlohmann::json decoder_json(const video::H264DecoderStats& s) {
     return {{"access_units", s.access_units},
             {"decoded", s.decoded},
             {"skipped_waiting_idr", s.skipped_waiting_idr},
@@ -43,8 +43,9 @@ std::string image_name(std::uint64_t n) {
     return buf;
 }
 
-void print_frame_line(std::ostream& os, const PaveFrame& f, const std::optional<std::string>& img) {
-    const PaveHeader& h = f.header;
+void print_frame_line(std::ostream& os, const protocol::PaveFrame& f,
+                      const std::optional<std::string>& img) {
+    const protocol::PaveHeader& h = f.header;
     char line[256];
     std::snprintf(line, sizeof line,
                   "%6llu %9llu %4u %8u %12u %11u  %-7s %-5s %4ux%-4u %4ux%-4u %6u %3u/%-3u %4u",
@@ -74,8 +75,8 @@ void run(const Opts& o) {
         }
     }
 
-    PaveFramer framer;
-    H264Decoder decoder;
+    protocol::PaveFramer framer;
+    video::H264Decoder decoder;
     cv::Mat image;
     std::uint64_t images = 0;
     nlohmann::json frames = nlohmann::json::array();
@@ -94,7 +95,7 @@ void run(const Opts& o) {
         if (got == 0) break;
         framer.push(std::span(reinterpret_cast<const std::uint8_t*>(chunk.data()), got));
         while (auto ev = framer.next()) {
-            if (const auto* r = std::get_if<PaveResync>(&*ev)) {
+            if (const auto* r = std::get_if<protocol::PaveResync>(&*ev)) {
                 if (o.json) {
                     resyncs.push_back(to_json(*r));
                 } else {
@@ -104,13 +105,13 @@ void run(const Opts& o) {
                 }
                 continue;
             }
-            const auto& f = std::get<PaveFrame>(*ev);
+            const auto& f = std::get<protocol::PaveFrame>(*ev);
             std::optional<std::string> img;
             if (decode) {
-                AccessUnit au{f.payload, f.header.frame_number, f.header.display_width,
-                              f.header.display_height, f.header.stream_id};
+                video::AccessUnit au{f.payload, f.header.frame_number, f.header.display_width,
+                                     f.header.display_height, f.header.stream_id};
                 auto res = decoder.decode(au, image);
-                if (res && *res == DecodeStatus::Frame) {
+                if (res && *res == video::DecodeStatus::Frame) {
                     img = image_name(images);
                     const auto path = std::filesystem::path(o.decode_dir) / *img;
                     if (!cv::imwrite(path.string(), image)) {
@@ -131,8 +132,8 @@ void run(const Opts& o) {
     }
     if (in.bad()) throw fail("cannot read " + o.file);
 
-    const PavePending pending = framer.pending();
-    const PaveFramerStats& stats = framer.stats();
+    const protocol::PavePending pending = framer.pending();
+    const protocol::PaveFramerStats& stats = framer.stats();
     nlohmann::json trailing = nullptr;
     if (pending.buffered_bytes > 0 || pending.unreported_skip > 0) {
         trailing = {{"buffered_bytes", pending.buffered_bytes},
@@ -172,7 +173,7 @@ void run(const Opts& o) {
        << " payload bytes), " << stats.resyncs << " resyncs, " << stats.bytes_skipped
        << " bytes skipped, " << stats.oversize_rejections << " oversize headers refused\n";
     if (decode) {
-        const H264DecoderStats& d = decoder.stats();
+        const video::H264DecoderStats& d = decoder.stats();
         os << "decoded " << d.decoded << " of " << d.access_units << " access units into "
            << o.decode_dir << " (" << d.skipped_waiting_idr << " skipped waiting for an IDR, "
            << d.frame_gaps << " frame-number gaps, " << d.decode_errors << " errors, "
@@ -190,7 +191,7 @@ const CommandRegistration reg(
         cmd->add_flag("--json", opts->json, "Print JSON (PROTOCOL.md field names) instead of text");
         cmd->add_option("--decode", opts->decode_dir,
                         "Decode the H.264 and write DIR/NNNNNN.png (0-based, decode order)");
-        cmd->callback([opts] { run(*opts); });
+        set_action(*cmd, [opts] { run(*opts); });
     });
 
 }  // namespace

@@ -49,18 +49,6 @@ struct Opts {
     double top_delay_s = 0;
 };
 
-vision::CameraCalibration to_vision(const CameraCalibration& c, int w, int h) {
-    vision::CameraCalibration v;
-    v.width = c.width > 0 ? c.width : w;
-    v.height = c.height > 0 ? c.height : h;
-    v.fx = c.fx;
-    v.fy = c.fy;
-    v.cx = c.cx;
-    v.cy = c.cy;
-    v.dist = c.dist;
-    return v;
-}
-
 std::string num(double v, int prec = 4) {
     if (!std::isfinite(v)) return "-";
     char b[48];
@@ -130,11 +118,12 @@ int run(const Opts& o) {
 
     auto ds = open_input_dataset(dir.string(), o.input);
     if (!ds) throw fail(ds.error());
-    const DatasetInfo& info = ds->info();
+    const dataset::DatasetInfo& info = ds->info();
     if (info.camera != CameraId::Bottom)
         throw fail(dir.string() + ": the odometry needs a bottom-camera dataset (camera is '" +
                    to_string(info.camera) + "')");
-    auto store = !ds->image_files().empty() ? open_image_frames(*ds) : open_video_frames(*ds);
+    auto store = !ds->image_files().empty() ? dataset::open_image_frames(*ds)
+                                            : dataset::open_video_frames(*ds);
     if (!store) throw fail(to_string(store.error()));
     auto extras = sim::read_two_camera_extras(dir, ds->frame_count());
     if (!extras) throw fail(extras.error());
@@ -162,23 +151,24 @@ int run(const Opts& o) {
 
     auto bottom_calib = input_calibration(*ds, o.input);
     if (!bottom_calib) throw fail(bottom_calib.error());
-    const vision::CameraCalibration bottom_cal = to_vision(*bottom_calib, info.width, info.height);
-    std::optional<vision::CameraCalibration> top_cal;
+    const CameraCalibration bottom_cal =
+        bottom_calib->with_size_if_unknown(info.width, info.height);
+    std::optional<CameraCalibration> top_cal;
     if (two)
         top_cal = extras->top_calibration
-                      ? to_vision(*extras->top_calibration, info.width, info.height)
+                      ? extras->top_calibration->with_size_if_unknown(info.width, info.height)
                       : bottom_cal;
     vision::VisualOdometry vo(bottom_cal, top_cal, params);
 
     const auto& rows = ds->frames();
     bool have_gt = !rows.empty();
-    for (const FrameRow& r : rows)
+    for (const dataset::FrameRow& r : rows)
         have_gt = have_gt && known(r.gt.x_m) && known(r.gt.y_m) && known(r.gt.yaw_deg);
     std::vector<vision::PlanarPose> truth;
     vision::PlanarPose start;
     if (have_gt) {
         truth.reserve(rows.size());
-        for (const FrameRow& r : rows) truth.push_back({r.gt.x_m, r.gt.y_m, r.gt.yaw_deg});
+        for (const dataset::FrameRow& r : rows) truth.push_back({r.gt.x_m, r.gt.y_m, r.gt.yaw_deg});
         start = truth[0];
     }
     vo.reset(start);
@@ -198,7 +188,7 @@ int run(const Opts& o) {
         std::cout << "frame  t_ms      dx_cm    dy_cm    dyaw_deg  x_m      y_m      yaw_deg  "
                      "flags\n";
     for (std::size_t i = 0; i < rows.size(); ++i) {
-        const FrameRow& r = rows[i];
+        const dataset::FrameRow& r = rows[i];
         if (auto e = (*store)->read(static_cast<std::int64_t>(i), bottom))
             throw fail(to_string(*e));
         vision::OdometryInput in = to_odometry_input(r.nav, r.nav.t_ns, bottom);
@@ -361,10 +351,7 @@ CommandRegistration reg(60, [](CLI::App& root) {
     sub->add_option("--imu-bias-walk", o->imu_bias_walk_dps,
                     "... and drifts as a random walk of this many degrees per sqrt(second)")
         ->check(CLI::Range(0.0, 10.0));
-    sub->callback([o] {
-        const int rc = run(*o);
-        if (rc != 0) throw CLI::RuntimeError(rc);
-    });
+    set_action(*sub, [o] { return run(*o); });
 });
 
 }  // namespace

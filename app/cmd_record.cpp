@@ -85,7 +85,7 @@ LiveDecisions run_pipeline(const std::string& name, const CameraCalibration& cal
 int run(const Opts& o) {
     if (!o.classifier.empty()) {
         CameraCalibration probe;
-        if (!vision::make_classifier(o.classifier, to_vision(probe))) {
+        if (!vision::make_classifier(o.classifier, probe)) {
             std::string names;
             for (auto n : vision::classifier_names())
                 names += (names.empty() ? "" : ", ") + std::string(n);
@@ -100,7 +100,7 @@ int run(const Opts& o) {
         if (!c) throw fail(c.error(), 2);
         ro.writer.calibration = *c;
     } else if (auto c = default_calibration(CameraId::Front, GS_ASSETS_DIR)) {
-        ro.writer.calibration = scaled_to(*c, ro.writer.width, ro.writer.height);
+        ro.writer.calibration = c->scaled_to(ro.writer.width, ro.writer.height);
     }
     std::unique_ptr<sim::VirtualDrone> drone;
     link::LinkConfig lc;
@@ -114,7 +114,7 @@ int run(const Opts& o) {
         vo.autopilot = o.autopilot;
         drone = std::make_unique<sim::VirtualDrone>(std::move(vo));
         auto started = drone->start();
-        if (!started) throw fail("cannot start the virtual drone: " + started.error());
+        if (!started) throw fail("cannot start the virtual drone: " + started.error().message);
         lc.drone_address = lc.bind_address = "127.0.0.1";
         lc.at_port = drone->at_port();
         lc.navdata_port = drone->navdata_port();
@@ -127,7 +127,7 @@ int run(const Opts& o) {
     std::signal(SIGTERM, on_record_signal);
 
     link::DroneLink link(lc);
-    if (auto s = link.start(); !s) throw fail("cannot start the link: " + s.error());
+    if (auto s = link.start(); !s) throw fail("cannot start the link: " + s.error().message);
     const auto t_connect = std::chrono::steady_clock::now();
     const auto connect_limit = std::chrono::duration<double>(o.connect_timeout_s);
     while (link.state() != link::ConnectionState::Connected) {
@@ -155,7 +155,7 @@ int run(const Opts& o) {
     if (!o.classifier.empty()) ro.frame_tap = 4096;
     record::Recorder rec(link, drone.get());
     if (auto s = rec.start(o.out, ro); !s)
-        throw fail("cannot record to " + o.out + ": " + s.error());
+        throw fail("cannot record to " + o.out + ": " + s.error().message);
     std::cout << "recording to " << o.out << (o.seconds > 0 ? "" : " (Ctrl-C stops)") << std::endl;
 
     LiveDecisions live;
@@ -249,11 +249,10 @@ CommandRegistration reg(45, [](CLI::App& root) {
         ->capture_default_str()
         ->check(CLI::PositiveNumber);
     sub->add_flag("--quiet", o->quiet, "No progress line");
-    sub->callback([o] {
+    set_action(*sub, [o] {
         if (o->drone.empty() && o->sim.empty())
             throw fail("record needs --drone ADDR or --sim SCENARIO", 2);
-        const int rc = run(*o);
-        if (rc != 0) throw CLI::RuntimeError(rc);
+        return run(*o);
     });
 });
 

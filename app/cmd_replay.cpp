@@ -69,9 +69,9 @@ int run(const Opts& o) {
 
     nlohmann::json j = summary_json(*ds, rs, *stats);
     if (ds->labels()) {
-        const FlightScore sc =
-            score_flight(ds->labels()->scenario, ds->label_rows().value_or(std::vector<LabelRow>{}),
-                         stats->flags);
+        const dataset::FlightScore sc = dataset::score_flight(
+            ds->labels()->scenario, ds->label_rows().value_or(std::vector<dataset::LabelRow>{}),
+            stats->flags);
         j["score"] = score_json(sc);
     }
     if (auto e = write_json_file(out / "summary.json", j)) throw fail(*e);
@@ -112,10 +112,7 @@ CommandRegistration reg(30, [](CLI::App& root) {
         ->needs("--video");
     sub->add_flag("--plots", o->plots, "Also write PNG plots of the classifier's series (plots/)");
     sub->add_flag("--quiet,-q", o->quiet, "No progress or summary line");
-    sub->callback([o] {
-        const int rc = run(*o);
-        if (rc != 0) throw CLI::RuntimeError(rc);
-    });
+    set_action(*sub, [o] { return run(*o); });
 });
 
 }  // namespace

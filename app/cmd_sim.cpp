@@ -48,7 +48,7 @@ int run(const Opts& o) {
     }
     sim::VirtualDrone drone(std::move(vo));
     auto started = drone.start();
-    if (!started) throw fail("cannot start the virtual drone: " + started.error());
+    if (!started) throw fail("cannot start the virtual drone: " + started.error().message);
     std::signal(SIGINT, on_signal);
     std::signal(SIGTERM, on_signal);
     std::cout << "virtual AR.Drone 2 '" << drone.scene().name << "' on " << o.bind << ": AT "
@@ -120,10 +120,7 @@ CommandRegistration reg(40, [](CLI::App& root) {
     sub->add_flag(
         "--json-status", o->json_status,
         "Print the simulator's state as one JSON line every 200 ms (for tests and tools)");
-    sub->callback([o] {
-        const int rc = run(*o);
-        if (rc != 0) throw CLI::RuntimeError(rc);
-    });
+    set_action(*sub, [o] { return run(*o); });
 });
 
 }  // namespace

@@ -6,6 +6,8 @@
 
 #include <functional>
 #include <string>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace gs::app {
@@ -25,6 +27,19 @@ struct CommandRegistration {
 
 // Adds every registered subcommand to `root`, sorted by `order` (the order `--help` lists them in).
 void add_registered_commands(CLI::App& root);
+
+// Makes `run` the subcommand's action. `run` returns the exit code (0: success; any other code
+// leaves main with it) or nothing; either way it reports a failure by throwing fail(...).
+template <class Run>
+void set_action(CLI::App& sub, Run run) {
+    sub.callback([run = std::move(run)] {
+        if constexpr (std::is_void_v<std::invoke_result_t<const Run&>>) {
+            run();
+        } else if (const int rc = run(); rc != 0) {
+            throw CLI::RuntimeError(rc);
+        }
+    });
+}
 
 // Prints "ardrone-gs: <message>" on stderr and returns the exit code to throw.
 [[nodiscard]] CLI::RuntimeError fail(const std::string& message, int code = 1);

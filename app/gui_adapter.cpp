@@ -2,8 +2,8 @@
 
 #include "app/gui_adapter.hpp"
 
-#include "drone/at.hpp"
-#include "drone/navdata_layout.hpp"
+#include "drone/protocol/at.hpp"
+#include "drone/protocol/navdata_layout.hpp"
 #include "drone/sim/scenarios.hpp"
 
 #include <algorithm>
@@ -52,7 +52,7 @@ void format_field(std::string& out, const T& v) {
         out += b;
     } else if constexpr (std::is_arithmetic_v<T>) {
         out += std::to_string(+v);
-    } else if constexpr (std::is_same_v<T, navdata::GpsChannel>) {
+    } else if constexpr (std::is_same_v<T, protocol::navdata::GpsChannel>) {
         out += "{sat " + std::to_string(+v.sat) + ", cn0 " + std::to_string(+v.cn0) + "}";
     } else {
         out += '[';
@@ -67,10 +67,10 @@ void format_field(std::string& out, const T& v) {
 }
 
 // Every field of every option present, grouped by option, in wire order, names with units.
-void navdata_fields(const navdata::Navdata& nd, std::vector<ui::TelemetryField>& out) {
+void navdata_fields(const protocol::navdata::Navdata& nd, std::vector<ui::TelemetryField>& out) {
     out.clear();
-    navdata::layout::for_each_option_type([&]<class T>(std::type_identity<T>) {
-        using S = navdata::layout::Spec<T>;
+    protocol::navdata::layout::for_each_option_type([&]<class T>(std::type_identity<T>) {
+        using S = protocol::navdata::layout::Spec<T>;
         const auto& opt = nd.*S::member;
         if (!opt) return;
         S::fields(*opt, [&](std::size_t, std::string_view name, std::string_view unit,
@@ -121,7 +121,7 @@ constexpr std::array<const char*, 3> kSeriesPrefix = {"left", "centre", "right"}
 
 // Overlay primitives (raw, distorted pixels) moved onto the undistorted image (same camera
 // matrix, the Undistorter's view); the region bar stays across the image top.
-void undistort_overlay(ui::Overlay& ov, const vision::CameraCalibration& cal) {
+void undistort_overlay(ui::Overlay& ov, const CameraCalibration& cal) {
     std::vector<cv::Point2f> pts;
     for (const auto& p : ov.center_points) pts.emplace_back(p.p.x, p.p.y);
     for (const auto& t : ov.trajectories)
@@ -307,7 +307,7 @@ void classifier_output(const PipelineOutput& o, ui::ClassifierOutput& c, double 
         sd.name = "track " + std::to_string(t.id);
         for (int i = 0; i < t.count; ++i) {
             sd.x.push_back(static_cast<double>(t.last_frame - t.count + 1 + i));
-            sd.y.push_back(t.x[static_cast<std::size_t>(i)]);
+            sd.y.push_back(static_cast<double>(t.x[static_cast<std::size_t>(i)]));
         }
         traj.series.push_back(std::move(sd));
     }
@@ -419,13 +419,13 @@ void GuiAdapter::fill_link(ui::GuiSnapshot& s, TimeNs now) {
         const std::uint64_t block = st.at.counters.commands / 1000;
         if (at_cycle_bytes_ == 0 || block != at_cycle_block_ || manual_ != at_cycle_manual_ ||
             !(last_pilot_ == at_cycle_pilot_)) {
-            const auto seq = static_cast<at::Seq>(st.at.counters.commands + 1);
-            at_cycle_bytes_ =
-                at::ref(seq, at::ref_input(true, false)).size() +
-                (manual_ ? at::pcmd(seq + 1, at::kPcmdProgressive, last_pilot_.roll,
-                                    last_pilot_.pitch, last_pilot_.gaz, last_pilot_.yaw)
-                         : at::hover(seq + 1))
-                    .size();
+            const auto seq = static_cast<protocol::at::Seq>(st.at.counters.commands + 1);
+            at_cycle_bytes_ = protocol::at::ref(seq, protocol::at::ref_input(true, false)).size() +
+                              (manual_ ? protocol::at::pcmd(seq + 1, protocol::at::kPcmdProgressive,
+                                                            last_pilot_.roll, last_pilot_.pitch,
+                                                            last_pilot_.gaz, last_pilot_.yaw)
+                                       : protocol::at::hover(seq + 1))
+                                  .size();
             at_cycle_block_ = block;
             at_cycle_manual_ = manual_;
             at_cycle_pilot_ = last_pilot_;
@@ -565,7 +565,7 @@ void GuiAdapter::fill_output(ui::GuiSnapshot& s) {
     u.copyTo(buf);
     v.bgr = buf;
     v.undistorted = true;
-    shown_cal_ = to_vision(calib_.camera);
+    shown_cal_ = calib_.camera;
     if (shown_cal_.width != buf.cols || shown_cal_.height != buf.rows)
         shown_cal_ = shown_cal_.scaled_to(buf.cols, buf.rows);
     undistort_overlay(c.overlay, shown_cal_);
@@ -720,7 +720,7 @@ void GuiAdapter::fill(ui::GuiSnapshot& s) {
     }
     fill_telemetry(s);
     if (session_.calibration().read_if_newer(calib_gen_, calib_))
-        undistorter_.set_calibration(to_vision(calib_.camera));
+        undistorter_.set_calibration(calib_.camera);
     fill_output(s);
     fill_calibration(s);
 

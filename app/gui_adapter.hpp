@@ -106,7 +106,7 @@ private:
     vision::Undistorter undistorter_;
     std::array<cv::Mat, 2> undistorted_;  // alternated: a new buffer means a new texture upload
     int undistorted_next_ = 0;
-    vision::CameraCalibration shown_cal_;  // the model the shown frame was undistorted with
+    CameraCalibration shown_cal_;  // the model the shown frame was undistorted with
     const PipelineOutput* shown_out_ = nullptr;
     bool shown_undistort_ = false;
     std::uint64_t shown_calib_gen_ = 0;

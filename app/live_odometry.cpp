@@ -49,9 +49,7 @@ void LiveOdometry::process(const FrameSample& f, OdometryOutput& out) {
     out.distance_m = f.nav.altitude_m;
     if (!out.active) return;
     if (!vo_ || f.image.cols != vo_width_ || f.image.rows != vo_height_) {
-        vision::CameraCalibration cam = to_vision(calib_);
-        if (cam.width != f.image.cols || cam.height != f.image.rows)
-            cam = cam.scaled_to(f.image.cols, f.image.rows);
+        const CameraCalibration cam = calib_.scaled_to(f.image.cols, f.image.rows);
         vo_ = std::make_unique<vision::VisualOdometry>(cam, std::nullopt, params_);
         vo_width_ = f.image.cols;
         vo_height_ = f.image.rows;

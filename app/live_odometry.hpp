@@ -12,8 +12,8 @@
 // The published paths are decimated to at most kMaxPathPoints (every path_stride-th sample plus
 // the newest), so copying them into an output stays bounded however long the flight.
 
-#include "drone/calibration.hpp"
-#include "drone/sample.hpp"
+#include "drone/core/camera_calibration.hpp"
+#include "drone/core/sample.hpp"
 #include "vision/odometry.hpp"
 
 #include <cstdint>

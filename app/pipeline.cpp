@@ -2,18 +2,6 @@
 
 namespace gs::app {
 
-vision::CameraCalibration to_vision(const CameraCalibration& c) {
-    vision::CameraCalibration v;
-    v.width = c.width;
-    v.height = c.height;
-    v.fx = c.fx;
-    v.fy = c.fy;
-    v.cx = c.cx;
-    v.cy = c.cy;
-    v.dist = c.dist;
-    return v;
-}
-
 vision::FrameInput to_frame_input(const FrameSample& s) {
     vision::FrameInput in;
     in.image = s.image;
@@ -42,7 +30,7 @@ vision::OdometryInput to_odometry_input(const NavState& nav, TimeNs t_ns, const 
 }
 
 ObstaclePipeline::ObstaclePipeline(std::string classifier, const CameraCalibration& calibration)
-    : name_(std::move(classifier)), calib_(to_vision(calibration)) {
+    : name_(std::move(classifier)), calib_(calibration) {
     classifier_ = vision::make_classifier(name_, calib_);
 }
 
@@ -55,7 +43,7 @@ bool ObstaclePipeline::select(const std::string& name) {
 }
 
 void ObstaclePipeline::set_calibration(const CameraCalibration& calibration) {
-    calib_ = to_vision(calibration);
+    calib_ = calibration;
     if (classifier_) classifier_->set_calibration(calib_);
 }
 

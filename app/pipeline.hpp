@@ -3,8 +3,8 @@
 // classifier. The same code runs behind the window, `replay` and `eval`, so a flight gives the
 // same decisions wherever it is played.
 
+#include "drone/core/sample.hpp"
 #include "drone/dataset/dataset.hpp"
-#include "drone/sample.hpp"
 #include "vision/classifier.hpp"
 #include "vision/odometry.hpp"
 
@@ -13,8 +13,6 @@
 
 namespace gs::app {
 
-// drone/'s plain calibration record as vision/'s camera model.
-vision::CameraCalibration to_vision(const CameraCalibration& c);
 // The classifier's input for one frame: the image header (no copy), capture time and the
 // attitude and velocities at capture time.
 vision::FrameInput to_frame_input(const FrameSample& s);
@@ -40,7 +38,7 @@ public:
 
 private:
     std::string name_;
-    vision::CameraCalibration calib_;
+    CameraCalibration calib_;
     std::unique_ptr<vision::ObstacleClassifier> classifier_;
 };
 

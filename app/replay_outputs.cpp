@@ -13,8 +13,8 @@
 namespace gs::app {
 namespace fs = std::filesystem;
 
-Expected<Dataset, std::string> open_any_dataset(const std::string& path,
-                                                std::optional<double> thesis_fps) {
+Expected<dataset::Dataset, std::string> open_any_dataset(const std::string& path,
+                                                         std::optional<double> thesis_fps) {
     std::error_code ec;
     if (!fs::is_directory(path, ec)) return Unexpected(path + ": not a directory");
     if (fs::exists(fs::symlink_status(fs::path(path) / "flight.json", ec))) {
@@ -22,14 +22,14 @@ Expected<Dataset, std::string> open_any_dataset(const std::string& path,
             return Unexpected(path +
                               ": --fps is only for thesis-style image folders; this is a dataset "
                               "directory, whose frame rate is flight.json's 'fps'");
-        auto d = Dataset::open(path);
+        auto d = dataset::Dataset::open(path);
         if (!d) return Unexpected(path + ": " + to_string(d.error()));
         return std::move(*d);
     }
     // No flight.json: a thesis-style folder (images + one IMU line per image)?
-    ThesisImportOptions to;
+    dataset::ThesisImportOptions to;
     to.fps = thesis_fps;
-    auto t = open_thesis_folder(path, to);
+    auto t = dataset::open_thesis_folder(path, to);
     if (!t)
         return Unexpected(path +
                           ": no flight.json (not a dataset), and not a thesis-style "
@@ -61,7 +61,8 @@ std::optional<std::string> ReplayOutputs::open_decisions(const fs::path& file) {
     return std::nullopt;
 }
 
-std::optional<std::string> ReplayOutputs::open_video(const fs::path& file, const DatasetInfo& info,
+std::optional<std::string> ReplayOutputs::open_video(const fs::path& file,
+                                                     const dataset::DatasetInfo& info,
                                                      bool undistort) {
     Mp4WriterConfig c;
     c.width = info.width;
@@ -71,14 +72,14 @@ std::optional<std::string> ReplayOutputs::open_video(const fs::path& file, const
     if (!w) return file.string() + ": " + w.error();
     video_ = std::move(*w);
     undistort_ = undistort;
-    if (undistort) undistorter_.set_calibration(to_vision(calib_));
+    if (undistort) undistorter_.set_calibration(calib_);
     return std::nullopt;
 }
 
 namespace {
 
 // Overlay primitives (raw, distorted pixels) moved to the undistorted image (same camera matrix).
-void undistort_overlay(const vision::Overlay& in, const vision::CameraCalibration& cal,
+void undistort_overlay(const vision::Overlay& in, const CameraCalibration& cal,
                        vision::Overlay& out) {
     out = in;  // bars stay where they are: the region bar is drawn across the top
     std::vector<cv::Point2f> pts, und;
@@ -120,8 +121,7 @@ void ReplayOutputs::frame(const FrameSample& s, const vision::FrameResult* r) {
     if (video_ && !s.image.empty()) {
         if (undistort_) {
             undistorter_.apply(s.image).copyTo(canvas_);
-            undistort_overlay(r->overlay, to_vision(calib_).scaled_to(s.image.cols, s.image.rows),
-                              mapped_);
+            undistort_overlay(r->overlay, calib_.scaled_to(s.image.cols, s.image.rows), mapped_);
             vision::draw_overlay(canvas_, mapped_);
         } else {
             s.image.copyTo(canvas_);
@@ -153,12 +153,12 @@ void ReplayOutputs::collect_series(const vision::FrameResult& r) {
             // First seen: its earlier x history comes with it.
             for (int i = 0; i + 1 < t.count; ++i) {
                 l.x.push_back(static_cast<double>(t.last_frame - (t.count - 1 - i)));
-                l.y.push_back(t.x[static_cast<std::size_t>(i)]);
+                l.y.push_back(static_cast<double>(t.x[static_cast<std::size_t>(i)]));
             }
         }
         if (t.count > 0) {
             l.x.push_back(static_cast<double>(t.last_frame));
-            l.y.push_back(t.x[static_cast<std::size_t>(t.count - 1)]);
+            l.y.push_back(static_cast<double>(t.x[static_cast<std::size_t>(t.count - 1)]));
         }
         const double score = std::isfinite(t.score) ? t.score : 0.0;
         l.colour = vision::blue_to_red(std::clamp(score / 4.0, 0.0, 1.0));
@@ -234,7 +234,8 @@ std::optional<std::string> ReplayOutputs::finish(const fs::path& plots_dir) {
     return error_;
 }
 
-nlohmann::json summary_json(const Dataset& d, const ReplaySettings& s, const ReplayStats& st) {
+nlohmann::json summary_json(const dataset::Dataset& d, const ReplaySettings& s,
+                            const ReplayStats& st) {
     nlohmann::json j;
     j["dataset"] = d.dir().string();
     j["classifier"] = s.classifier;
@@ -270,7 +271,7 @@ nlohmann::json summary_json(const Dataset& d, const ReplaySettings& s, const Rep
     return j;
 }
 
-nlohmann::json score_json(const FlightScore& s) {
+nlohmann::json score_json(const dataset::FlightScore& s) {
     auto opt = [](const auto& o) { return o ? nlohmann::json(*o) : nlohmann::json(nullptr); };
     return {{"scenario", to_string(s.scenario)},
             {"tp", s.tp},

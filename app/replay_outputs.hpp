@@ -2,10 +2,10 @@
 // What `replay` and `eval` write per flight: decisions.csv, the overlay MP4, the PNG plots and the
 // summary / score JSON. Kept apart from the replay loop so both commands write the same files.
 
+#include "app/mp4_writer.hpp"
 #include "app/replay_run.hpp"
 #include "drone/dataset/dataset.hpp"
 #include "drone/dataset/scoring.hpp"
-#include "drone/mp4_writer.hpp"
 #include "vision/plot_image.hpp"
 #include "vision/undistort.hpp"
 
@@ -24,7 +24,7 @@ namespace gs::app {
 // A dataset directory, or a thesis-style image folder (imported in memory; `thesis_fps` is its
 // frame rate when given, which a dataset directory refuses: flight.json has its own). The error
 // names the path and the problem.
-[[nodiscard]] Expected<Dataset, std::string> open_any_dataset(
+[[nodiscard]] Expected<dataset::Dataset, std::string> open_any_dataset(
     const std::string& path, std::optional<double> thesis_fps = std::nullopt);
 
 std::string fixed(double v, int decimals);
@@ -38,7 +38,8 @@ public:
 
     [[nodiscard]] std::optional<std::string> open_decisions(const std::filesystem::path& file);
     [[nodiscard]] std::optional<std::string> open_video(const std::filesystem::path& file,
-                                                        const DatasetInfo& info, bool undistort);
+                                                        const dataset::DatasetInfo& info,
+                                                        bool undistort);
     void enable_plots() { plots_ = true; }
 
     // One frame (result null: not decoded). Errors are kept for finish().
@@ -67,8 +68,9 @@ private:
     std::optional<std::string> error_;
 };
 
-nlohmann::json summary_json(const Dataset& d, const ReplaySettings& s, const ReplayStats& st);
-nlohmann::json score_json(const FlightScore& s);
+nlohmann::json summary_json(const dataset::Dataset& d, const ReplaySettings& s,
+                            const ReplayStats& st);
+nlohmann::json score_json(const dataset::FlightScore& s);
 [[nodiscard]] std::optional<std::string> write_json_file(const std::filesystem::path& file,
                                                          const nlohmann::json& j);
 

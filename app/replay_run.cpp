@@ -18,11 +18,12 @@ std::string decisions_csv_header() {
 }
 
 std::string decisions_csv_row(std::int64_t frame, TimeNs t_ns, const vision::FrameResult* res) {
-    std::string line = std::to_string(frame) + ',' + csv::format_ms(t_ns);
+    std::string line = std::to_string(frame) + ',' + dataset::csv::format_ms(t_ns);
     for (auto reg : vision::kRegions)
         line += res == nullptr ? "," : (res->region(reg).unsafe ? ",1" : ",0");
     for (auto reg : vision::kRegions)
-        line += ',' + (res == nullptr ? std::string() : csv::format_number(res->region(reg).score));
+        line += ',' + (res == nullptr ? std::string()
+                                      : dataset::csv::format_number(res->region(reg).score));
     line += '\n';
     return line;
 }
@@ -59,10 +60,10 @@ Expected<CameraCalibration, std::string> load_calibration_for(const std::string&
                                                               int height) {
     auto c = load_calibration_file(file);
     if (!c) return Unexpected(to_string(c.error()));
-    return scaled_to(*c, width, height);
+    return c->scaled_to(width, height);
 }
 
-Expected<CameraCalibration, std::string> replay_calibration(const Dataset& dataset,
+Expected<CameraCalibration, std::string> replay_calibration(const dataset::Dataset& dataset,
                                                             const ReplaySettings& settings) {
     if (!settings.calibration_file) return dataset.calibration();
     return load_calibration_for(*settings.calibration_file, dataset.info().width,
@@ -122,13 +123,12 @@ double percentile(std::vector<double>& v, double q) {
 
 }  // namespace
 
-Expected<ReplayStats, std::string> replay_dataset(const Dataset& dataset,
+Expected<ReplayStats, std::string> replay_dataset(const dataset::Dataset& dataset,
                                                   const ReplaySettings& settings,
                                                   const ReplayFrameFn& on_frame,
                                                   Progress* progress) {
-    auto calib = replay_calibration(dataset, settings);
-    if (!calib) return Unexpected(calib.error());
-    ObstaclePipeline pipeline(settings.classifier, *calib);
+    GS_TRY_ASSIGN(auto calib, replay_calibration(dataset, settings));
+    ObstaclePipeline pipeline(settings.classifier, calib);
     if (!pipeline.ok()) {
         std::string names;
         for (auto n : vision::classifier_names())
@@ -137,16 +137,17 @@ Expected<ReplayStats, std::string> replay_dataset(const Dataset& dataset,
     }
     if (auto e = apply_overrides(pipeline.classifier(), settings.set)) return Unexpected(*e);
 
-    auto store = open_frames(dataset);
+    auto store = dataset::open_frames(dataset);
     if (!store) return Unexpected(to_string(store.error()));
 
     // The source takes its own copy of the dataset (it owns what it plays).
-    DatasetSource source(dataset, std::move(*store), SteadyClock::instance(), Pacing::fastest());
+    dataset::DatasetSource source(dataset, std::move(*store), SteadyClock::instance(),
+                                  Pacing::fastest());
 
     ReplayStats st;
     st.params = pipeline.classifier().params_to_map();
     st.frames = dataset.frame_count();
-    st.flags.assign(static_cast<std::size_t>(st.frames), RegionFlags{});
+    st.flags.assign(static_cast<std::size_t>(st.frames), dataset::RegionFlags{});
     std::vector<double> read_ms, classify_ms;
     read_ms.reserve(static_cast<std::size_t>(st.frames));
     classify_ms.reserve(static_cast<std::size_t>(st.frames));
@@ -179,7 +180,7 @@ Expected<ReplayStats, std::string> replay_dataset(const Dataset& dataset,
         read_ms.push_back((t1 - t0) * 1e3);
         classify_ms.push_back((t2 - t1) * 1e3);
         ++st.processed;
-        RegionFlags& f = st.flags[static_cast<std::size_t>(sample.index)];
+        dataset::RegionFlags& f = st.flags[static_cast<std::size_t>(sample.index)];
         for (std::size_t r = 0; r < 3; ++r) {
             f[r] = res.regions[r].unsafe;
             st.flagged[r] += f[r] ? 1 : 0;

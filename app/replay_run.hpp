@@ -35,7 +35,7 @@ struct ReplaySettings {
 // What a replay of `dataset` uses, for the classifier and every output alike: the settings'
 // calibration file when given, else the dataset's (flight.json's or the camera default).
 [[nodiscard]] Expected<CameraCalibration, std::string> replay_calibration(
-    const Dataset& dataset, const ReplaySettings& settings);
+    const dataset::Dataset& dataset, const ReplaySettings& settings);
 
 // Parses key=value overrides and applies them; the error names the first bad one.
 [[nodiscard]] std::optional<std::string> apply_overrides(vision::ObstacleClassifier& c,
@@ -51,8 +51,8 @@ struct ReplayStats {
     // Per frame, milliseconds: reading (decode) and classifying.
     double read_ms_p50 = 0, read_ms_p99 = 0, classify_ms_p50 = 0, classify_ms_p99 = 0;
     double classify_ms_mean = 0;
-    std::vector<RegionFlags> flags;  // per frame, for scoring
-    vision::ParamMap params;         // the classifier's parameters as run
+    std::vector<dataset::RegionFlags> flags;  // per frame, for scoring
+    vision::ParamMap params;                  // the classifier's parameters as run
 };
 
 // "3 of 153 frames could not be read (first: ...)": the error a run with unreadable frames ends on.
@@ -80,7 +80,7 @@ private:
 
 // Replays `dataset` through a fresh pipeline. Errors: unknown classifier, bad override, no
 // frames, calibration file unreadable. Decode errors are counted, not fatal.
-[[nodiscard]] Expected<ReplayStats, std::string> replay_dataset(const Dataset& dataset,
+[[nodiscard]] Expected<ReplayStats, std::string> replay_dataset(const dataset::Dataset& dataset,
                                                                 const ReplaySettings& settings,
                                                                 const ReplayFrameFn& on_frame,
                                                                 Progress* progress = nullptr);

@@ -66,20 +66,6 @@ CameraCalibration bottom_calibration() {
 // camera: this many are shown but given to neither the classifier nor the odometry.
 constexpr int kCameraSettleFrames = 3;
 
-// vision's camera model back as drone/'s calibration record.
-CameraCalibration from_vision(const vision::CameraCalibration& v, std::string source) {
-    CameraCalibration c;
-    c.width = v.width;
-    c.height = v.height;
-    c.fx = v.fx;
-    c.fy = v.fy;
-    c.cx = v.cx;
-    c.cy = v.cy;
-    c.dist = v.dist;
-    c.source = std::move(source);
-    return c;
-}
-
 }  // namespace
 
 std::filesystem::path default_record_root() {
@@ -96,7 +82,7 @@ struct Session::Current {
     std::shared_ptr<sim::VirtualDrone> drone;
     std::shared_ptr<link::DroneLink> link;
     std::shared_ptr<BoundedQueue<FrameSample>> frames;
-    std::unique_ptr<DatasetSource> replay;
+    std::unique_ptr<dataset::DatasetSource> replay;
     ReplayInfo rinfo;
     std::vector<cv::Mat> pool;
     // The video's camera: the dataset's (replay) or the drone's configuration (live).
@@ -162,7 +148,7 @@ void Session::publish_classifier(std::string error) {
     for (auto n : vision::classifier_names()) c.available.emplace_back(n);
     if (pipeline_.ok()) {
         // Defaults from a fresh instance: what "reset to default" goes back to.
-        const auto fresh = vision::make_classifier(c.active, vision::CameraCalibration{});
+        const auto fresh = vision::make_classifier(c.active, CameraCalibration{});
         std::vector<vision::ParamInfo> defaults;
         if (fresh) defaults = fresh->params();
         for (auto& p : pipeline_.classifier().params()) {
@@ -227,10 +213,10 @@ void Session::set_camera(CameraId camera, const char* why) {
 void Session::update_camera() {
     Current& c = *cur_;
     if (!c.link || c.link->config().generation() == c.config_gen) return;
-    ConfigMap cfg;
+    protocol::ConfigMap cfg;
     if (!c.link->config().read_if_newer(c.config_gen, cfg)) return;
     const auto v = cfg.get("video:video_channel");
-    const auto ch = v ? config_int(*v) : std::nullopt;
+    const auto ch = v ? protocol::config_int(*v) : std::nullopt;
     if (!ch) return;
     set_camera(*ch == 1 ? CameraId::Bottom : CameraId::Front, "drone configuration");
 }
@@ -259,9 +245,11 @@ vision::CalibrationMode& Session::calibration_worker() {
             std::move(mo),
             [this](const vision::CalibrationModeState& st) { calibration_mode_.publish(st); },
             // Saved on the worker thread: applied by the session thread, in request order.
-            [this](const vision::CameraCalibration& cam, const std::string& source,
+            [this](const CameraCalibration& cam, const std::string& source,
                    const std::string& path) {
-                (void)requests_.push(ApplyCalibration{from_vision(cam, source), path});
+                CameraCalibration applied = cam;
+                applied.source = source;
+                (void)requests_.push(ApplyCalibration{std::move(applied), path});
             });
     }
     return *calibrator_;
@@ -300,8 +288,8 @@ void Session::open_drone(const std::string& address) {
     lc.drone_address = address.empty() ? "192.168.1.1" : address;
     auto l = std::make_shared<link::DroneLink>(lc, clock_);
     if (auto st = l->start(); !st) {
-        publish_source("cannot connect to " + lc.drone_address + ": " + st.error());
-        message("connect failed: " + st.error());
+        publish_source("cannot connect to " + lc.drone_address + ": " + st.error().message);
+        message("connect failed: " + st.error().message);
         return;
     }
     Current& c = *cur_;
@@ -338,8 +326,8 @@ void Session::open_sim(const StartSim& s) {
     vo.core.battery_pct = opts_.sim_battery_pct;
     auto drone = std::make_shared<sim::VirtualDrone>(std::move(vo));
     if (auto st = drone->start(); !st) {
-        publish_source("cannot start the virtual drone: " + st.error());
-        message("virtual drone: " + st.error());
+        publish_source("cannot start the virtual drone: " + st.error().message);
+        message("virtual drone: " + st.error().message);
         return;
     }
     link::LinkConfig lc;
@@ -353,8 +341,8 @@ void Session::open_sim(const StartSim& s) {
     auto l = std::make_shared<link::DroneLink>(lc, clock_);
     if (auto st = l->start(); !st) {
         drone->stop();
-        publish_source("cannot open the link to the virtual drone: " + st.error());
-        message("virtual drone link: " + st.error());
+        publish_source("cannot open the link to the virtual drone: " + st.error().message);
+        message("virtual drone link: " + st.error().message);
         return;
     }
     Current& c = *cur_;
@@ -376,13 +364,13 @@ void Session::open_sim(const StartSim& s) {
 
 void Session::open_replay(const std::string& path) {
     close_current();
-    auto ds = Dataset::open(path);
+    auto ds = dataset::Dataset::open(path);
     if (!ds) {
         publish_source("cannot open " + path + ": " + to_string(ds.error()));
         message("replay: cannot open " + path + ": " + to_string(ds.error()));
         return;
     }
-    auto frames = open_frames(*ds);
+    auto frames = dataset::open_frames(*ds);
     if (!frames) {
         publish_source("no frames in " + path + ": " + to_string(frames.error()));
         message("replay: " + to_string(frames.error()));
@@ -394,7 +382,7 @@ void Session::open_replay(const std::string& path) {
     const double fps = ds->info().fps;
     const std::int64_t n = ds->frame_count();
     Current& c = *cur_;
-    c.replay = std::make_unique<DatasetSource>(
+    c.replay = std::make_unique<dataset::DatasetSource>(
         std::move(*ds), std::move(*frames), clock_,
         opts_.replay_lockstep ? Pacing::fastest() : Pacing::realtime());
     const bool play = opts_.replay_autoplay && !opts_.replay_lockstep;
@@ -526,7 +514,7 @@ void Session::handle(SessionRequest& r) {
 // Shows one frame while paused: delta +1 the next, -1 the previous, 0 the one at the position.
 bool Session::replay_step(int delta) {
     Current& c = *cur_;
-    DatasetSource& src = *c.replay;
+    dataset::DatasetSource& src = *c.replay;
     std::int64_t target = src.position();
     if (delta < 0) {
         target = c.rinfo.frame - 1;
@@ -555,7 +543,7 @@ bool Session::replay_step(int delta) {
 // says how long nothing will be due.
 bool Session::replay_tick(TimeNs& wait_ns) {
     Current& c = *cur_;
-    DatasetSource& src = *c.replay;
+    dataset::DatasetSource& src = *c.replay;
     NavState nav;
     bool have_nav = false;
     while (src.next_nav(nav) == SourceStatus::Sample) have_nav = true;
@@ -687,10 +675,10 @@ void Session::record_start(const std::string& dir) {
     ro.writer.calibration = c.camera == CameraId::Bottom ? odometry_.calibration() : calib_in_use_;
     ro.writer.source = c.kind == SessionSource::Sim ? "simulated (virtual drone)" : "recorded";
     if (auto st = recorder_->start(path, ro); !st) {
-        message("recording failed: " + st.error());
+        message("recording failed: " + st.error().message);
         recorder_.reset();
         RecordingInfo ri;
-        ri.status.error = st.error();
+        ri.status.error = st.error().message;
         ri.last_path = last_record_path_;
         recording_.publish(std::move(ri));
         return;

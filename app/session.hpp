@@ -17,13 +17,13 @@
 
 #include "app/live_odometry.hpp"
 #include "app/pipeline.hpp"
-#include "drone/clock.hpp"
+#include "drone/core/clock.hpp"
+#include "drone/core/sample.hpp"
+#include "drone/core/sync.hpp"
 #include "drone/dataset/dataset_source.hpp"
 #include "drone/link/drone_link.hpp"
 #include "drone/record/recorder.hpp"
-#include "drone/sample.hpp"
 #include "drone/sim/virtual_drone.hpp"
-#include "drone/sync.hpp"
 #include "vision/calibration_mode.hpp"
 #include "vision/classifier.hpp"
 

@@ -2,8 +2,8 @@
 // Usage: bench_decode_bench [REPEATS=20]
 // Prints, per capture, framer throughput and per-frame decode time percentiles (decode +
 // colour conversion to BGR, what the live pipeline pays per frame).
-#include "drone/h264_decoder.hpp"
-#include "drone/pave.hpp"
+#include "drone/protocol/pave.hpp"
+#include "drone/video/h264_decoder.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -55,8 +55,8 @@ Result bench_pave(const std::vector<std::uint8_t>& bytes, int repeats, std::size
     Result r;
     cv::Mat img;
     for (int rep = 0; rep < repeats; ++rep) {
-        gs::PaveFramer framer;
-        gs::H264Decoder decoder;
+        gs::protocol::PaveFramer framer;
+        gs::video::H264Decoder decoder;
         for (std::size_t pos = 0; pos < bytes.size(); pos += chunk) {
             const std::size_t n = std::min(chunk, bytes.size() - pos);
             auto t0 = Clock::now();
@@ -66,14 +66,15 @@ Result bench_pave(const std::vector<std::uint8_t>& bytes, int repeats, std::size
                 auto ev = framer.next();
                 r.framer_s += std::chrono::duration<double>(Clock::now() - t0).count();
                 if (!ev) break;
-                if (const auto* f = std::get_if<gs::PaveFrame>(&*ev)) {
+                if (const auto* f = std::get_if<gs::protocol::PaveFrame>(&*ev)) {
                     ++r.frames;
-                    gs::AccessUnit au{f->payload, f->header.frame_number, f->header.display_width,
-                                      f->header.display_height, f->header.stream_id};
+                    gs::video::AccessUnit au{f->payload, f->header.frame_number,
+                                             f->header.display_width, f->header.display_height,
+                                             f->header.stream_id};
                     const auto d0 = Clock::now();
                     auto res = decoder.decode(au, img);
                     const auto d1 = Clock::now();
-                    if (res && *res == gs::DecodeStatus::Frame) {
+                    if (res && *res == gs::video::DecodeStatus::Frame) {
                         r.decode_ms.push_back(
                             std::chrono::duration<double, std::milli>(d1 - d0).count());
                     }
@@ -89,15 +90,15 @@ Result bench_annexb(const std::vector<std::uint8_t>& bytes, int repeats) {
     Result r;
     cv::Mat img;
     for (int rep = 0; rep < repeats; ++rep) {
-        gs::H264Decoder decoder;
+        gs::video::H264Decoder decoder;
         std::span<const std::uint8_t> rest(bytes);
         while (!rest.empty()) {
-            const std::size_t n = gs::access_unit_size(rest);
+            const std::size_t n = gs::video::access_unit_size(rest);
             const auto d0 = Clock::now();
             auto res = decoder.decode(
-                gs::AccessUnit{rest.first(n), std::nullopt, 0, 0, std::nullopt}, img);
+                gs::video::AccessUnit{rest.first(n), std::nullopt, 0, 0, std::nullopt}, img);
             const auto d1 = Clock::now();
-            if (res && *res == gs::DecodeStatus::Frame) {
+            if (res && *res == gs::video::DecodeStatus::Frame) {
                 r.decode_ms.push_back(std::chrono::duration<double, std::milli>(d1 - d0).count());
             }
             rest = rest.subspan(n);

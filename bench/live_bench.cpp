@@ -37,7 +37,7 @@ using namespace std::chrono_literals;
 namespace {
 
 double quantile(std::vector<double> v, double q) {
-    if (v.empty()) return NAN;
+    if (v.empty()) return kUnknown;
     std::sort(v.begin(), v.end());
     const auto i = static_cast<std::size_t>(
         std::clamp(q * static_cast<double>(v.size() - 1), 0.0, static_cast<double>(v.size() - 1)));

@@ -3,10 +3,10 @@
 // the H.264 encoder. Usage: bench_render_bench [scene.json] [frames] [png_dir]
 // (png_dir: write every 30th frame there as PNG to look at).
 
-#include "drone/calibration.hpp"
-#include "drone/h264_encoder.hpp"
+#include "drone/core/camera_calibration.hpp"
 #include "drone/sim/renderer.hpp"
 #include "drone/sim/scene.hpp"
+#include "drone/video/h264_encoder.hpp"
 
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -63,9 +63,9 @@ int main(int argc, char** argv) {
     const double build_ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_build0)
             .count();
-    auto encoder = gs::H264Encoder::create({});
+    auto encoder = gs::video::H264Encoder::create({});
     if (!encoder) {
-        std::fprintf(stderr, "%s\n", gs::to_string(encoder.error()).c_str());
+        std::fprintf(stderr, "%s\n", gs::video::to_string(encoder.error()).c_str());
         return 1;
     }
     const auto st = renderer->stats();
@@ -93,7 +93,7 @@ int main(int argc, char** argv) {
         render_cpu_ms.push_back(c1 - c0);
         encode_cpu_ms.push_back(c2 - c1);
         if (!n) {
-            std::fprintf(stderr, "encode: %s\n", gs::to_string(n.error()).c_str());
+            std::fprintf(stderr, "encode: %s\n", gs::video::to_string(n.error()).c_str());
             return 1;
         }
         bytes += *n;

@@ -5,6 +5,7 @@
 //
 // Usage: bench_vision_bench [frames=300] [classifier=all] [track_scale=0 (default)] [key=value ...]
 
+#include "drone/core/unknown.hpp"
 #include "vision/classifier.hpp"
 #include "vision/synthetic_scene.hpp"
 
@@ -21,6 +22,7 @@
 #include <vector>
 
 using namespace gs::vision;
+using gs::CameraCalibration;
 
 namespace {
 
@@ -89,7 +91,7 @@ double thread_cpu_ms() {
 }
 
 double pct(std::vector<double> v, double p) {
-    if (v.empty()) return NAN;
+    if (v.empty()) return gs::kUnknown;
     std::sort(v.begin(), v.end());
     const auto i = static_cast<std::size_t>(
         std::min<double>(static_cast<double>(v.size() - 1),

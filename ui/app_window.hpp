@@ -4,8 +4,8 @@
 // writes PNG screenshots (plus a JSON of where the key widgets were laid out) for pixel checks
 // under Xvfb. The only file that touches GLFW/GL directly besides the video texture.
 
-#include "drone/clock.hpp"
-#include "drone/expected.hpp"
+#include "drone/core/clock.hpp"
+#include "drone/core/expected.hpp"
 #include "ui/actions.hpp"
 #include "ui/settings.hpp"
 #include "ui/snapshot.hpp"

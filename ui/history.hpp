@@ -4,7 +4,7 @@
 //   x += (vx cos(psi) - vy sin(psi)) dt,   y += (vx sin(psi) + vy cos(psi)) dt
 // x along the initial heading, y to its right, psi clockwise seen from above.
 
-#include "drone/sample.hpp"
+#include "drone/core/sample.hpp"
 #include "ui/plot.hpp"
 
 namespace gs::ui {

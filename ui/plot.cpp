@@ -276,7 +276,8 @@ PlotResult draw_plot(const char* id, const PlotSpec& spec, ImVec2 size) {
         xr = xr0;
         yr = yr0;
         if (spec.equal_aspect) {
-            const double w = r.area_max.x - r.area_min.x, h = r.area_max.y - r.area_min.y;
+            const double w = static_cast<double>(r.area_max.x - r.area_min.x);
+            const double h = static_cast<double>(r.area_max.y - r.area_min.y);
             const double upp = std::max((xr.hi - xr.lo) / w, (yr.hi - yr.lo) / h);
             const double xc = 0.5 * (xr.lo + xr.hi), yc = 0.5 * (yr.lo + yr.hi);
             xr = {xc - upp * w * 0.5, xc + upp * w * 0.5};

@@ -157,7 +157,7 @@ void PlotsWindow::draw(const GuiSnapshot& s, ViewState& v) {
     ImGui::SetNextItemWidth(ImGui::GetFontSize() * 9);
     float span = static_cast<float>(v.settings.plot_span_s);
     if (ImGui::SliderFloat("window", &span, 5.0f, 300.0f, "%.0f s", ImGuiSliderFlags_Logarithmic)) {
-        v.settings.plot_span_s = span;
+        v.settings.plot_span_s = static_cast<double>(span);
         v.settings_dirty = true;
     }
     const ImVec2 avail = ImGui::GetContentRegionAvail();

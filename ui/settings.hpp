@@ -4,7 +4,7 @@
 // choice, overlay toggles, classifier settings and presets. (Window positions and sizes go to
 // imgui.ini in the same directory, written by ImGui itself.)
 
-#include "drone/expected.hpp"
+#include "drone/core/expected.hpp"
 #include "ui/pilot_input.hpp"
 
 #include <filesystem>

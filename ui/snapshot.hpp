@@ -5,8 +5,8 @@
 // mixes two navdata packets) and the windows draw only that. The window's own state (toggles, plot
 // history, text fields) lives in ViewState (ui/view_state.hpp).
 
-#include "drone/clock.hpp"
-#include "drone/sample.hpp"
+#include "drone/core/clock.hpp"
+#include "drone/core/sample.hpp"
 
 #include <opencv2/core.hpp>
 

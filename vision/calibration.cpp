@@ -1,4 +1,5 @@
 #include "vision/calibration.hpp"
+#include "drone/core/unknown.hpp"
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
@@ -48,7 +49,7 @@ double min_corner_spacing(std::span<const cv::Point2f> c, const BoardSpec& b) {
 }
 
 double median_of(std::vector<double> v) {
-    if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
+    if (v.empty()) return kUnknown;
     const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
     std::nth_element(v.begin(), mid, v.end());
     if (v.size() % 2 == 1) return *mid;
@@ -256,7 +257,7 @@ CalibrationInfo CalibrationResult::info() const {
     return i;
 }
 
-CalibrationExpected<CalibrationResult> calibrate_views(
+Expected<CalibrationResult, CalibrationError> calibrate_views(
     std::span<const std::vector<cv::Point2f>> views, const BoardSpec& board, cv::Size image_size,
     const CalibrationOptions& opts) {
     if (!board.valid()) {
@@ -341,12 +342,11 @@ CalibrationExpected<CalibrationResult> calibrate_views(
         cam.dist[i] = i < d.total() ? d.at<double>(static_cast<int>(i)) : 0.0;
     }
     for (std::size_t i = 0; i < 9; ++i) {
-        res.std_dev[i] = i < sd_intr.total() ? sd_intr.at<double>(static_cast<int>(i))
-                                             : std::numeric_limits<double>::quiet_NaN();
+        res.std_dev[i] = i < sd_intr.total() ? sd_intr.at<double>(static_cast<int>(i)) : kUnknown;
     }
 
     res.view_used.assign(views.size(), false);
-    res.view_rms_px.assign(views.size(), std::numeric_limits<double>::quiet_NaN());
+    res.view_rms_px.assign(views.size(), kUnknown);
     for (std::size_t a = 0; a < active.size(); ++a) {
         const auto i = static_cast<std::size_t>(active[a]);
         res.view_used[i] = true;
@@ -374,7 +374,7 @@ CalibrationExpected<CalibrationResult> calibrate_views(
 
 double max_line_deviation_px(std::span<const cv::Point2f> corners, const BoardSpec& board) {
     if (static_cast<int>(corners.size()) != board.corner_count()) {
-        return std::numeric_limits<double>::quiet_NaN();
+        return kUnknown;
     }
     double worst = 0;
     auto line_dev = [&worst](const std::vector<cv::Point2f>& pts) {
@@ -519,10 +519,10 @@ void CalibrationSession::recalibrate_if_enough() {
     (void)calibrate();
 }
 
-CalibrationExpected<CalibrationResult> CalibrationSession::calibrate() {
+Expected<CalibrationResult, CalibrationError> CalibrationSession::calibrate() {
     if (!image_size_) {
         last_error_ = CalibrationError{CalibrationErrorKind::BoardNotFound, "no view kept yet"};
-        return *last_error_;
+        return Unexpected(*last_error_);
     }
     auto r = calibrate_views(views_, board_, *image_size_, opts_.calibration);
     if (r) {
@@ -535,7 +535,7 @@ CalibrationExpected<CalibrationResult> CalibrationSession::calibrate() {
 }
 
 double CalibrationSession::rms_px() const {
-    return result_ ? result_->rms_px : std::numeric_limits<double>::quiet_NaN();
+    return result_ ? result_->rms_px : kUnknown;
 }
 
 void CalibrationSession::rebuild_coverage() {
@@ -563,19 +563,51 @@ void CalibrationSession::reset() {
     last_error_.reset();
 }
 
-CalibrationExpected<Done> CalibrationSession::save(const std::string& path,
-                                                   CalibrationInfo info) const {
+Expected<void, CalibrationError> CalibrationSession::save(const std::string& path,
+                                                          CalibrationInfo info,
+                                                          std::string source) const {
     if (!result_) {
-        return CalibrationError{CalibrationErrorKind::TooFewViews,
-                                "no calibration yet: " + std::to_string(views_.size()) +
-                                    " view(s) kept, " +
-                                    std::to_string(opts_.calibration.min_views) + " needed"};
+        return calibration_error(CalibrationErrorKind::TooFewViews,
+                                 "no calibration yet: " + std::to_string(views_.size()) +
+                                     " view(s) kept, " +
+                                     std::to_string(opts_.calibration.min_views) + " needed");
     }
     const CalibrationInfo numbers = result_->info();
     info.rms_px = numbers.rms_px;
     info.std_dev = numbers.std_dev;
     info.views = numbers.views;
-    return save_calibration_file(path, result_->camera, info);
+    CameraCalibration camera = result_->camera;
+    camera.source = std::move(source);
+    if (auto saved = save_calibration_file(path, camera, info); !saved)
+        return calibration_error(CalibrationErrorKind::FileWrite, to_string(saved.error()));
+    return {};
+}
+
+const char* to_string(CalibrationErrorKind k) {
+    switch (k) {
+        case CalibrationErrorKind::NoImages:
+            return "no images";
+        case CalibrationErrorKind::ImageUnreadable:
+            return "image unreadable";
+        case CalibrationErrorKind::ImageSizeMismatch:
+            return "image size mismatch";
+        case CalibrationErrorKind::BoardNotFound:
+            return "board not found";
+        case CalibrationErrorKind::TooFewViews:
+            return "too few views";
+        case CalibrationErrorKind::BadBoardSpec:
+            return "bad board";
+        case CalibrationErrorKind::CalibrationFailed:
+            return "calibration failed";
+        case CalibrationErrorKind::FileWrite:
+            return "cannot write file";
+    }
+    return "unknown calibration error";
+}
+
+std::string CalibrationError::message() const {
+    return detail.empty() ? std::string(to_string(kind))
+                          : std::string(to_string(kind)) + ": " + detail;
 }
 
 }  // namespace gs::vision

@@ -5,9 +5,9 @@
 // CalibrationSession is what both `ardrone-gs calibrate` and the GUI's calibration mode drive:
 // feed frames, read the detection/coverage/running RMS, save.
 
+#include "drone/core/camera_calibration.hpp"
+#include "drone/core/unknown.hpp"
 #include "vision/calibration_error.hpp"
-#include "vision/calibration_file.hpp"
-#include "vision/camera_model.hpp"
 
 #include <opencv2/core.hpp>
 
@@ -56,8 +56,7 @@ struct BoardDetection {
     DetectStatus status = DetectStatus::NotFound;
     // rows*cols sub-pixel corners, row by row (also filled when Blurry, for display).
     std::vector<cv::Point2f> corners;
-    double sharpness_px =
-        std::numeric_limits<double>::quiet_NaN();  // mean edge width, lower = sharper
+    double sharpness_px = kUnknown;  // mean edge width, lower = sharper
     cv::Size image_size{};
 
     [[nodiscard]] bool found() const { return status == DetectStatus::Found; }
@@ -130,12 +129,12 @@ struct CalibrationResult {
     std::vector<int> rejected;  // indices of views rejected as outliers, in rejection order
     CoverageMap coverage;       // of the used views
     int used_views() const;
-    // The file notes: rms, std_dev, views (camera and source left for the caller).
+    // The file notes: rms, std_dev, views (the camera name left for the caller).
     [[nodiscard]] CalibrationInfo info() const;
 };
 
 // Calibrates from detected corner sets (each rows*cols, row by row) of one image size.
-[[nodiscard]] CalibrationExpected<CalibrationResult> calibrate_views(
+[[nodiscard]] Expected<CalibrationResult, CalibrationError> calibrate_views(
     std::span<const std::vector<cv::Point2f>> views, const BoardSpec& board, cv::Size image_size,
     const CalibrationOptions& opts = {});
 
@@ -185,7 +184,7 @@ public:
     ViewResult add_detection(const BoardDetection& detection, bool require_new_coverage = true);
 
     // Calibrates from the kept views now; the result is also kept (result(), rms_px()).
-    CalibrationExpected<CalibrationResult> calibrate();
+    Expected<CalibrationResult, CalibrationError> calibrate();
 
     [[nodiscard]] const BoardSpec& board() const { return board_; }
     [[nodiscard]] std::size_t view_count() const { return views_.size(); }
@@ -203,9 +202,11 @@ public:
     void remove_last_view();
     void reset();
 
-    // Saves the latest calibration (camera name and source from `info`, numbers from the result).
-    [[nodiscard]] CalibrationExpected<Done> save(const std::string& path,
-                                                 CalibrationInfo info = {}) const;
+    // Saves the latest calibration (camera name from `info`, numbers from the result; `source`:
+    // where the numbers come from, written into the file).
+    [[nodiscard]] Expected<void, CalibrationError> save(const std::string& path,
+                                                        CalibrationInfo info = {},
+                                                        std::string source = {}) const;
 
 private:
     void rebuild_coverage();

@@ -1,15 +1,14 @@
 #include "vision/calibration_mode.hpp"
+#include "drone/core/unknown.hpp"
 
+#include "drone/core/clock.hpp"
+#include "drone/core/sync.hpp"
 #include "vision/calibration.hpp"
-#include "vision/calibration_file.hpp"
 
 #include <atomic>
 #include <chrono>
-#include <condition_variable>
 #include <cstdio>
-#include <deque>
 #include <filesystem>
-#include <mutex>
 #include <optional>
 #include <thread>
 
@@ -41,8 +40,6 @@ const char* to_string(ViewCheck c) {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
 std::string shortest(double v) {
     char b[32];
     std::snprintf(b, sizeof b, "%g", v);
@@ -58,7 +55,8 @@ struct CalibrationMode::Impl {
         std::uint64_t source_id = 0;
         std::uint64_t seq = 0;
     };
-    enum class Kind { Start, Stop, Capture, Undo, Reset, Auto, Save };
+    // NewFrame only wakes the worker: the frame itself is in `latest`.
+    enum class Kind { Start, Stop, Capture, Undo, Reset, Auto, Save, NewFrame };
     struct Command {
         Kind kind = Kind::Capture;
         CalibrationBoard board;
@@ -74,12 +72,14 @@ struct CalibrationMode::Impl {
     const Publish publish_fn;
     const Saved saved_fn;
 
-    std::mutex m;
-    std::condition_variable cv;
-    std::deque<Command> commands;  // guarded by m
-    Frame latest;                  // guarded by m
-    bool stopping = false;         // guarded by m
+    // Shared with the callers' threads: commands in order, the newest frame, the on flag.
+    static constexpr std::size_t kCommandQueue = 64;
+    BoundedQueue<Command> commands{kCommandQueue};
+    LatestValue<Frame> latest;
+    std::atomic<std::uint64_t> offered{0};  // frames offered (Frame::seq)
+    std::atomic<bool> wake_pending{false};  // a NewFrame is queued
     std::atomic<bool> on{false};
+    const Clock& clock = SteadyClock::instance();
 
     // Worker thread only.
     std::optional<CalibrationSession> cal;
@@ -88,16 +88,16 @@ struct CalibrationMode::Impl {
     BoardDetection detection;
     FrameStatus status = FrameStatus::NotFound;
     bool have_check = false;
-    std::optional<Clock::time_point> last_detect, last_auto;
+    std::optional<TimeNs> last_detect, last_auto;
 
     std::thread thread;
 
-    void post(Command c) {
-        {
-            std::lock_guard lk(m);
-            commands.push_back(c);
-        }
-        cv.notify_one();
+    // A command refused by a full queue (a caller far ahead of the worker) is dropped and
+    // counted by the queue; the state the worker publishes shows what was done.
+    void post(Command c) { (void)commands.push(std::move(c)); }
+    void wake() {
+        if (!wake_pending.exchange(true) && !commands.push(Command{Kind::NewFrame, {}, false}))
+            wake_pending = false;
     }
     void run();
     void handle(const Command& c);
@@ -122,33 +122,38 @@ struct CalibrationMode::Impl {
 };
 
 // Commands first; then the newest frame when it is unchecked and the last detection started at
-// least interval_ms ago.
+// least interval_ms ago. Closing the queue stops the worker (queued commands are dropped).
 void CalibrationMode::Impl::run() {
-    std::unique_lock lk(m);
-    while (!stopping) {
-        if (!commands.empty()) {
-            const Command c = commands.front();
-            commands.pop_front();
-            lk.unlock();
-            handle(c);
-            lk.lock();
+    // Waits are bounded so that a wake-up the full queue refused costs at most this much.
+    constexpr TimeNs kMaxWaitNs = 200 * kNsPerMs;
+    for (;;) {
+        if (commands.closed()) return;
+        if (auto c = commands.try_pop()) {
+            if (c->kind == Kind::NewFrame)
+                wake_pending = false;
+            else
+                handle(*c);
             continue;
         }
-        if (on.load() && !latest.image.empty() && latest.seq != checked.seq) {
-            const auto now = Clock::now();
-            const auto due =
-                last_detect ? *last_detect + std::chrono::milliseconds(opts.interval_ms) : now;
-            if (now >= due) {
-                const Frame f = latest;
-                lk.unlock();
-                detect(f, /*allow_auto=*/true);
-                lk.lock();
-            } else {
-                cv.wait_until(lk, due);
+        TimeNs wait_ns = kMaxWaitNs;
+        if (on.load()) {
+            const std::optional<Frame> f = latest.latest();
+            if (f && !f->image.empty() && f->seq != checked.seq) {
+                const TimeNs now = clock.now_ns();
+                const TimeNs due = last_detect ? *last_detect + ms_to_ns(opts.interval_ms) : now;
+                if (now >= due) {
+                    detect(*f, /*allow_auto=*/true);
+                    continue;
+                }
+                wait_ns = std::min(wait_ns, due - now);
             }
-            continue;
         }
-        cv.wait(lk);
+        if (auto c = commands.pop_for(std::chrono::nanoseconds(wait_ns))) {
+            if (c->kind == Kind::NewFrame)
+                wake_pending = false;
+            else if (!commands.closed())
+                handle(*c);
+        }
     }
 }
 
@@ -172,14 +177,12 @@ void CalibrationMode::Impl::handle(const Command& c) {
                 on = true;
             }
             break;
-        case Kind::Stop: {
+        case Kind::Stop:
             on = false;
             cal.reset();
             clear(state.board);
-            std::lock_guard lk(m);
-            latest = {};  // let go of the frame buffer
+            latest.publish(Frame{});  // let go of the frame buffer
             break;
-        }
         case Kind::Capture:
             capture(false);
             break;
@@ -201,6 +204,8 @@ void CalibrationMode::Impl::handle(const Command& c) {
         case Kind::Save:
             save();
             break;
+        case Kind::NewFrame:
+            return;  // handled by run()
     }
     publish();
 }
@@ -222,7 +227,7 @@ void CalibrationMode::Impl::refresh() {
     const auto& res = cal->result();
     state.has_result = res.has_value();
     state.camera = res ? res->camera : CameraCalibration{};
-    state.rms_px = res ? res->rms_px : CalibrationModeState::kNaN;
+    state.rms_px = res ? res->rms_px : kUnknown;
     state.used_views = res ? res->used_views() : 0;
     state.result_error = cal->last_error() ? cal->last_error()->message() : std::string{};
 
@@ -237,10 +242,10 @@ void CalibrationMode::Impl::refresh() {
 
 void CalibrationMode::Impl::detect(const Frame& f, bool allow_auto) {
     if (!cal) return;
-    const auto t0 = Clock::now();
+    const TimeNs t0 = clock.now_ns();
     last_detect = t0;
     const ViewResult fr = cal->check(f.image);
-    state.detect_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    state.detect_ms = ns_to_ms(clock.now_ns() - t0);
     checked = f;
     checked.image = cv::Mat();  // the detection is all that is kept of it
     detection = fr.detection;
@@ -272,8 +277,8 @@ void CalibrationMode::Impl::detect(const Frame& f, bool allow_auto) {
             break;
     }
     if (allow_auto && state.auto_capture && state.check == ViewCheck::AddsCoverage) {
-        const auto now = Clock::now();
-        if (!last_auto || now - *last_auto >= std::chrono::milliseconds(opts.auto_interval_ms)) {
+        const TimeNs now = clock.now_ns();
+        if (!last_auto || now - *last_auto >= ms_to_ns(opts.auto_interval_ms)) {
             last_auto = now;
             capture(true);
         }
@@ -290,11 +295,7 @@ void CalibrationMode::Impl::capture(bool automatic) {
         state.last_capture = "not kept: the calibration mode is off";
         return;
     }
-    Frame cur;
-    {
-        std::lock_guard lk(m);
-        cur = latest;
-    }
+    const Frame cur = latest.latest().value_or(Frame{});
     if (!cur.image.empty() && cur.seq != checked.seq) detect(cur, /*allow_auto=*/false);
     if (!have_check) {
         state.last_capture = "not kept: no video frame yet";
@@ -339,18 +340,19 @@ void CalibrationMode::Impl::save() {
     const BoardSpec& b = cal->board();
     CalibrationInfo info;
     info.camera = opts.camera;
-    info.source = "ardrone-gs window, calibration mode: " + std::to_string(r->used_views()) +
-                  " views of a " + std::to_string(b.cols) + "x" + std::to_string(b.rows) +
-                  " board, " + shortest(b.square_m * 1000) + " mm squares";
+    const std::string source =
+        "ardrone-gs window, calibration mode: " + std::to_string(r->used_views()) + " views of a " +
+        std::to_string(b.cols) + "x" + std::to_string(b.rows) + " board, " +
+        shortest(b.square_m * 1000) + " mm squares";
     const std::filesystem::path path(opts.save_path);
     std::error_code ec;
     if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path(), ec);
-    if (auto saved = cal->save(opts.save_path, info); !saved) {
+    if (auto saved = cal->save(opts.save_path, info, source); !saved) {
         state.save_error = saved.error().message();
         return;
     }
     state.saved_path = opts.save_path;
-    if (saved_fn) saved_fn(r->camera, info.source, opts.save_path);
+    if (saved_fn) saved_fn(r->camera, source, opts.save_path);
 }
 
 CalibrationMode::CalibrationMode(CalibrationModeOptions opts, Publish publish, Saved saved)
@@ -360,11 +362,7 @@ CalibrationMode::CalibrationMode(CalibrationModeOptions opts, Publish publish, S
 }
 
 CalibrationMode::~CalibrationMode() {
-    {
-        std::lock_guard lk(impl_->m);
-        impl_->stopping = true;
-    }
-    impl_->cv.notify_all();
+    impl_->commands.close();
     if (impl_->thread.joinable()) impl_->thread.join();
 }
 
@@ -393,15 +391,9 @@ void CalibrationMode::save() {
 void CalibrationMode::offer(const cv::Mat& image, std::int64_t index, std::uint64_t source_id,
                             bool even_inactive) {
     if ((!impl_->on.load() && !even_inactive) || image.empty()) return;
-    {
-        std::lock_guard lk(impl_->m);
-        Impl::Frame& f = impl_->latest;
-        f.image = image;  // a header: the caller never rewrites a frame it handed out
-        f.index = index;
-        f.source_id = source_id;
-        ++f.seq;
-    }
-    impl_->cv.notify_one();
+    // The image is a header: the caller never rewrites a frame it handed out.
+    impl_->latest.publish(Impl::Frame{image, index, source_id, ++impl_->offered});
+    impl_->wake();
 }
 
 bool CalibrationMode::active() const {

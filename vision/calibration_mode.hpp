@@ -15,7 +15,8 @@
 //
 // This header keeps vision/calibration.hpp (OpenCV calib3d) out of the session's includes.
 
-#include "vision/camera_model.hpp"
+#include "drone/core/camera_calibration.hpp"
+#include "drone/core/unknown.hpp"
 
 #include <opencv2/core.hpp>
 
@@ -49,8 +50,6 @@ enum class ViewCheck {
 [[nodiscard]] const char* to_string(ViewCheck c);
 
 struct CalibrationModeState {
-    static constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
     bool active = false;
     CalibrationBoard board;
     bool auto_capture = false;
@@ -64,7 +63,7 @@ struct CalibrationModeState {
     std::vector<cv::Point2f> corners;  // rows*cols, row by row; also when blurry (for display)
     cv::Size image_size{};
     int new_cells = 0;  // coverage cells a capture would add
-    double detect_ms = kNaN;
+    double detect_ms = kUnknown;
 
     // Kept views and their coverage (grid_cols * grid_rows counts, row by row, in pixels of
     // coverage_size).
@@ -79,7 +78,7 @@ struct CalibrationModeState {
     // The running calibration (after min_views views).
     bool has_result = false;
     CameraCalibration camera;
-    double rms_px = kNaN;
+    double rms_px = kUnknown;
     int used_views = 0;
     std::string result_error;  // why the latest calibration attempt failed
 

@@ -144,7 +144,7 @@ const FrameResult& TrackingClassifier::process(const FrameInput& in) {
     result_.tracks_ended = tracker_.ended_last_frame();
 
     auto t0 = StageClock::now();
-    track_score_.assign(tracker_.tracks().size(), kNaN);
+    track_score_.assign(tracker_.tracks().size(), kUnknown);
     classify(in);
     for (Region r : kRegions) {
         const auto i = static_cast<std::size_t>(r);

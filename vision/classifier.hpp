@@ -4,7 +4,7 @@
 // out. Two implementations behind a factory: "thesis" (the reference method, thesis §3.2) and
 // "flow" (attitude-derotated expansion rates with robust statistics).
 
-#include "vision/camera_model.hpp"
+#include "drone/core/camera_calibration.hpp"
 #include "vision/common.hpp"
 #include "vision/geometry.hpp"
 #include "vision/overlay.hpp"
@@ -30,8 +30,8 @@ struct FrameInput {
     Attitude attitude;      // at capture time; NaN = unknown
     // Optional navdata velocity (forward, right, up: drone/sample.hpp) and height above the
     // ground, NaN = unknown. Only "flow" uses them.
-    double vx_mps = kNaN, vy_mps = kNaN, vz_mps = kNaN;
-    double altitude_m = kNaN;
+    double vx_mps = kUnknown, vy_mps = kUnknown, vz_mps = kUnknown;
+    double altitude_m = kUnknown;
 };
 
 enum class Region : int { Left = 0, Centre = 1, Right = 2 };
@@ -57,8 +57,8 @@ struct RegionDecision {
     bool unsafe = false;
     bool valid = false;                                // enough evidence for a score this frame
     UnknownReason unknown = UnknownReason::WarmingUp;  // None when valid
-    double score = kNaN;                               // unsafe when score > threshold (and valid)
-    double threshold = kNaN;
+    double score = kUnknown;                               // unsafe when score > threshold (and valid)
+    double threshold = kUnknown;
     int support = 0;  // trajectories / points behind the score
 };
 
@@ -71,7 +71,7 @@ struct StageTimings {
 struct TrajectoryTrace {
     std::uint32_t id = 0;
     Region region = Region::Centre;
-    double score = kNaN;  // the classifier's per-trajectory score (scaled slope, 1/TTC)
+    double score = kUnknown;  // the classifier's per-trajectory score (scaled slope, 1/TTC)
     std::int64_t last_frame = 0;
     int count = 0;
     std::array<float, Trajectory::kHistory> x{};

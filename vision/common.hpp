@@ -1,6 +1,8 @@
 #pragma once
-// Small things every part of vision/ uses: the "unknown" value and a millisecond stopwatch for
+// Small things every part of vision/ uses: the "unknown" value (the base's) and a stopwatch for
 // the per-stage timings the classifiers and odometry report.
+
+#include "drone/core/unknown.hpp"
 
 #include <chrono>
 #include <limits>
@@ -8,7 +10,6 @@
 
 namespace gs::vision {
 
-inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 inline constexpr double kRadPerDeg = std::numbers::pi / 180.0;
 
 using StageClock = std::chrono::steady_clock;

@@ -27,7 +27,8 @@
 // Pure computation over spans; scratch vectors are members reused every call (no per-frame
 // allocation once warm).
 
-#include "vision/camera_model.hpp"
+#include "drone/core/camera_calibration.hpp"
+#include "drone/core/unknown.hpp"
 
 #include <opencv2/core.hpp>
 
@@ -58,7 +59,7 @@ struct EgoPrior {
     bool rotation = false;             // the points were already moved by a navdata rotation (pred)
     double rotation_sigma_deg = 0.15;  // its uncertainty per axis
     // Navdata translation direction (camera axes, unit); NaN = none.
-    cv::Vec3d translation{std::numeric_limits<double>::quiet_NaN(), 0, 0};
+    cv::Vec3d translation{kUnknown, 0, 0};
     double translation_sigma_rad = 0.05;
 };
 

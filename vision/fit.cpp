@@ -99,7 +99,7 @@ QuadFit fit_quadratic_indexed(std::span<const double> y) {
 
 double homography_scale(const cv::Matx33d& h) {
     const double h33 = h(2, 2);
-    if (!(std::abs(h33) > 1e-12)) return kNaN;
+    if (!(std::abs(h33) > 1e-12)) return kUnknown;
     const double a = h(0, 0) / h33;
     const double b = h(0, 1) / h33;
     return std::sqrt(a * a + b * b);
@@ -107,7 +107,7 @@ double homography_scale(const cv::Matx33d& h) {
 
 double homography_local_scale(const cv::Matx33d& h) {
     const double h33 = h(2, 2);
-    if (!(std::abs(h33) > 1e-12)) return kNaN;
+    if (!(std::abs(h33) > 1e-12)) return kUnknown;
     // x' = (A x + t) / (p.x + 1) after normalising: J(0) = A - t p^T.
     const double a = h(0, 0) / h33, b = h(0, 1) / h33, c = h(1, 0) / h33, d = h(1, 1) / h33;
     const double tx = h(0, 2) / h33, ty = h(1, 2) / h33;
@@ -117,7 +117,7 @@ double homography_local_scale(const cv::Matx33d& h) {
 }
 
 double median_inplace(std::span<double> v) {
-    if (v.empty()) return kNaN;
+    if (v.empty()) return kUnknown;
     const std::size_t mid = v.size() / 2;
     std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(mid), v.end());
     const double hi = v[mid];
@@ -127,7 +127,7 @@ double median_inplace(std::span<double> v) {
 }
 
 double kth_largest_inplace(std::span<double> v, int k) {
-    if (k < 1 || static_cast<std::size_t>(k) > v.size()) return kNaN;
+    if (k < 1 || static_cast<std::size_t>(k) > v.size()) return kUnknown;
     auto it = v.begin() + (k - 1);
     std::nth_element(v.begin(), it, v.end(), std::greater<>());
     return *it;

@@ -1,4 +1,5 @@
 #include "vision/flow_classifier.hpp"
+#include "drone/core/unknown.hpp"
 
 #include "vision/fit.hpp"
 
@@ -140,7 +141,7 @@ void FlowClassifier::prepare(const FrameInput& in, EgoPrior& prior) {
     const bool have_v = p_.use_velocity_for_foe && !std::isnan(in.vx_mps) && !std::isnan(in.vy_mps);
     nav_moving_ = false;
     nav_slow_ = false;
-    nav_speed_ = kNaN;
+    nav_speed_ = kUnknown;
     if (!have_v) {
         level_velocity_.clear();
         return;
@@ -205,7 +206,7 @@ bool FlowClassifier::choose_foe(const FrameInput& in, UnknownReason& why) {
     const std::size_t n = std::min<std::size_t>(
         image_dirs_.size(), static_cast<std::size_t>(std::max(1, p_.velocity_window)));
     cv::Point2d img_foe(0, 0);
-    double img_sigma = kNaN;
+    double img_sigma = kUnknown;
     // Three frames at least: a translation seen in one frame may be a person walking past.
     if (n >= 3) {
         // Median and median absolute deviation per axis: one frame whose FOE went astray (a
@@ -265,7 +266,7 @@ bool FlowClassifier::choose_foe(const FrameInput& in, UnknownReason& why) {
         // No ego-motion from the images asked for: the thesis' premise, forward flight (the
         // FOE where the level forward direction appears), every point judged by its TTC.
         const cv::Point2f f = vision::focus_of_expansion(calib_, in.attitude.roll_deg,
-                                                         in.attitude.pitch_deg, kNaN, kNaN, kNaN);
+                                                         in.attitude.pitch_deg, kUnknown, kUnknown, kUnknown);
         foe_ = std::isnan(f.x)
                    ? cv::Point2f(static_cast<float>(calib_.cx), static_cast<float>(calib_.cy))
                    : f;
@@ -297,10 +298,10 @@ void FlowClassifier::classify(const FrameInput& in) {
     const bool known = choose_foe(in, why);
     plot(s_prior_rejected_, em.prior_rotation_rejected || nav_rejected_ ? 1 : 0);
     plot(s_foe_img_x_,
-         em.translation == EgoMotion::Translation::Known ? static_cast<double>(em.foe.x) : kNaN);
-    plot(s_foe_nav_x_, nav_moving_ ? calib_.fx * nav_dir_[0] / nav_dir_[2] + calib_.cx : kNaN);
-    plot(s_foe_x_, known && foe_source_ != FoeSource::Still ? static_cast<double>(foe_.x) : kNaN);
-    plot(s_foe_sigma_, known && foe_source_ != FoeSource::Still ? foe_sigma_px_ : kNaN);
+         em.translation == EgoMotion::Translation::Known ? static_cast<double>(em.foe.x) : kUnknown);
+    plot(s_foe_nav_x_, nav_moving_ ? calib_.fx * nav_dir_[0] / nav_dir_[2] + calib_.cx : kUnknown);
+    plot(s_foe_x_, known && foe_source_ != FoeSource::Still ? static_cast<double>(foe_.x) : kUnknown);
+    plot(s_foe_sigma_, known && foe_source_ != FoeSource::Still ? foe_sigma_px_ : kUnknown);
     if (!known) {
         const auto& tracks = tracker_.tracks();
         class_.assign(tracks.size(), PointClass::Unrated);
@@ -308,7 +309,7 @@ void FlowClassifier::classify(const FrameInput& in) {
             RegionDecision& d = result_.regions[static_cast<std::size_t>(r)];
             d.threshold =
                 r == Region::Centre ? p_.centre_inv_ttc_threshold : p_.side_inv_ttc_threshold;
-            d.score = kNaN;
+            d.score = kUnknown;
             d.valid = false;
             d.unknown = why;
             d.support = 0;
@@ -316,8 +317,8 @@ void FlowClassifier::classify(const FrameInput& in) {
             result_.regions[static_cast<std::size_t>(r)].unsafe = false;
         }
         // The centre homography still measures its scale (plots), without a decision.
-        plot(s_centre_points_, kNaN);
-        plot(s_centre_hom_, p_.centre_homography ? homography_rate(in) : kNaN);
+        plot(s_centre_points_, kUnknown);
+        plot(s_centre_hom_, p_.centre_homography ? homography_rate(in) : kUnknown);
         plot(s_hazards_, 0);
         plot(s_moving_, 0);
         return;
@@ -326,7 +327,7 @@ void FlowClassifier::classify(const FrameInput& in) {
     if (p_.looming) rate_moving_points();
     plot(s_moving_, static_cast<double>(moving_idx_.size()));
     const double hom =
-        p_.centre_homography && foe_source_ != FoeSource::Still ? homography_rate(in) : kNaN;
+        p_.centre_homography && foe_source_ != FoeSource::Still ? homography_rate(in) : kUnknown;
 
     int hazards = 0;
     for (Region r : kRegions) {
@@ -339,7 +340,7 @@ void FlowClassifier::classify(const FrameInput& in) {
         hazards += d.support;
         // Enough rated points to judge the region; fewer than k of them in the corridor: 0.
         const bool judged = rated_count_[ri] >= k;
-        double score = d.support >= k ? kth_largest_inplace(hazard_[ri], k) : (judged ? 0.0 : kNaN);
+        double score = d.support >= k ? kth_largest_inplace(hazard_[ri], k) : (judged ? 0.0 : kUnknown);
         bool raw = !std::isnan(score) && score > d.threshold;
         if (centre) {
             plot(s_centre_points_, score);
@@ -432,7 +433,7 @@ void FlowClassifier::rate_points(const FrameInput& in) {
         if (off_motion && (across || radial < -p_.flow_noise_px_s)) {
             class_[i] = PointClass::Moving;
             moving_idx_.push_back(i);
-            track_score_[i] = kNaN;
+            track_score_[i] = kUnknown;
             continue;
         }
         if (across) {
@@ -538,7 +539,7 @@ double FlowClassifier::homography_rate(const FrameInput& in) {
     }
     const double now_s = static_cast<double>(in.t_ns) * 1e-9;
     const double dt = have_prev_ ? static_cast<double>(in.t_ns - prev_t_ns_) * 1e-9 : 0.0;
-    double rate = kNaN, scale = kNaN;
+    double rate = kUnknown, scale = kUnknown;
     bool rejected = false;
     if (dt > 0 && static_cast<int>(src_.size()) >= std::max(4, p_.homography_min_points)) {
         cv::theRNG().state = 0x5EED5EEDULL;  // RANSAC sampling: same flight, same decisions
@@ -570,7 +571,7 @@ double FlowClassifier::homography_rate(const FrameInput& in) {
     // Half the window at least, so one lucky sample cannot decide.
     const bool enough =
         static_cast<int>(scratch_.size()) >= std::max(1, (p_.centre_window + 1) / 2);
-    return enough ? med : kNaN;
+    return enough ? med : kUnknown;
 }
 
 void FlowClassifier::add_overlay_points() {

@@ -101,7 +101,7 @@ void detection_mask(const CameraCalibration& calib, const RollStabiliser& stab, 
     constexpr float kStep = 8.f;
     for (std::size_t i = 0; i < region.size(); ++i) {
         const cv::Point2f a = region[i], b = region[(i + 1) % region.size()];
-        const int n = std::max(1, static_cast<int>(cv::norm(b - a) / double{kStep}));
+        const int n = std::max(1, static_cast<int>(cv::norm(b - a) / static_cast<double>(kStep)));
         for (int k = 0; k < n; ++k) {
             const cv::Point2f u = a + (b - a) * (static_cast<float>(k) / static_cast<float>(n));
             const cv::Point2f d = calib.distort_point(u);

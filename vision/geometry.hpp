@@ -7,7 +7,8 @@
 // positive = clockwise seen from above. Body axes x forward, y right, z down; camera axes x right,
 // y down, z forward (the front camera looks along body x).
 
-#include "vision/camera_model.hpp"
+#include "drone/core/camera_calibration.hpp"
+#include "drone/core/unknown.hpp"
 
 #include <opencv2/core.hpp>
 
@@ -18,9 +19,9 @@
 namespace gs::vision {
 
 struct Attitude {
-    double roll_deg = std::numeric_limits<double>::quiet_NaN();
-    double pitch_deg = std::numeric_limits<double>::quiet_NaN();
-    double yaw_deg = std::numeric_limits<double>::quiet_NaN();
+    double roll_deg = kUnknown;
+    double pitch_deg = kUnknown;
+    double yaw_deg = kUnknown;
     bool complete() const {
         return !std::isnan(roll_deg) && !std::isnan(pitch_deg) && !std::isnan(yaw_deg);
     }

@@ -13,8 +13,6 @@
 namespace gs::vision {
 namespace {
 
-constexpr double kNaNd = std::numeric_limits<double>::quiet_NaN();
-
 bool finite(double v) {
     return std::isfinite(v);
 }
@@ -302,7 +300,7 @@ private:
         const double ox = p_.centre_on_principal_point ? calib_.cx : 0.0;
         const double oy = p_.centre_on_principal_point ? calib_.cy : 0.0;
         for (cv::Point2f& q : pts) {
-            double x = q.x, y = q.y;
+            double x = static_cast<double>(q.x), y = static_cast<double>(q.y);
             if (level) {
                 const cv::Vec3d ray =
                     r * cv::Vec3d((x - calib_.cx) / calib_.fx, (y - calib_.cy) / calib_.fy, 1.0);
@@ -376,7 +374,7 @@ private:
     CameraMount mount_;
     const OdometryParams& p_;
     bool have_prev_ = false;
-    double prev_roll_ = kNaNd, prev_pitch_ = kNaNd;
+    double prev_roll_ = kUnknown, prev_pitch_ = kUnknown;
     cv::Mat grey_, prev_grey_, mask_;
     std::vector<cv::Point2f> prev_corners_, cur_pts_, src_, dst_;
     std::vector<std::uint8_t> status_;
@@ -396,7 +394,7 @@ struct VisualOdometry::Impl {
     OdometrySample last;
     std::vector<PlanarPose> path, nav_path;
     std::int64_t index = 0;
-    double prev_yaw = kNaNd, nav_yaw0 = kNaNd, prev_vx = kNaNd, prev_vy = kNaNd;
+    double prev_yaw = kUnknown, nav_yaw0 = kUnknown, prev_vx = kUnknown, prev_vy = kUnknown;
     std::int64_t prev_t_ns = 0;
     bool nav_valid = false;
 
@@ -426,7 +424,7 @@ void VisualOdometry::reset(PlanarPose start) {
     m.path.clear();
     m.nav_path.clear();
     m.index = 0;
-    m.prev_yaw = m.nav_yaw0 = m.prev_vx = m.prev_vy = kNaNd;
+    m.prev_yaw = m.nav_yaw0 = m.prev_vx = m.prev_vy = kUnknown;
     m.prev_t_ns = 0;
     m.nav_valid = false;
     m.last = {};
@@ -570,7 +568,7 @@ OdometryErrors evaluate_odometry(std::span<const OdometrySample> samples,
     const PlanarPose& g = truth[n - 1];
     r.end_error_m = std::hypot(e.pose.x_m - g.x_m, e.pose.y_m - g.y_m);
     r.end_error_pct =
-        r.distance_travelled_m > 0 ? 100.0 * r.end_error_m / r.distance_travelled_m : kNaNd;
+        r.distance_travelled_m > 0 ? 100.0 * r.end_error_m / r.distance_travelled_m : kUnknown;
     r.end_yaw_error_deg = wrap_deg(e.pose.yaw_deg - g.yaw_deg);
     if (e.nav_path_valid)
         r.nav_end_error_m = std::hypot(e.nav_pose.x_m - g.x_m, e.nav_pose.y_m - g.y_m);

@@ -16,7 +16,8 @@
 // tilt compensation from navdata roll/pitch, and navdata yaw replacing or fused with the visual
 // rotation.
 
-#include "vision/camera_model.hpp"
+#include "drone/core/camera_calibration.hpp"
+#include "drone/core/unknown.hpp"
 #include "vision/params.hpp"
 
 #include <opencv2/core.hpp>
@@ -174,13 +175,13 @@ const ParamTable<OdometryParams>& odometry_param_table();
 struct OdometryInput {
     std::int64_t t_ns = 0;
     cv::Mat bottom, top;
-    double bottom_distance_m = std::numeric_limits<double>::quiet_NaN();
-    double top_distance_m = std::numeric_limits<double>::quiet_NaN();
-    double roll_deg = std::numeric_limits<double>::quiet_NaN();
-    double pitch_deg = std::numeric_limits<double>::quiet_NaN();
-    double yaw_deg = std::numeric_limits<double>::quiet_NaN();  // navdata heading
-    double vx_mps = std::numeric_limits<double>::quiet_NaN();   // navdata body velocity
-    double vy_mps = std::numeric_limits<double>::quiet_NaN();
+    double bottom_distance_m = kUnknown;
+    double top_distance_m = kUnknown;
+    double roll_deg = kUnknown;
+    double pitch_deg = kUnknown;
+    double yaw_deg = kUnknown;  // navdata heading
+    double vx_mps = kUnknown;   // navdata body velocity
+    double vy_mps = kUnknown;
 };
 
 enum class CameraStatus { Ok, First, NoDistance, TooFewPoints, NoHomography, TooFewInliers };
@@ -201,9 +202,9 @@ struct OdometrySample {
     std::int64_t t_ns = 0;
     bool valid = false;  // at least one camera gave a motion (else everything is 0)
     CameraEstimate bottom, top;
-    BodyMotion raw;             // combined, before the filters
-    double yaw_visual_deg = 0;  // visual rotation this sample
-    double yaw_navdata_deg = std::numeric_limits<double>::quiet_NaN();  // navdata heading change
+    BodyMotion raw;                     // combined, before the filters
+    double yaw_visual_deg = 0;          // visual rotation this sample
+    double yaw_navdata_deg = kUnknown;  // navdata heading change
     FilteredMotion out;           // the estimate: translation + rotation (chosen source), filtered
     PlanarPose pose;              // integrated (eq. 6.2)
     PlanarPose nav_pose;          // navdata velocities x navdata yaw, integrated
@@ -240,9 +241,9 @@ private:
 // ---- Evaluation against ground truth (eq. 6.1) ----------------------------------------------
 
 struct ErrorStats {
-    double min = std::numeric_limits<double>::quiet_NaN();
-    double max = std::numeric_limits<double>::quiet_NaN();
-    double mean = std::numeric_limits<double>::quiet_NaN();
+    double min = kUnknown;
+    double max = kUnknown;
+    double mean = kUnknown;
     int n = 0;
 };
 ErrorStats error_stats(std::span<const double> abs_errors);
@@ -263,7 +264,7 @@ struct OdometryErrors {
     double end_error_pct = 0;  // of the distance travelled (NaN when it is 0)
     double max_path_error_m = 0;
     double end_yaw_error_deg = 0;
-    double nav_end_error_m = std::numeric_limits<double>::quiet_NaN();  // navdata path
+    double nav_end_error_m = kUnknown;  // navdata path
 };
 // samples[i] against truth poses[i] (same length; the integrators started at poses[0]).
 OdometryErrors evaluate_odometry(std::span<const OdometrySample> samples,

@@ -3,7 +3,7 @@
 // for tests and benchmarks (forward flight past a wall, approach to a wall, pure roll / yaw).
 // Not a hot path.
 
-#include "vision/camera_model.hpp"
+#include "drone/core/camera_calibration.hpp"
 
 #include <opencv2/core.hpp>
 

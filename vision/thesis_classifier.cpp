@@ -1,4 +1,5 @@
 #include "vision/thesis_classifier.hpp"
+#include "drone/core/unknown.hpp"
 
 #include "vision/fit.hpp"
 
@@ -58,7 +59,7 @@ ThesisClassifier::ThesisClassifier(const CameraCalibration& calib, const ThesisP
 
 void ThesisClassifier::on_reset() {
     filtered_.clear();
-    filter_state_ = kNaN;
+    filter_state_ = kUnknown;
 }
 
 void ThesisClassifier::classify(const FrameInput&) {
@@ -84,7 +85,8 @@ void ThesisClassifier::classify_sides() {
     for (std::size_t i = 0; i < tracks.size(); ++i) {
         const Trajectory& t = tracks[i];
         if (t.history_size() < n) continue;
-        for (std::size_t k = 0; k < n; ++k) xs_[k] = t.at_back(n - 1 - k).stab.x;
+        for (std::size_t k = 0; k < n; ++k)
+            xs_[k] = static_cast<double>(t.at_back(n - 1 - k).stab.x);
         const LineFit f = fit_line_indexed(xs_);
         if (!f.ok) continue;
         const cv::Point2f pos = t.at_back(0).stab;
@@ -94,7 +96,8 @@ void ThesisClassifier::classify_sides() {
             slope = reg == Region::Left ? -slope : (reg == Region::Right ? slope : std::abs(slope));
         else
             slope = std::abs(slope);
-        const double s = position_scale(pos.x, w, p_.edge_scale, p_.centre_scale);
+        const double s =
+            position_scale(static_cast<double>(pos.x), w, p_.edge_scale, p_.centre_scale);
         const double scaled = p_.scale_multiplies ? slope * s : slope / s;
         track_score_[i] = scaled;
         if (reg != Region::Centre) cand_.push_back({i, static_cast<int>(reg), pos, scaled});
@@ -138,7 +141,7 @@ void ThesisClassifier::classify_sides() {
         d.unknown = d.valid                                     ? UnknownReason::None
                     : result_.frame_index + 1 < p_.slope_window ? UnknownReason::WarmingUp
                                                                 : UnknownReason::TooFewPoints;
-        if (!d.valid) d.score = kNaN;
+        if (!d.valid) d.score = kUnknown;
     }
 }
 
@@ -157,7 +160,7 @@ void ThesisClassifier::classify_centre() {
         centre_tracks_.push_back(i);
     }
     d.support = static_cast<int>(src_.size());
-    double scale = kNaN;
+    double scale = kUnknown;
     if (static_cast<int>(src_.size()) >= std::max(4, p_.homography_min_points)) {
         cv::theRNG().state = 0x5EED5EEDULL;  // RANSAC sampling: same flight, same decisions
         const cv::Mat hm = cv::findHomography(src_, dst_, cv::RANSAC, p_.homography_ransac_px,
@@ -187,11 +190,11 @@ void ThesisClassifier::classify_centre() {
             return;
         }
     }
-    d.score = kNaN;
+    d.score = kUnknown;
     d.valid = false;
     d.unknown = filtered_.size() >= n ? UnknownReason::TooFewPoints : UnknownReason::WarmingUp;
     d.unsafe = false;
-    plot(s_scale_fit_, kNaN);
+    plot(s_scale_fit_, kUnknown);
 }
 
 void ThesisClassifier::add_overlay_points() {

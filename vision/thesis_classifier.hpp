@@ -3,6 +3,7 @@
 // slopes of trajectory x over the last 30 frames; centre by the growth of the homography scale of
 // the points in the ±80 px band (low-pass, quadratic fit, tangent slope at the newest sample).
 
+#include "drone/core/unknown.hpp"
 #include "vision/classifier.hpp"
 
 namespace gs::vision {
@@ -94,7 +95,7 @@ private:
     std::vector<std::size_t> centre_tracks_;
     std::vector<std::uint8_t> inliers_;
     RingBuffer<double> filtered_{256};
-    double filter_state_ = kNaN;
+    double filter_state_ = kUnknown;
     std::size_t s_scale_raw_, s_scale_filt_, s_scale_fit_;
 };
 

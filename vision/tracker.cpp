@@ -42,7 +42,7 @@ void TrajectoryTracker::reset() {
     frame_ = 0;
     next_id_ = 1;
     ended_ = added_ = 0;
-    mask_roll_deg_ = std::numeric_limits<double>::quiet_NaN();
+    mask_roll_deg_ = kUnknown;
     last_rotation_rad_ = {0, 0, 0};
     have_rotation_ = false;
     bias_ = {0, 0, 0};

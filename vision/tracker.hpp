@@ -4,7 +4,8 @@
 // downscaled; only point coordinates are undistorted and roll-stabilised. Pyramids, point vectors
 // and the detection mask are members reused every frame.
 
-#include "vision/camera_model.hpp"
+#include "drone/core/camera_calibration.hpp"
+#include "drone/core/unknown.hpp"
 #include "vision/ego_motion.hpp"
 #include "vision/geometry.hpp"
 #include "vision/params.hpp"
@@ -250,7 +251,7 @@ private:
     double roll_used_deg_ = 0;
     cv::Mat mask_base_, mask_;
     cv::Vec3d correction_deg_{0, 0, 0};
-    double mask_roll_deg_ = std::numeric_limits<double>::quiet_NaN();
+    double mask_roll_deg_ = kUnknown;
     TrackerTimings timings_;
 };
 

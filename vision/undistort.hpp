@@ -3,7 +3,7 @@
 // with maps built once per calibration and image size, so each frame costs one remap and no
 // allocation. Tracking does not use this; it undistorts points (CameraCalibration).
 
-#include "vision/camera_model.hpp"
+#include "drone/core/camera_calibration.hpp"
 
 #include <opencv2/core.hpp>
 

@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-namespace gs {
+namespace gs::dataset {
 
 void NavAligner::push_nav(const NavState& s) {
     if (!navs_.empty() && s.t_ns < navs_.back().t_ns) return;  // out of order: ignored
@@ -47,4 +47,4 @@ bool NavAligner::pop_ready(TimeNs now_ns, std::int64_t& index, NavState& nav) {
     return true;
 }
 
-}  // namespace gs
+}  // namespace gs::dataset

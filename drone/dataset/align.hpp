@@ -4,12 +4,12 @@
 // stream has nothing on one side. Frames come out in the order they went in. Pure: times are
 // stream times (ns from the start of the flight), no clock.
 
-#include "drone/sample.hpp"
+#include "drone/core/sample.hpp"
 
 #include <cstdint>
 #include <deque>
 
-namespace gs {
+namespace gs::dataset {
 
 class NavAligner {
 public:
@@ -39,4 +39,4 @@ private:
     bool finished_ = false;
 };
 
-}  // namespace gs
+}  // namespace gs::dataset

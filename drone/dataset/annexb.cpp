@@ -2,7 +2,7 @@
 
 #include <fstream>
 
-namespace gs {
+namespace gs::dataset {
 
 void AnnexBScanner::on_nal(std::uint64_t nal_start, int type, bool first_mb_zero) {
     if (first_start_ == kNone) first_start_ = nal_start;
@@ -79,12 +79,11 @@ bool annexb_has_idr(std::span<const std::uint8_t> annexb) {
     return false;
 }
 
-Expected<std::vector<AccessUnitSpan>, DatasetError> index_annexb_file(
+Expected<std::vector<AccessUnitSpan>, FileError> index_annexb_file(
     const std::filesystem::path& path, const std::string& name, std::uint64_t max_unit_bytes) {
     std::ifstream in(path, std::ios::binary);
     if (!in) {
-        return Unexpected(
-            DatasetError{DatasetErrorCode::Io, name, 0, 0, "cannot open for reading"});
+        return Unexpected(FileError{FileErrorCode::Io, name, 0, 0, "cannot open for reading"});
     }
     AnnexBScanner s;
     std::vector<std::uint8_t> buf(1u << 20);
@@ -99,17 +98,17 @@ Expected<std::vector<AccessUnitSpan>, DatasetError> index_annexb_file(
         }
         if (checked < s.units().size()) break;
     }
-    if (in.bad()) return Unexpected(DatasetError{DatasetErrorCode::Io, name, 0, 0, "read failed"});
+    if (in.bad()) return Unexpected(FileError{FileErrorCode::Io, name, 0, 0, "read failed"});
     s.finish();
     for (std::size_t i = 0; i < s.units().size(); ++i) {
         if (s.units()[i].size > max_unit_bytes) {
-            return Unexpected(DatasetError{
-                DatasetErrorCode::OutOfRange, name, 0, 0,
-                "access unit " + std::to_string(i) + " is " + std::to_string(s.units()[i].size) +
-                    " bytes (limit " + std::to_string(max_unit_bytes) + ")"});
+            return Unexpected(FileError{FileErrorCode::OutOfRange, name, 0, 0,
+                                        "access unit " + std::to_string(i) + " is " +
+                                            std::to_string(s.units()[i].size) + " bytes (limit " +
+                                            std::to_string(max_unit_bytes) + ")"});
         }
     }
     return std::move(s.units());
 }
 
-}  // namespace gs
+}  // namespace gs::dataset

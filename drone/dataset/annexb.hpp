@@ -3,15 +3,15 @@
 // decoding: the boundary rules of H.264 §7.4.1.2.3 (AUD/SPS/PPS/SEI after a slice, or a slice with
 // first_mb_in_slice == 0 after a slice). Pure over bytes; a streaming scanner for large files.
 
-#include "drone/dataset/error.hpp"
-#include "drone/expected.hpp"
+#include "drone/core/expected.hpp"
+#include "drone/core/file_error.hpp"
 
 #include <cstdint>
 #include <filesystem>
 #include <span>
 #include <vector>
 
-namespace gs {
+namespace gs::dataset {
 
 struct AccessUnitSpan {
     std::uint64_t offset = 0;  // of its first start code
@@ -52,8 +52,8 @@ bool annexb_has_idr(std::span<const std::uint8_t> annexb);
 
 // Indexes a video.h264 file in bounded memory. `name` is what errors call the file. An access
 // unit larger than `max_unit_bytes` is an OutOfRange error.
-Expected<std::vector<AccessUnitSpan>, DatasetError> index_annexb_file(
+Expected<std::vector<AccessUnitSpan>, FileError> index_annexb_file(
     const std::filesystem::path& path, const std::string& name,
     std::uint64_t max_unit_bytes = 8u << 20);
 
-}  // namespace gs
+}  // namespace gs::dataset

@@ -1,11 +1,12 @@
 #include "drone/dataset/csv.hpp"
+#include "drone/core/unknown.hpp"
 
 #include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 
-namespace gs::csv {
+namespace gs::dataset::csv {
 namespace {
 
 std::string_view trim(std::string_view s) {
@@ -63,14 +64,14 @@ std::string shown(std::string_view f) {
 
 }  // namespace
 
-Expected<Table, DatasetError> Table::parse(std::string text, std::string file) {
+Expected<Table, FileError> Table::parse(std::string text, std::string file) {
     Table t;
     t.text_ = std::move(text);
     t.file_ = std::move(file);
     std::string_view all(t.text_);
     if (all.find('\0') != std::string_view::npos) {
-        return Unexpected(DatasetError{DatasetErrorCode::Malformed, t.file_, 0, 0,
-                                       "binary data (NUL byte) in a text file"});
+        return Unexpected(FileError{FileErrorCode::Malformed, t.file_, 0, 0,
+                                    "binary data (NUL byte) in a text file"});
     }
     std::vector<std::string_view> fields;
     bool have_header = false;
@@ -85,22 +86,22 @@ Expected<Table, DatasetError> Table::parse(std::string text, std::string file) {
         if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
         if (trim(line).empty()) continue;
         if (!split_line(line, fields)) {
-            return Unexpected(DatasetError{DatasetErrorCode::Malformed, t.file_, line_no, 0,
-                                           "unterminated quoted field"});
+            return Unexpected(FileError{FileErrorCode::Malformed, t.file_, line_no, 0,
+                                        "unterminated quoted field"});
         }
         if (!have_header) {
             for (std::size_t c = 0; c < fields.size(); ++c) {
                 std::string name(trim(fields[c]));
                 if (name.empty()) {
-                    return Unexpected(DatasetError{DatasetErrorCode::Malformed, t.file_, line_no,
-                                                   static_cast<int>(c + 1),
-                                                   "empty column name in the header"});
+                    return Unexpected(FileError{FileErrorCode::Malformed, t.file_, line_no,
+                                                static_cast<int>(c + 1),
+                                                "empty column name in the header"});
                 }
                 for (const auto& h : t.header_) {
                     if (h == name) {
-                        return Unexpected(DatasetError{DatasetErrorCode::Malformed, t.file_,
-                                                       line_no, static_cast<int>(c + 1),
-                                                       "duplicate column '" + name + "'"});
+                        return Unexpected(FileError{FileErrorCode::Malformed, t.file_, line_no,
+                                                    static_cast<int>(c + 1),
+                                                    "duplicate column '" + name + "'"});
                     }
                 }
                 t.header_.push_back(std::move(name));
@@ -110,16 +111,16 @@ Expected<Table, DatasetError> Table::parse(std::string text, std::string file) {
         }
         if (fields.size() != t.header_.size()) {
             return Unexpected(
-                DatasetError{DatasetErrorCode::Malformed, t.file_, line_no,
-                             static_cast<int>(std::min(fields.size(), t.header_.size()) + 1),
-                             "expected " + std::to_string(t.header_.size()) + " fields, got " +
-                                 std::to_string(fields.size())});
+                FileError{FileErrorCode::Malformed, t.file_, line_no,
+                          static_cast<int>(std::min(fields.size(), t.header_.size()) + 1),
+                          "expected " + std::to_string(t.header_.size()) + " fields, got " +
+                              std::to_string(fields.size())});
         }
         t.rows_.push_back(Row{line_no, fields});
     }
     if (!have_header) {
-        return Unexpected(DatasetError{DatasetErrorCode::Malformed, t.file_, 0, 0,
-                                       "empty file (expected a header row)"});
+        return Unexpected(FileError{FileErrorCode::Malformed, t.file_, 0, 0,
+                                    "empty file (expected a header row)"});
     }
     return t;
 }
@@ -130,14 +131,14 @@ std::optional<std::size_t> Table::column(std::string_view name) const {
     return std::nullopt;
 }
 
-DatasetError Table::error_at(std::size_t row, std::size_t col, std::string message) const {
-    return DatasetError{DatasetErrorCode::Malformed, file_, rows_[row].line,
-                        static_cast<int>(col + 1), header_[col] + ": " + std::move(message)};
+FileError Table::error_at(std::size_t row, std::size_t col, std::string message) const {
+    return FileError{FileErrorCode::Malformed, file_, rows_[row].line, static_cast<int>(col + 1),
+                     header_[col] + ": " + std::move(message)};
 }
 
-Expected<double, DatasetError> Table::number(std::size_t row, std::size_t col) const {
+Expected<double, FileError> Table::number(std::size_t row, std::size_t col) const {
     std::string_view f = trim(field(row, col));
-    if (f.empty()) return kNaN;
+    if (f.empty()) return kUnknown;
     std::string_view g = f;
     if (g.size() > 1 && g.front() == '+') g.remove_prefix(1);
     double v = 0.0;
@@ -148,7 +149,7 @@ Expected<double, DatasetError> Table::number(std::size_t row, std::size_t col) c
     return v;
 }
 
-Expected<std::int64_t, DatasetError> Table::integer(std::size_t row, std::size_t col) const {
+Expected<std::int64_t, FileError> Table::integer(std::size_t row, std::size_t col) const {
     std::string_view f = trim(field(row, col));
     if (f.empty()) return Unexpected(error_at(row, col, "expected an integer, got an empty field"));
     std::int64_t v = 0;
@@ -159,9 +160,9 @@ Expected<std::int64_t, DatasetError> Table::integer(std::size_t row, std::size_t
     return v;
 }
 
-Expected<std::optional<std::uint32_t>, DatasetError> Table::u32(std::size_t row, std::size_t col,
-                                                                bool allow_hex,
-                                                                bool require_hex) const {
+Expected<std::optional<std::uint32_t>, FileError> Table::u32(std::size_t row, std::size_t col,
+                                                             bool allow_hex,
+                                                             bool require_hex) const {
     std::string_view f = trim(field(row, col));
     if (f.empty()) return std::optional<std::uint32_t>{};
     const bool hex = f.size() > 2 && f[0] == '0' && (f[1] == 'x' || f[1] == 'X');
@@ -214,4 +215,4 @@ std::int64_t ms_to_ns_rounded(double ms) {
     return std::llround(ns);
 }
 
-}  // namespace gs::csv
+}  // namespace gs::dataset::csv

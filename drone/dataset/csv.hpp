@@ -3,8 +3,8 @@
 // order, unknown ones ignored), 1-based line/column positions for errors, exact round trips for
 // doubles (shortest representation), empty field = unknown (NaN).
 
-#include "drone/dataset/error.hpp"
-#include "drone/expected.hpp"
+#include "drone/core/expected.hpp"
+#include "drone/core/file_error.hpp"
 
 #include <cstdint>
 #include <limits>
@@ -13,17 +13,16 @@
 #include <string_view>
 #include <vector>
 
-namespace gs::csv {
+namespace gs::dataset::csv {
 
 // A parsed CSV text: a header and rows of fields (views into the owned text).
-inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 class Table {
 public:
     // `file` names the file in errors. Accepts LF or CRLF, a trailing newline or not, blank lines
     // (skipped) and double-quoted fields. A row with a different field count than the header is
     // an error naming its line.
-    static Expected<Table, DatasetError> parse(std::string text, std::string file);
+    static Expected<Table, FileError> parse(std::string text, std::string file);
 
     // Index of a header column, or nullopt when absent.
     std::optional<std::size_t> column(std::string_view name) const;
@@ -37,16 +36,15 @@ public:
 
     // Field as a double: empty = NaN; otherwise the whole field must be a number (decimal,
     // exponent, "nan", "inf" are accepted). Errors carry file:line:column.
-    Expected<double, DatasetError> number(std::size_t row, std::size_t col) const;
+    Expected<double, FileError> number(std::size_t row, std::size_t col) const;
     // Field as a signed integer (required, no fraction).
-    Expected<std::int64_t, DatasetError> integer(std::size_t row, std::size_t col) const;
+    Expected<std::int64_t, FileError> integer(std::size_t row, std::size_t col) const;
     // Field as an unsigned 32-bit value: decimal, or hex with a 0x prefix when `allow_hex`;
     // `require_hex` rejects decimal. Empty = nullopt.
-    Expected<std::optional<std::uint32_t>, DatasetError> u32(std::size_t row, std::size_t col,
-                                                             bool allow_hex,
-                                                             bool require_hex) const;
+    Expected<std::optional<std::uint32_t>, FileError> u32(std::size_t row, std::size_t col,
+                                                          bool allow_hex, bool require_hex) const;
 
-    DatasetError error_at(std::size_t row, std::size_t col, std::string message) const;
+    FileError error_at(std::size_t row, std::size_t col, std::string message) const;
 
 private:
     struct Row {
@@ -66,4 +64,4 @@ std::string format_ms(std::int64_t t_ns);
 // Parses milliseconds text back to nanoseconds (rounded to the nearest ns).
 std::int64_t ms_to_ns_rounded(double ms);
 
-}  // namespace gs::csv
+}  // namespace gs::dataset::csv

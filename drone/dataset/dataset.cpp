@@ -12,7 +12,7 @@
 #include <set>
 #include <sstream>
 
-namespace gs {
+namespace gs::dataset {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
@@ -32,12 +32,11 @@ std::string to_string(Scenario s) {
 
 namespace {
 
-DatasetError err(DatasetErrorCode code, std::string file, std::string msg, int line = 0,
-                 int col = 0) {
-    return DatasetError{code, std::move(file), line, col, std::move(msg)};
+FileError err(FileErrorCode code, std::string file, std::string msg, int line = 0, int col = 0) {
+    return FileError{code, std::move(file), line, col, std::move(msg)};
 }
 
-Expected<json, DatasetError> parse_json(const std::string& text, const std::string& file) {
+Expected<json, FileError> parse_json(const std::string& text, const std::string& file) {
     try {
         return json::parse(text);
     } catch (const json::parse_error& e) {
@@ -46,7 +45,7 @@ Expected<json, DatasetError> parse_json(const std::string& text, const std::stri
         // nlohmann's message repeats the position; keep the part after "syntax error ".
         const auto k = what.find("syntax error");
         if (k != std::string::npos) what = what.substr(k);
-        return Unexpected(err(DatasetErrorCode::Malformed, file, "invalid JSON: " + what, l, c));
+        return Unexpected(err(FileErrorCode::Malformed, file, "invalid JSON: " + what, l, c));
     }
 }
 
@@ -55,28 +54,26 @@ public:
     JsonFields(const json& obj, const std::string& text, std::string file, std::string prefix = {})
         : obj_(obj), text_(text), file_(std::move(file)), prefix_(std::move(prefix)) {}
 
-    DatasetError error(DatasetErrorCode code, const std::string& key,
-                       const std::string& msg) const {
+    FileError error(FileErrorCode code, const std::string& key, const std::string& msg) const {
         auto [l, c] = locate_json_key(text_, key);
         return err(code, file_, "'" + prefix_ + key + "': " + msg, l, c);
     }
-    DatasetError missing(const std::string& key) const {
-        return err(DatasetErrorCode::Missing, file_,
-                   "missing required key '" + prefix_ + key + "'");
+    FileError missing(const std::string& key) const {
+        return err(FileErrorCode::Missing, file_, "missing required key '" + prefix_ + key + "'");
     }
     const json* find(const std::string& key) const {
         auto it = obj_.find(key);
         return it == obj_.end() ? nullptr : &*it;
     }
-    Expected<std::string, DatasetError> string(const std::string& key) const {
+    Expected<std::string, FileError> string(const std::string& key) const {
         const json* v = find(key);
         if (!v) return Unexpected(missing(key));
         if (!v->is_string())
-            return Unexpected(error(DatasetErrorCode::Malformed, key, "expected a string"));
+            return Unexpected(error(FileErrorCode::Malformed, key, "expected a string"));
         return v->get<std::string>();
     }
-    Expected<std::int64_t, DatasetError> integer(const std::string& key, std::int64_t lo,
-                                                 std::int64_t hi) const {
+    Expected<std::int64_t, FileError> integer(const std::string& key, std::int64_t lo,
+                                              std::int64_t hi) const {
         const json* v = find(key);
         if (!v) return Unexpected(missing(key));
         if (v->is_number_unsigned()) {
@@ -87,28 +84,28 @@ public:
         }
         if (!v->is_number_integer())
             return Unexpected(
-                error(DatasetErrorCode::Malformed, key, "expected an integer, got " + v->dump()));
+                error(FileErrorCode::Malformed, key, "expected an integer, got " + v->dump()));
         const auto i = v->get<std::int64_t>();
         if (i < lo || i > hi) return Unexpected(range_error(key, std::to_string(i), lo, hi));
         return i;
     }
-    Expected<double, DatasetError> number(const std::string& key) const {
+    Expected<double, FileError> number(const std::string& key) const {
         const json* v = find(key);
         if (!v) return Unexpected(missing(key));
         if (!v->is_number())
             return Unexpected(
-                error(DatasetErrorCode::Malformed, key, "expected a number, got " + v->dump()));
+                error(FileErrorCode::Malformed, key, "expected a number, got " + v->dump()));
         const double d = v->get<double>();
         if (!std::isfinite(d))
-            return Unexpected(error(DatasetErrorCode::OutOfRange, key, "not a finite number"));
+            return Unexpected(error(FileErrorCode::OutOfRange, key, "not a finite number"));
         return d;
     }
 
 private:
-    DatasetError range_error(const std::string& key, const std::string& got, std::int64_t lo,
-                             std::int64_t hi) const {
+    FileError range_error(const std::string& key, const std::string& got, std::int64_t lo,
+                          std::int64_t hi) const {
         return error(
-            DatasetErrorCode::OutOfRange, key,
+            FileErrorCode::OutOfRange, key,
             got + " is out of range [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
     }
     const json& obj_;
@@ -117,15 +114,14 @@ private:
     std::string prefix_;
 };
 
-Expected<CameraCalibration, DatasetError> parse_calibration(const json& obj,
-                                                            const std::string& text,
-                                                            const std::string& file,
-                                                            const std::string& prefix) {
+Expected<CameraCalibration, FileError> parse_calibration(const json& obj, const std::string& text,
+                                                         const std::string& file,
+                                                         const std::string& prefix) {
     JsonFields f(obj, text, file, prefix);
     auto c = calibration_from_json(obj);
     if (c) return *c;
     const CalibrationIssue& i = c.error();
-    if (i.code == DatasetErrorCode::Missing) return Unexpected(f.missing(i.key));
+    if (i.code == FileErrorCode::Missing) return Unexpected(f.missing(i.key));
     return Unexpected(f.error(i.code, i.key, i.message));
 }
 
@@ -163,131 +159,92 @@ std::optional<std::int64_t> image_index(const fs::path& name) {
 
 }  // namespace
 
-Expected<std::string, DatasetError> read_text_file(const fs::path& path, const std::string& name,
-                                                   std::uintmax_t max_bytes) {
-    std::error_code ec;
-    const auto st = fs::status(path, ec);
-    if (ec || !fs::exists(st))
-        return Unexpected(err(DatasetErrorCode::Missing, name, "file not found"));
-    if (!fs::is_regular_file(st))
-        return Unexpected(err(DatasetErrorCode::Malformed, name, "not a regular file"));
-    const auto size = fs::file_size(path, ec);
-    if (ec) return Unexpected(err(DatasetErrorCode::Io, name, "cannot stat: " + ec.message()));
-    if (size > max_bytes)
-        return Unexpected(err(DatasetErrorCode::OutOfRange, name,
-                              "file is " + std::to_string(size) + " bytes (limit " +
-                                  std::to_string(max_bytes) + ")"));
-    std::ifstream in(path, std::ios::binary);
-    if (!in) return Unexpected(err(DatasetErrorCode::Io, name, "cannot open for reading"));
-    std::string text(static_cast<std::size_t>(size), '\0');
-    in.read(text.data(), static_cast<std::streamsize>(size));
-    text.resize(static_cast<std::size_t>(in.gcount()));
-    if (in.bad()) return Unexpected(err(DatasetErrorCode::Io, name, "read failed"));
-    return text;
-}
-
-Expected<DatasetLabels, DatasetError> read_labels(const fs::path& dir, const DatasetLimits& lim) {
+Expected<DatasetLabels, FileError> read_labels(const fs::path& dir, const DatasetLimits& lim) {
     DatasetLabels out;
     std::error_code ec;
-    auto json_path = resolve_fixed(dir, "labels.json");
-    if (!json_path) return Unexpected(json_path.error());
-    if (fs::exists(*json_path, ec)) {
-        auto text = read_text_file(*json_path, "labels.json", lim.max_json_bytes);
-        if (!text) return Unexpected(text.error());
-        auto l = parse_labels_json(*text);
-        if (!l) return Unexpected(l.error());
-        out.flight = std::move(*l);
+    GS_TRY_ASSIGN(auto json_path, resolve_fixed(dir, "labels.json"));
+    if (fs::exists(json_path, ec)) {
+        GS_TRY_ASSIGN(auto text, read_text_file(json_path, "labels.json", lim.max_json_bytes));
+        GS_TRY_ASSIGN(auto l, parse_labels_json(text));
+        out.flight = std::move(l);
     }
-    auto csv_path = resolve_fixed(dir, "labels.csv");
-    if (!csv_path) return Unexpected(csv_path.error());
-    if (fs::exists(*csv_path, ec)) {
-        auto text = read_text_file(*csv_path, "labels.csv", lim.max_csv_bytes);
-        if (!text) return Unexpected(text.error());
-        auto l = parse_labels_csv(std::move(*text));
-        if (!l) return Unexpected(l.error());
-        out.rows = std::move(*l);
+    GS_TRY_ASSIGN(auto csv_path, resolve_fixed(dir, "labels.csv"));
+    if (fs::exists(csv_path, ec)) {
+        GS_TRY_ASSIGN(auto text, read_text_file(csv_path, "labels.csv", lim.max_csv_bytes));
+        GS_TRY_ASSIGN(auto l, parse_labels_csv(std::move(text)));
+        out.rows = std::move(l);
     }
     return out;
 }
 
-Expected<DatasetInfo, DatasetError> parse_flight_json(const std::string& text,
-                                                      const DatasetLimits& limits,
-                                                      std::vector<std::string>* warnings) {
+Expected<DatasetInfo, FileError> parse_flight_json(const std::string& text,
+                                                   const DatasetLimits& limits,
+                                                   std::vector<std::string>* warnings) {
     const std::string file = "flight.json";
-    auto jr = parse_json(text, file);
-    if (!jr) return Unexpected(jr.error());
-    const json& j = *jr;
+    GS_TRY_ASSIGN(auto jr, parse_json(text, file));
+    const json& j = jr;
     if (!j.is_object())
-        return Unexpected(err(DatasetErrorCode::Malformed, file, "expected a JSON object", 1, 1));
+        return Unexpected(err(FileErrorCode::Malformed, file, "expected a JSON object", 1, 1));
     JsonFields f(j, text, file);
     DatasetInfo info;
 
-    auto format = f.string("format");
-    if (!format) return Unexpected(format.error());
-    if (*format != "ardrone-dataset")
-        return Unexpected(f.error(DatasetErrorCode::Malformed, "format",
-                                  "expected \"ardrone-dataset\", got \"" + *format + "\""));
-    auto version = f.integer("version", 0, 1'000'000);
-    if (!version) return Unexpected(version.error());
-    if (*version != 1)
-        return Unexpected(f.error(DatasetErrorCode::Unsupported, "version",
-                                  "version " + std::to_string(*version) +
+    GS_TRY_ASSIGN(auto format, f.string("format"));
+    if (format != "ardrone-dataset")
+        return Unexpected(f.error(FileErrorCode::Malformed, "format",
+                                  "expected \"ardrone-dataset\", got \"" + format + "\""));
+    GS_TRY_ASSIGN(auto version, f.integer("version", 0, 1'000'000));
+    if (version != 1)
+        return Unexpected(f.error(FileErrorCode::Unsupported, "version",
+                                  "version " + std::to_string(version) +
                                       " is not supported (this reader knows version 1)"));
     info.version = 1;
-    auto camera = f.string("camera");
-    if (!camera) return Unexpected(camera.error());
-    if (*camera == "front") {
+    GS_TRY_ASSIGN(auto camera, f.string("camera"));
+    if (camera == "front") {
         info.camera = CameraId::Front;
-    } else if (*camera == "bottom") {
+    } else if (camera == "bottom") {
         info.camera = CameraId::Bottom;
     } else {
-        return Unexpected(f.error(DatasetErrorCode::Malformed, "camera",
-                                  "expected \"front\" or \"bottom\", got \"" + *camera + "\""));
+        return Unexpected(f.error(FileErrorCode::Malformed, "camera",
+                                  "expected \"front\" or \"bottom\", got \"" + camera + "\""));
     }
-    auto width = f.integer("width", 1, limits.max_dimension);
-    if (!width) return Unexpected(width.error());
-    auto height = f.integer("height", 1, limits.max_dimension);
-    if (!height) return Unexpected(height.error());
-    info.width = static_cast<int>(*width);
-    info.height = static_cast<int>(*height);
-    auto fps = f.number("fps");
-    if (!fps) return Unexpected(fps.error());
-    if (!(*fps > 0) || *fps > limits.max_fps)
-        return Unexpected(f.error(DatasetErrorCode::OutOfRange, "fps",
-                                  csv::format_number(*fps) + " is out of range (0, " +
+    GS_TRY_ASSIGN(auto width, f.integer("width", 1, limits.max_dimension));
+    GS_TRY_ASSIGN(auto height, f.integer("height", 1, limits.max_dimension));
+    info.width = static_cast<int>(width);
+    info.height = static_cast<int>(height);
+    GS_TRY_ASSIGN(auto fps, f.number("fps"));
+    if (!(fps > 0) || fps > limits.max_fps)
+        return Unexpected(f.error(FileErrorCode::OutOfRange, "fps",
+                                  csv::format_number(fps) + " is out of range (0, " +
                                       csv::format_number(limits.max_fps) + "]"));
-    info.fps = *fps;
+    info.fps = fps;
     if (f.find("frames")) {
-        auto frames = f.integer("frames", 0, limits.max_frames);
-        if (!frames) return Unexpected(frames.error());
-        info.frames = *frames;
+        GS_TRY_ASSIGN(auto frames, f.integer("frames", 0, limits.max_frames));
+        info.frames = frames;
     }
     for (auto [key, dst] :
          {std::pair<const char*, std::string*>{"video", &info.video}, {"images", &info.images}}) {
         if (!f.find(key)) continue;
-        auto s = f.string(key);
-        if (!s) return Unexpected(s.error());
-        if (s->empty()) return Unexpected(f.error(DatasetErrorCode::Malformed, key, "empty path"));
-        if (has_dotdot_or_root(fs::path(*s)))
+        GS_TRY_ASSIGN(auto s, f.string(key));
+        if (s.empty()) return Unexpected(f.error(FileErrorCode::Malformed, key, "empty path"));
+        if (has_dotdot_or_root(fs::path(s)))
             return Unexpected(
-                f.error(DatasetErrorCode::UnsafePath, key,
-                        "must be a relative path inside the dataset, got '" + *s + "'"));
-        *dst = *s;
+                f.error(FileErrorCode::UnsafePath, key,
+                        "must be a relative path inside the dataset, got '" + s + "'"));
+        *dst = s;
     }
     if (const json* c = f.find("calibration")) {
         if (!c->is_object())
             return Unexpected(
-                f.error(DatasetErrorCode::Malformed, "calibration", "expected an object"));
-        auto cal = parse_calibration(*c, text, file, "calibration.");
-        if (!cal) return Unexpected(cal.error());
-        cal->width = info.width;
-        cal->height = info.height;
-        if (cal->source.empty()) cal->source = "flight.json";
-        info.calibration = *cal;
+                f.error(FileErrorCode::Malformed, "calibration", "expected an object"));
+        GS_TRY_ASSIGN(auto cal, parse_calibration(*c, text, file, "calibration."));
+        cal.width = info.width;
+        cal.height = info.height;
+        if (cal.source.empty()) cal.source = "flight.json";
+        info.calibration = cal;
     }
     if (const json* s = f.find("source")) {
         if (!s->is_string())
-            return Unexpected(f.error(DatasetErrorCode::Malformed, "source", "expected a string"));
+            return Unexpected(f.error(FileErrorCode::Malformed, "source", "expected a string"));
         info.source = s->get<std::string>();
     }
     static const std::set<std::string> known = {"format", "version",     "camera", "width",
@@ -316,19 +273,19 @@ NavColumns nav_columns(const csv::Table& t) {
             t.column("vz_mps"),  t.column("altitude_m")};
 }
 
-std::optional<DatasetError> require_columns(const csv::Table& t,
-                                            std::initializer_list<const char*> names) {
+std::optional<FileError> require_columns(const csv::Table& t,
+                                         std::initializer_list<const char*> names) {
     for (const char* n : names) {
         if (!t.column(n))
-            return err(DatasetErrorCode::Missing, t.file(),
+            return err(FileErrorCode::Missing, t.file(),
                        std::string("missing required column '") + n + "'", 1);
     }
     return std::nullopt;
 }
 
 // Reads the NavState columns of one row; t_ms must be a number and not go backwards.
-std::optional<DatasetError> read_nav(const csv::Table& t, const NavColumns& c, std::size_t r,
-                                     NavState& s, TimeNs prev_t_ns) {
+std::optional<FileError> read_nav(const csv::Table& t, const NavColumns& c, std::size_t r,
+                                  NavState& s, TimeNs prev_t_ns) {
     auto tv = t.number(r, *c.t_ms);
     if (!tv) return tv.error();
     if (!std::isfinite(*tv)) return t.error_at(r, *c.t_ms, "expected a time, got an empty field");
@@ -337,7 +294,7 @@ std::optional<DatasetError> read_nav(const csv::Table& t, const NavColumns& c, s
         auto e = t.error_at(r, *c.t_ms,
                             "time goes backwards (" + std::string(t.field(r, *c.t_ms)) + " after " +
                                 csv::format_ms(prev_t_ns) + ")");
-        e.code = DatasetErrorCode::Inconsistent;
+        e.code = FileErrorCode::Inconsistent;
         return e;
     }
     for (auto [col, dst] : {std::pair{c.roll, &s.roll_deg},
@@ -357,10 +314,9 @@ std::optional<DatasetError> read_nav(const csv::Table& t, const NavColumns& c, s
 
 }  // namespace
 
-Expected<std::vector<FrameRow>, DatasetError> parse_frames_csv(std::string text) {
-    auto tr = csv::Table::parse(std::move(text), "frames.csv");
-    if (!tr) return Unexpected(tr.error());
-    const csv::Table& t = *tr;
+Expected<std::vector<FrameRow>, FileError> parse_frames_csv(std::string text) {
+    GS_TRY_ASSIGN(auto tr, csv::Table::parse(std::move(text), "frames.csv"));
+    const csv::Table& t = tr;
     if (auto e = require_columns(t, {"frame", "t_ms", "roll_deg"})) return Unexpected(*e);
     const NavColumns nc = nav_columns(t);
     const std::size_t frame_col = *t.column("frame");
@@ -371,17 +327,15 @@ Expected<std::vector<FrameRow>, DatasetError> parse_frames_csv(std::string text)
     TimeNs prev = 0;
     for (std::size_t r = 0; r < t.rows(); ++r) {
         FrameRow row;
-        auto fi = t.integer(r, frame_col);
-        if (!fi) return Unexpected(fi.error());
-        if (*fi != static_cast<std::int64_t>(r)) {
-            auto e =
-                t.error_at(r, frame_col,
-                           "expected frame " + std::to_string(r) + ", got " + std::to_string(*fi) +
-                               " (rows are frames 0, 1, 2 ... in order)");
-            e.code = DatasetErrorCode::Inconsistent;
+        GS_TRY_ASSIGN(auto fi, t.integer(r, frame_col));
+        if (fi != static_cast<std::int64_t>(r)) {
+            auto e = t.error_at(r, frame_col,
+                                "expected frame " + std::to_string(r) + ", got " +
+                                    std::to_string(fi) + " (rows are frames 0, 1, 2 ... in order)");
+            e.code = FileErrorCode::Inconsistent;
             return Unexpected(e);
         }
-        row.frame = *fi;
+        row.frame = fi;
         if (auto e = read_nav(t, nc, r, row.nav, prev)) return Unexpected(*e);
         prev = row.nav.t_ns;
         for (auto [col, dst] : {std::pair{gx, &row.gt.x_m},
@@ -389,19 +343,17 @@ Expected<std::vector<FrameRow>, DatasetError> parse_frames_csv(std::string text)
                                 {gz, &row.gt.z_m},
                                 {gyaw, &row.gt.yaw_deg}}) {
             if (!col) continue;
-            auto v = t.number(r, *col);
-            if (!v) return Unexpected(v.error());
-            *dst = *v;
+            GS_TRY_ASSIGN(auto v, t.number(r, *col));
+            *dst = v;
         }
         rows.push_back(row);
     }
     return rows;
 }
 
-Expected<std::vector<NavState>, DatasetError> parse_navdata_csv(std::string text) {
-    auto tr = csv::Table::parse(std::move(text), "navdata.csv");
-    if (!tr) return Unexpected(tr.error());
-    const csv::Table& t = *tr;
+Expected<std::vector<NavState>, FileError> parse_navdata_csv(std::string text) {
+    GS_TRY_ASSIGN(auto tr, csv::Table::parse(std::move(text), "navdata.csv"));
+    const csv::Table& t = tr;
     if (auto e = require_columns(t, {"t_ms"})) return Unexpected(*e);
     const NavColumns nc = nav_columns(t);
     const auto seq = t.column("seq"), state = t.column("state"), ctrl = t.column("ctrl_state"),
@@ -414,60 +366,53 @@ Expected<std::vector<NavState>, DatasetError> parse_navdata_csv(std::string text
         if (auto e = read_nav(t, nc, r, s, prev)) return Unexpected(*e);
         prev = s.t_ns;
         if (seq) {
-            auto v = t.u32(r, *seq, false, false);
-            if (!v) return Unexpected(v.error());
-            s.seq = *v;
+            GS_TRY_ASSIGN(auto v, t.u32(r, *seq, false, false));
+            s.seq = v;
         }
         if (state) {
-            auto v = t.u32(r, *state, true, true);
-            if (!v) return Unexpected(v.error());
-            s.drone_state = *v;
+            GS_TRY_ASSIGN(auto v, t.u32(r, *state, true, true));
+            s.drone_state = v;
         }
         if (ctrl) {
-            auto v = t.u32(r, *ctrl, true, false);
-            if (!v) return Unexpected(v.error());
-            s.ctrl_state = *v;
+            GS_TRY_ASSIGN(auto v, t.u32(r, *ctrl, true, false));
+            s.ctrl_state = v;
         }
         if (batt) {
-            auto v = t.number(r, *batt);
-            if (!v) return Unexpected(v.error());
-            s.battery_pct = *v;
+            GS_TRY_ASSIGN(auto v, t.number(r, *batt));
+            s.battery_pct = v;
         }
         rows.push_back(s);
     }
     return rows;
 }
 
-Expected<FlightLabels, DatasetError> parse_labels_json(const std::string& text) {
+Expected<FlightLabels, FileError> parse_labels_json(const std::string& text) {
     const std::string file = "labels.json";
-    auto jr = parse_json(text, file);
-    if (!jr) return Unexpected(jr.error());
-    if (!jr->is_object())
-        return Unexpected(err(DatasetErrorCode::Malformed, file, "expected a JSON object", 1, 1));
-    JsonFields f(*jr, text, file);
-    auto s = f.string("scenario");
-    if (!s) return Unexpected(s.error());
+    GS_TRY_ASSIGN(auto jr, parse_json(text, file));
+    if (!jr.is_object())
+        return Unexpected(err(FileErrorCode::Malformed, file, "expected a JSON object", 1, 1));
+    JsonFields f(jr, text, file);
+    GS_TRY_ASSIGN(auto s, f.string("scenario"));
     FlightLabels l;
-    if (*s == "left") {
+    if (s == "left") {
         l.scenario = Scenario::Left;
-    } else if (*s == "right") {
+    } else if (s == "right") {
         l.scenario = Scenario::Right;
-    } else if (*s == "center") {
+    } else if (s == "center") {
         l.scenario = Scenario::Center;
-    } else if (*s == "none") {
+    } else if (s == "none") {
         l.scenario = Scenario::None;
     } else {
-        return Unexpected(f.error(DatasetErrorCode::Malformed, "scenario",
-                                  "expected left, right, center or none, got \"" + *s + "\""));
+        return Unexpected(f.error(FileErrorCode::Malformed, "scenario",
+                                  "expected left, right, center or none, got \"" + s + "\""));
     }
     l.json = text;
     return l;
 }
 
-Expected<std::vector<LabelRow>, DatasetError> parse_labels_csv(std::string text) {
-    auto tr = csv::Table::parse(std::move(text), "labels.csv");
-    if (!tr) return Unexpected(tr.error());
-    const csv::Table& t = *tr;
+Expected<std::vector<LabelRow>, FileError> parse_labels_csv(std::string text) {
+    GS_TRY_ASSIGN(auto tr, csv::Table::parse(std::move(text), "labels.csv"));
+    const csv::Table& t = tr;
     if (auto e = require_columns(t, {"frame", "distance_m"})) return Unexpected(*e);
     const auto fc = *t.column("frame"), dc = *t.column("distance_m");
     const auto lc = t.column("lateral_m");
@@ -475,17 +420,14 @@ Expected<std::vector<LabelRow>, DatasetError> parse_labels_csv(std::string text)
     rows.reserve(t.rows());
     for (std::size_t r = 0; r < t.rows(); ++r) {
         LabelRow row;
-        auto fi = t.integer(r, fc);
-        if (!fi) return Unexpected(fi.error());
-        if (*fi < 0) return Unexpected(t.error_at(r, fc, "negative frame index"));
-        row.frame = *fi;
-        auto d = t.number(r, dc);
-        if (!d) return Unexpected(d.error());
-        row.distance_m = *d;
+        GS_TRY_ASSIGN(auto fi, t.integer(r, fc));
+        if (fi < 0) return Unexpected(t.error_at(r, fc, "negative frame index"));
+        row.frame = fi;
+        GS_TRY_ASSIGN(auto d, t.number(r, dc));
+        row.distance_m = d;
         if (lc) {
-            auto l = t.number(r, *lc);
-            if (!l) return Unexpected(l.error());
-            row.lateral_m = *l;
+            GS_TRY_ASSIGN(auto l, t.number(r, *lc));
+            row.lateral_m = l;
         }
         rows.push_back(row);
     }
@@ -496,44 +438,42 @@ namespace {
 
 // Where `dir / relative` really is when it exists and (through symlinks) leaves `dir`; nullopt
 // when it is absent or inside.
-Expected<std::optional<fs::path>, DatasetError> escape_target(const fs::path& dir,
-                                                              const fs::path& relative) {
+Expected<std::optional<fs::path>, FileError> escape_target(const fs::path& dir,
+                                                           const fs::path& relative) {
     const fs::path p = dir / relative;
     std::error_code ec;
     if (!fs::exists(fs::symlink_status(p, ec)))
         return std::optional<fs::path>();  // absent: nothing to escape through
     const fs::path root = fs::weakly_canonical(dir.empty() ? fs::path(".") : dir, ec);
-    if (ec) return Unexpected(err(DatasetErrorCode::Io, dir.string(), ec.message()));
+    if (ec) return Unexpected(err(FileErrorCode::Io, dir.string(), ec.message()));
     const fs::path real = fs::weakly_canonical(p, ec);
-    if (ec) return Unexpected(err(DatasetErrorCode::Io, relative.generic_string(), ec.message()));
+    if (ec) return Unexpected(err(FileErrorCode::Io, relative.generic_string(), ec.message()));
     if (is_inside(root, real)) return std::optional<fs::path>();
     return std::optional<fs::path>(real);
 }
 
 }  // namespace
 
-Expected<fs::path, DatasetError> resolve_inside(const fs::path& dir, const std::string& relative,
-                                                const std::string& what) {
+Expected<fs::path, FileError> resolve_inside(const fs::path& dir, const std::string& relative,
+                                             const std::string& what) {
     const fs::path rel(relative);
     if (relative.empty() || has_dotdot_or_root(rel))
         return Unexpected(err(
-            DatasetErrorCode::UnsafePath, "flight.json",
+            FileErrorCode::UnsafePath, "flight.json",
             "'" + what + "' must be a relative path inside the dataset, got '" + relative + "'"));
-    auto out = escape_target(dir, rel);
-    if (!out) return Unexpected(out.error());
-    if (*out)
+    GS_TRY_ASSIGN(auto out, escape_target(dir, rel));
+    if (out)
         return Unexpected(
-            err(DatasetErrorCode::UnsafePath, "flight.json",
+            err(FileErrorCode::UnsafePath, "flight.json",
                 "'" + what + "' (" + relative + ") resolves outside the dataset directory"));
     return dir / rel;
 }
 
-Expected<fs::path, DatasetError> resolve_fixed(const fs::path& dir, const std::string& name) {
-    auto out = escape_target(dir, fs::path(name));
-    if (!out) return Unexpected(out.error());
-    if (*out)
-        return Unexpected(err(DatasetErrorCode::UnsafePath, name,
-                              "resolves outside the dataset directory (to " + (*out)->string() +
+Expected<fs::path, FileError> resolve_fixed(const fs::path& dir, const std::string& name) {
+    GS_TRY_ASSIGN(auto out, escape_target(dir, fs::path(name)));
+    if (out)
+        return Unexpected(err(FileErrorCode::UnsafePath, name,
+                              "resolves outside the dataset directory (to " + (out)->string() +
                                   "); only files inside it are read"));
     return dir / name;
 }
@@ -560,73 +500,64 @@ Dataset Dataset::from_parts(fs::path dir, DatasetInfo info, CameraCalibration ca
     return d;
 }
 
-Expected<Dataset, DatasetError> Dataset::open(const fs::path& dir, const DatasetOpenOptions& opts) {
+Expected<Dataset, FileError> Dataset::open(const fs::path& dir, const DatasetOpenOptions& opts) {
     std::error_code ec;
     if (!fs::is_directory(dir, ec))
-        return Unexpected(err(DatasetErrorCode::Missing, dir.string(), "not a directory"));
+        return Unexpected(err(FileErrorCode::Missing, dir.string(), "not a directory"));
     Dataset d;
     d.dir_ = dir;
     const DatasetLimits& lim = opts.limits;
 
     // Every file with a fixed name is resolved first: none may lead out of the dataset.
-    auto flight_path = resolve_fixed(dir, "flight.json");
-    if (!flight_path) return Unexpected(flight_path.error());
-    auto flight_text = read_text_file(*flight_path, "flight.json", lim.max_json_bytes);
-    if (!flight_text) return Unexpected(flight_text.error());
-    auto info = parse_flight_json(*flight_text, lim, &d.warnings_);
-    if (!info) return Unexpected(info.error());
-    d.info_ = std::move(*info);
+    GS_TRY_ASSIGN(auto flight_path, resolve_fixed(dir, "flight.json"));
+    GS_TRY_ASSIGN(auto flight_text, read_text_file(flight_path, "flight.json", lim.max_json_bytes));
+    GS_TRY_ASSIGN(auto info, parse_flight_json(flight_text, lim, &d.warnings_));
+    d.info_ = std::move(info);
 
-    auto frames_path = resolve_fixed(dir, "frames.csv");
-    if (!frames_path) return Unexpected(frames_path.error());
-    auto frames_text = read_text_file(*frames_path, "frames.csv", lim.max_csv_bytes);
-    if (!frames_text) return Unexpected(frames_text.error());
-    auto frames = parse_frames_csv(std::move(*frames_text));
-    if (!frames) return Unexpected(frames.error());
-    d.frames_ = std::move(*frames);
+    GS_TRY_ASSIGN(auto frames_path, resolve_fixed(dir, "frames.csv"));
+    GS_TRY_ASSIGN(auto frames_text, read_text_file(frames_path, "frames.csv", lim.max_csv_bytes));
+    GS_TRY_ASSIGN(auto frames, parse_frames_csv(std::move(frames_text)));
+    d.frames_ = std::move(frames);
     const auto rows = static_cast<std::int64_t>(d.frames_.size());
     if (rows > lim.max_frames)
         return Unexpected(
-            err(DatasetErrorCode::OutOfRange, "frames.csv",
+            err(FileErrorCode::OutOfRange, "frames.csv",
                 std::to_string(rows) + " rows (limit " + std::to_string(lim.max_frames) + ")"));
     if (d.info_.frames && *d.info_.frames != rows) {
-        auto [l, c] = locate_json_key(*flight_text, "frames");
-        return Unexpected(err(DatasetErrorCode::Inconsistent, "flight.json",
+        auto [l, c] = locate_json_key(flight_text, "frames");
+        return Unexpected(err(FileErrorCode::Inconsistent, "flight.json",
                               "'frames' is " + std::to_string(*d.info_.frames) +
                                   " but frames.csv has " + std::to_string(rows) + " rows",
                               l, c));
     }
 
     // Pixels: video.h264 (source of truth) and/or frames/.
-    auto video = resolve_inside(dir, d.info_.video, "video");
-    if (!video) return Unexpected(video.error());
-    auto images = resolve_inside(dir, d.info_.images, "images");
-    if (!images) return Unexpected(images.error());
+    GS_TRY_ASSIGN(auto video, resolve_inside(dir, d.info_.video, "video"));
+    GS_TRY_ASSIGN(auto images, resolve_inside(dir, d.info_.images, "images"));
     const std::string video_name = d.info_.video;
     const std::string images_name = d.info_.images + "/";
-    if (fs::exists(*video, ec)) {
-        if (!fs::is_regular_file(*video, ec))
-            return Unexpected(err(DatasetErrorCode::Malformed, video_name, "not a regular file"));
-        auto index = index_annexb_file(*video, video_name);
-        if (!index) return Unexpected(index.error());
-        const auto units = static_cast<std::int64_t>(index->size());
+    if (fs::exists(video, ec)) {
+        if (!fs::is_regular_file(video, ec))
+            return Unexpected(err(FileErrorCode::Malformed, video_name, "not a regular file"));
+        GS_TRY_ASSIGN(auto index, index_annexb_file(video, video_name));
+        const auto units = static_cast<std::int64_t>(index.size());
         if (units < rows)
-            return Unexpected(err(DatasetErrorCode::Inconsistent, video_name,
+            return Unexpected(err(FileErrorCode::Inconsistent, video_name,
                                   "holds " + std::to_string(units) +
                                       " access units but frames.csv has " + std::to_string(rows) +
                                       " rows (truncated?)"));
         if (units > rows)
             d.warnings_.push_back(video_name + ": " + std::to_string(units - rows) +
                                   " access units after the last frames.csv row are ignored");
-        index->resize(static_cast<std::size_t>(rows));
-        d.video_path_ = *video;
-        d.video_units_ = std::move(*index);
+        index.resize(static_cast<std::size_t>(rows));
+        d.video_path_ = video;
+        d.video_units_ = std::move(index);
     }
-    if (fs::is_directory(*images, ec)) {
+    if (fs::is_directory(images, ec)) {
         std::map<std::int64_t, fs::path> found;
         std::int64_t extra = 0;
-        std::optional<DatasetError> problem;
-        for (auto it = fs::directory_iterator(*images, ec); !ec && it != fs::directory_iterator();
+        std::optional<FileError> problem;
+        for (auto it = fs::directory_iterator(images, ec); !ec && it != fs::directory_iterator();
              it.increment(ec)) {
             const auto idx = image_index(it->path().filename());
             if (!idx) continue;
@@ -635,24 +566,23 @@ Expected<Dataset, DatasetError> Dataset::open(const fs::path& dir, const Dataset
                 continue;
             }
             if (it->is_symlink(ec)) {
-                auto r = resolve_fixed(dir, fs::relative(it->path(), dir, ec).generic_string());
-                if (!r) return Unexpected(r.error());
+                GS_TRY(resolve_fixed(dir, fs::relative(it->path(), dir, ec).generic_string()));
             }
             if (!found.emplace(*idx, it->path()).second && !problem) {
-                problem = err(DatasetErrorCode::Inconsistent, images_name,
+                problem = err(FileErrorCode::Inconsistent, images_name,
                               "two images for frame " + std::to_string(*idx) + " (" +
                                   found[*idx].filename().string() + " and " +
                                   it->path().filename().string() + ")");
             }
         }
-        if (ec) return Unexpected(err(DatasetErrorCode::Io, images_name, ec.message()));
+        if (ec) return Unexpected(err(FileErrorCode::Io, images_name, ec.message()));
         if (!problem && static_cast<std::int64_t>(found.size()) != rows) {
             std::int64_t first_missing = 0;
             while (found.count(first_missing)) ++first_missing;
             char name[32];
             std::snprintf(name, sizeof name, "%06lld", static_cast<long long>(first_missing));
             problem =
-                err(DatasetErrorCode::Inconsistent, images_name,
+                err(FileErrorCode::Inconsistent, images_name,
                     "holds " + std::to_string(found.size()) + " of the " + std::to_string(rows) +
                         " frames in frames.csv; frame " + std::to_string(first_missing) + " (" +
                         name + ".png or .jpg) is missing");
@@ -671,7 +601,7 @@ Expected<Dataset, DatasetError> Dataset::open(const fs::path& dir, const Dataset
     }
     if (!d.video_path_ && d.image_files_.empty() && rows > 0)
         return Unexpected(err(
-            DatasetErrorCode::Missing, "flight.json",
+            FileErrorCode::Missing, "flight.json",
             "neither '" + video_name + "' nor '" + images_name + "' is present in the dataset"));
 
     // Calibration: flight.json, else the shipped default of that camera.
@@ -689,28 +619,23 @@ Expected<Dataset, DatasetError> Dataset::open(const fs::path& dir, const Dataset
                                   std::to_string(def->width) + "x" + std::to_string(def->height) +
                                   ") scaled to " + std::to_string(d.info_.width) + "x" +
                                   std::to_string(d.info_.height));
-        d.calibration_ = scaled_to(*def, d.info_.width, d.info_.height);
+        d.calibration_ = def->scaled_to(d.info_.width, d.info_.height);
         d.calibration_is_default_ = true;
     }
 
-    auto navdata_path = resolve_fixed(dir, "navdata.csv");
-    if (!navdata_path) return Unexpected(navdata_path.error());
-    if (fs::exists(*navdata_path, ec)) {
-        auto text = read_text_file(*navdata_path, "navdata.csv", lim.max_csv_bytes);
-        if (!text) return Unexpected(text.error());
-        auto nav = parse_navdata_csv(std::move(*text));
-        if (!nav) return Unexpected(nav.error());
-        d.navdata_ = std::move(*nav);
+    GS_TRY_ASSIGN(auto navdata_path, resolve_fixed(dir, "navdata.csv"));
+    if (fs::exists(navdata_path, ec)) {
+        GS_TRY_ASSIGN(auto text, read_text_file(navdata_path, "navdata.csv", lim.max_csv_bytes));
+        GS_TRY_ASSIGN(auto nav, parse_navdata_csv(std::move(text)));
+        d.navdata_ = std::move(nav);
         d.has_navdata_ = true;
     }
-    auto labels = read_labels(dir, lim);
-    if (!labels) return Unexpected(labels.error());
-    d.labels_ = std::move(labels->flight);
-    d.label_rows_ = std::move(labels->rows);
-    auto raw_path = resolve_fixed(dir, "raw");
-    if (!raw_path) return Unexpected(raw_path.error());
-    d.has_raw_ = fs::is_directory(*raw_path, ec);
+    GS_TRY_ASSIGN(auto labels, read_labels(dir, lim));
+    d.labels_ = std::move(labels.flight);
+    d.label_rows_ = std::move(labels.rows);
+    GS_TRY_ASSIGN(auto raw_path, resolve_fixed(dir, "raw"));
+    d.has_raw_ = fs::is_directory(raw_path, ec);
     return d;
 }
 
-}  // namespace gs
+}  // namespace gs::dataset

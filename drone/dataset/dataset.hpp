@@ -6,11 +6,12 @@
 // in flight.json nor the fixed names (navdata.csv, labels.*, raw/ ...) may lead out of it through
 // ".." or symlinks. Pixels are not read here: see frame_store.hpp.
 
-#include "drone/calibration.hpp"
+#include "drone/core/camera_calibration.hpp"
+#include "drone/core/expected.hpp"
+#include "drone/core/file_error.hpp"
+#include "drone/core/file_io.hpp"
+#include "drone/core/sample.hpp"
 #include "drone/dataset/annexb.hpp"
-#include "drone/dataset/error.hpp"
-#include "drone/expected.hpp"
-#include "drone/sample.hpp"
 
 #include <array>
 #include <cstdint>
@@ -19,7 +20,7 @@
 #include <string>
 #include <vector>
 
-namespace gs {
+namespace gs::dataset {
 
 // flight.json.
 struct DatasetInfo {
@@ -78,8 +79,8 @@ struct DatasetOpenOptions {
 
 class Dataset {
 public:
-    static Expected<Dataset, DatasetError> open(const std::filesystem::path& dir,
-                                                const DatasetOpenOptions& opts = {});
+    static Expected<Dataset, FileError> open(const std::filesystem::path& dir,
+                                             const DatasetOpenOptions& opts = {});
 
     const std::filesystem::path& dir() const { return dir_; }
     const DatasetInfo& info() const { return info_; }
@@ -135,30 +136,25 @@ private:
 };
 
 // Pieces of the reader usable on their own (writer tests, thesis import, tools).
-Expected<DatasetInfo, DatasetError> parse_flight_json(const std::string& text,
-                                                      const DatasetLimits& limits = {},
-                                                      std::vector<std::string>* warnings = nullptr);
-Expected<std::vector<FrameRow>, DatasetError> parse_frames_csv(std::string text);
-Expected<std::vector<NavState>, DatasetError> parse_navdata_csv(std::string text);
-Expected<FlightLabels, DatasetError> parse_labels_json(const std::string& text);
-Expected<std::vector<LabelRow>, DatasetError> parse_labels_csv(std::string text);
+Expected<DatasetInfo, FileError> parse_flight_json(const std::string& text,
+                                                   const DatasetLimits& limits = {},
+                                                   std::vector<std::string>* warnings = nullptr);
+Expected<std::vector<FrameRow>, FileError> parse_frames_csv(std::string text);
+Expected<std::vector<NavState>, FileError> parse_navdata_csv(std::string text);
+Expected<FlightLabels, FileError> parse_labels_json(const std::string& text);
+Expected<std::vector<LabelRow>, FileError> parse_labels_csv(std::string text);
 
 // A relative path from metadata resolved under `dir`, or UnsafePath when it is absolute, has a
 // ".." component, or (through symlinks) lands outside `dir`.
-Expected<std::filesystem::path, DatasetError> resolve_inside(const std::filesystem::path& dir,
-                                                             const std::string& relative,
-                                                             const std::string& what);
+Expected<std::filesystem::path, FileError> resolve_inside(const std::filesystem::path& dir,
+                                                          const std::string& relative,
+                                                          const std::string& what);
 
 // A file or folder with a fixed name (navdata.csv, raw, raw/at.log ...) under `dir`, or
 // UnsafePath naming it when it exists and (through symlinks) lands outside `dir`: a reader opens
 // nothing outside the dataset directory. An absent file is returned as is (the caller decides).
-Expected<std::filesystem::path, DatasetError> resolve_fixed(const std::filesystem::path& dir,
-                                                            const std::string& name);
-
-// Reads a whole file, refusing more than `max_bytes`. `name` is what errors call it.
-Expected<std::string, DatasetError> read_text_file(const std::filesystem::path& path,
-                                                   const std::string& name,
-                                                   std::uintmax_t max_bytes);
+Expected<std::filesystem::path, FileError> resolve_fixed(const std::filesystem::path& dir,
+                                                         const std::string& name);
 
 // labels.json and labels.csv of a dataset directory (DATASET.md), each unset when its file is
 // absent; a file that is there but unsafe, too large or malformed is an error.
@@ -166,7 +162,7 @@ struct DatasetLabels {
     std::optional<FlightLabels> flight;
     std::optional<std::vector<LabelRow>> rows;
 };
-Expected<DatasetLabels, DatasetError> read_labels(const std::filesystem::path& dir,
-                                                  const DatasetLimits& limits);
+Expected<DatasetLabels, FileError> read_labels(const std::filesystem::path& dir,
+                                               const DatasetLimits& limits);
 
-}  // namespace gs
+}  // namespace gs::dataset

@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-namespace gs {
+namespace gs::dataset {
 
 DatasetSource::DatasetSource(Dataset dataset, std::unique_ptr<FrameStore> frames,
                              const Clock& clock, Pacing pacing, TimeNs max_lag_ns)
@@ -137,4 +137,4 @@ void DatasetSource::set_paused(bool paused) {
     }
 }
 
-}  // namespace gs
+}  // namespace gs::dataset

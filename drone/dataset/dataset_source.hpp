@@ -3,13 +3,13 @@
 // (pixels from a FrameStore) with their frames.csv state, and navdata samples (navdata.csv, else
 // the frames' own attitude), paced at recorded speed x factor or as fast as possible; seek, step.
 
+#include "drone/core/sample_source.hpp"
 #include "drone/dataset/dataset.hpp"
 #include "drone/dataset/frame_store.hpp"
-#include "drone/sample_source.hpp"
 
 #include <memory>
 
-namespace gs {
+namespace gs::dataset {
 
 class DatasetSource final : public SampleSource {
 public:
@@ -58,4 +58,4 @@ private:
     cv::Mat image_;
 };
 
-}  // namespace gs
+}  // namespace gs::dataset

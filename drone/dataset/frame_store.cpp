@@ -4,7 +4,7 @@
 
 #include <fstream>
 
-namespace gs {
+namespace gs::dataset {
 namespace {
 
 class ImageFrames final : public FrameStore {
@@ -18,24 +18,24 @@ public:
 
     std::int64_t count() const override { return static_cast<std::int64_t>(files_.size()); }
 
-    std::optional<DatasetError> read(std::int64_t index, cv::Mat& out) override {
+    std::optional<FileError> read(std::int64_t index, cv::Mat& out) override {
         if (index < 0 || index >= count())
-            return DatasetError{DatasetErrorCode::OutOfRange, "frames/", 0, 0,
-                                "no frame " + std::to_string(index)};
+            return FileError{FileErrorCode::OutOfRange, "frames/", 0, 0,
+                             "no frame " + std::to_string(index)};
         const auto& path = files_[static_cast<std::size_t>(index)];
         std::error_code ec;
         std::string name = std::filesystem::relative(path, dir_, ec).generic_string();
         if (ec || name.empty()) name = path.filename().string();
         const auto size = std::filesystem::file_size(path, ec);
-        if (ec) return DatasetError{DatasetErrorCode::Io, name, 0, 0, ec.message()};
+        if (ec) return FileError{FileErrorCode::Io, name, 0, 0, ec.message()};
         if (size > max_bytes_)
-            return DatasetError{DatasetErrorCode::OutOfRange, name, 0, 0,
-                                "image file is " + std::to_string(size) + " bytes (limit " +
-                                    std::to_string(max_bytes_) + ")"};
+            return FileError{FileErrorCode::OutOfRange, name, 0, 0,
+                             "image file is " + std::to_string(size) + " bytes (limit " +
+                                 std::to_string(max_bytes_) + ")"};
         buf_.resize(static_cast<std::size_t>(size));
         std::ifstream in(path, std::ios::binary);
         in.read(reinterpret_cast<char*>(buf_.data()), static_cast<std::streamsize>(size));
-        if (!in) return DatasetError{DatasetErrorCode::Io, name, 0, 0, "read failed"};
+        if (!in) return FileError{FileErrorCode::Io, name, 0, 0, "read failed"};
         // Refuse a PNG whose header announces another size before decoding it (pixel bombs).
         if (buf_.size() >= 24 && buf_[0] == 0x89 && buf_[1] == 'P' && buf_[2] == 'N' &&
             buf_[3] == 'G') {
@@ -45,10 +45,10 @@ public:
             };
             const std::uint32_t w = be32(16), h = be32(20);
             if (w != static_cast<std::uint32_t>(width_) || h != static_cast<std::uint32_t>(height_))
-                return DatasetError{DatasetErrorCode::Inconsistent, name, 0, 0,
-                                    "image is " + std::to_string(w) + "x" + std::to_string(h) +
-                                        ", flight.json says " + std::to_string(width_) + "x" +
-                                        std::to_string(height_)};
+                return FileError{FileErrorCode::Inconsistent, name, 0, 0,
+                                 "image is " + std::to_string(w) + "x" + std::to_string(h) +
+                                     ", flight.json says " + std::to_string(width_) + "x" +
+                                     std::to_string(height_)};
         }
         cv::Mat img;
         try {
@@ -57,13 +57,13 @@ public:
             img.release();
         }
         if (img.empty())
-            return DatasetError{DatasetErrorCode::Malformed, name, 0, 0,
-                                "not a decodable PNG/JPEG image"};
+            return FileError{FileErrorCode::Malformed, name, 0, 0,
+                             "not a decodable PNG/JPEG image"};
         if (img.cols != width_ || img.rows != height_)
-            return DatasetError{DatasetErrorCode::Inconsistent, name, 0, 0,
-                                "image is " + std::to_string(img.cols) + "x" +
-                                    std::to_string(img.rows) + ", flight.json says " +
-                                    std::to_string(width_) + "x" + std::to_string(height_)};
+            return FileError{FileErrorCode::Inconsistent, name, 0, 0,
+                             "image is " + std::to_string(img.cols) + "x" +
+                                 std::to_string(img.rows) + ", flight.json says " +
+                                 std::to_string(width_) + "x" + std::to_string(height_)};
         out = img;
         return std::nullopt;
     }
@@ -78,12 +78,12 @@ private:
 
 }  // namespace
 
-Expected<std::unique_ptr<FrameStore>, DatasetError> open_image_frames(const Dataset& d,
-                                                                      std::uintmax_t max_bytes) {
+Expected<std::unique_ptr<FrameStore>, FileError> open_image_frames(const Dataset& d,
+                                                                   std::uintmax_t max_bytes) {
     if (static_cast<std::int64_t>(d.image_files().size()) != d.frame_count())
-        return Unexpected(DatasetError{DatasetErrorCode::Missing, d.info().images + "/", 0, 0,
-                                       "no image folder with one image per frame"});
+        return Unexpected(FileError{FileErrorCode::Missing, d.info().images + "/", 0, 0,
+                                    "no image folder with one image per frame"});
     return std::unique_ptr<FrameStore>(std::make_unique<ImageFrames>(d, max_bytes));
 }
 
-}  // namespace gs
+}  // namespace gs::dataset

@@ -9,19 +9,19 @@
 #include <memory>
 #include <optional>
 
-namespace gs {
+namespace gs::dataset {
 
 class FrameStore {
 public:
     virtual ~FrameStore() = default;
     virtual std::int64_t count() const = 0;
     // Frame `index` into `out` (reused when the size matches). nullopt on success.
-    [[nodiscard]] virtual std::optional<DatasetError> read(std::int64_t index, cv::Mat& out) = 0;
+    [[nodiscard]] virtual std::optional<FileError> read(std::int64_t index, cv::Mat& out) = 0;
 };
 
 // Frames from the dataset's image files (frames/ or a thesis folder). Each image must decode and
 // have the dataset's width and height; files larger than `max_file_bytes` are refused.
-Expected<std::unique_ptr<FrameStore>, DatasetError> open_image_frames(
+Expected<std::unique_ptr<FrameStore>, FileError> open_image_frames(
     const Dataset& d, std::uintmax_t max_file_bytes = 64u << 20);
 
-}  // namespace gs
+}  // namespace gs::dataset

@@ -5,7 +5,7 @@
 #include <charconv>
 #include <cstdio>
 
-namespace gs {
+namespace gs::dataset {
 namespace {
 
 void put_le(std::string& out, std::uint64_t v, int bytes) {
@@ -17,12 +17,11 @@ std::uint64_t get_le(const std::uint8_t* p, int bytes) {
     return v;
 }
 
-Expected<std::vector<std::uint8_t>, DatasetError> read_binary(const std::filesystem::path& path,
-                                                              const std::string& name,
-                                                              std::uintmax_t max_bytes) {
-    auto text = read_text_file(path, name, max_bytes);
-    if (!text) return Unexpected(text.error());
-    return std::vector<std::uint8_t>(text->begin(), text->end());
+Expected<std::vector<std::uint8_t>, FileError> read_binary(const std::filesystem::path& path,
+                                                           const std::string& name,
+                                                           std::uintmax_t max_bytes) {
+    GS_TRY_ASSIGN(auto text, read_text_file(path, name, max_bytes));
+    return std::vector<std::uint8_t>(text.begin(), text.end());
 }
 
 }  // namespace
@@ -60,8 +59,8 @@ void append_at_line(std::string& out, std::int64_t t_us, std::string_view datagr
     out += '\n';
 }
 
-Expected<RawReadResult, DatasetError> parse_navdata_bin(std::span<const std::uint8_t> bytes,
-                                                        const std::string& name) {
+Expected<RawReadResult, FileError> parse_navdata_bin(std::span<const std::uint8_t> bytes,
+                                                     const std::string& name) {
     RawReadResult r;
     std::size_t pos = 0;
     std::int64_t prev = 0;
@@ -73,16 +72,15 @@ Expected<RawReadResult, DatasetError> parse_navdata_bin(std::span<const std::uin
         const auto t = static_cast<std::int64_t>(get_le(bytes.data() + pos, 8));
         const auto len = static_cast<std::uint32_t>(get_le(bytes.data() + pos + 8, 4));
         if (len > kMaxRawDatagram)
-            return Unexpected(DatasetError{DatasetErrorCode::OutOfRange, name, 0, 0,
-                                           "record " + std::to_string(r.records.size()) +
-                                               " at byte " + std::to_string(pos) + " claims " +
-                                               std::to_string(len) + " bytes (limit " +
-                                               std::to_string(kMaxRawDatagram) + ")"});
+            return Unexpected(FileError{FileErrorCode::OutOfRange, name, 0, 0,
+                                        "record " + std::to_string(r.records.size()) + " at byte " +
+                                            std::to_string(pos) + " claims " + std::to_string(len) +
+                                            " bytes (limit " + std::to_string(kMaxRawDatagram) +
+                                            ")"});
         if (t < prev)
-            return Unexpected(DatasetError{DatasetErrorCode::Inconsistent, name, 0, 0,
-                                           "record " + std::to_string(r.records.size()) +
-                                               " at byte " + std::to_string(pos) +
-                                               ": time goes backwards"});
+            return Unexpected(FileError{FileErrorCode::Inconsistent, name, 0, 0,
+                                        "record " + std::to_string(r.records.size()) + " at byte " +
+                                            std::to_string(pos) + ": time goes backwards"});
         if (bytes.size() - pos - 12 < len) {
             r.truncated_tail = true;
             break;
@@ -96,8 +94,8 @@ Expected<RawReadResult, DatasetError> parse_navdata_bin(std::span<const std::uin
     return r;
 }
 
-Expected<std::vector<RawChunk>, DatasetError> parse_video_chunks(
-    std::span<const std::uint8_t> bytes, const std::string& name) {
+Expected<std::vector<RawChunk>, FileError> parse_video_chunks(std::span<const std::uint8_t> bytes,
+                                                              const std::string& name) {
     std::vector<RawChunk> out;
     std::uint64_t offset = 0;
     for (std::size_t pos = 0; pos + 12 <= bytes.size(); pos += 12) {
@@ -107,16 +105,16 @@ Expected<std::vector<RawChunk>, DatasetError> parse_video_chunks(
         c.offset = offset;
         if (!out.empty() && c.t_us < out.back().t_us)
             return Unexpected(
-                DatasetError{DatasetErrorCode::Inconsistent, name, 0, 0,
-                             "record " + std::to_string(out.size()) + ": time goes backwards"});
+                FileError{FileErrorCode::Inconsistent, name, 0, 0,
+                          "record " + std::to_string(out.size()) + ": time goes backwards"});
         offset += c.length;
         out.push_back(c);
     }
     return out;
 }
 
-Expected<std::vector<AtRecord>, DatasetError> parse_at_log(std::string_view text,
-                                                           const std::string& name) {
+Expected<std::vector<AtRecord>, FileError> parse_at_log(std::string_view text,
+                                                        const std::string& name) {
     std::vector<AtRecord> out;
     int line_no = 0;
     std::size_t pos = 0;
@@ -127,7 +125,7 @@ Expected<std::vector<AtRecord>, DatasetError> parse_at_log(std::string_view text
         pos = nl + 1;
         ++line_no;
         auto bad = [&](int col, const std::string& msg) {
-            return Unexpected(DatasetError{DatasetErrorCode::Malformed, name, line_no, col, msg});
+            return Unexpected(FileError{FileErrorCode::Malformed, name, line_no, col, msg});
         };
         const std::size_t sp = line.find(' ');
         if (sp == std::string_view::npos) return bad(1, "expected '<t_us> <datagram>'");
@@ -166,37 +164,31 @@ Expected<std::vector<AtRecord>, DatasetError> parse_at_log(std::string_view text
     return out;
 }
 
-Expected<std::filesystem::path, DatasetError> raw_file_path(const std::filesystem::path& raw_dir,
-                                                            const std::string& name) {
+Expected<std::filesystem::path, FileError> raw_file_path(const std::filesystem::path& raw_dir,
+                                                         const std::string& name) {
     const std::filesystem::path dataset = raw_dir.parent_path();
     return resolve_fixed(dataset, (raw_dir.filename() / name).generic_string());
 }
 
-Expected<RawReadResult, DatasetError> read_navdata_bin(const std::filesystem::path& raw_dir,
+Expected<RawReadResult, FileError> read_navdata_bin(const std::filesystem::path& raw_dir,
+                                                    std::uintmax_t max_bytes) {
+    GS_TRY_ASSIGN(auto p, raw_file_path(raw_dir, "navdata.bin"));
+    GS_TRY_ASSIGN(auto b, read_binary(p, "raw/navdata.bin", max_bytes));
+    return parse_navdata_bin(b);
+}
+
+Expected<std::vector<AtRecord>, FileError> read_at_log(const std::filesystem::path& raw_dir,
                                                        std::uintmax_t max_bytes) {
-    auto p = raw_file_path(raw_dir, "navdata.bin");
-    if (!p) return Unexpected(p.error());
-    auto b = read_binary(*p, "raw/navdata.bin", max_bytes);
-    if (!b) return Unexpected(b.error());
-    return parse_navdata_bin(*b);
+    GS_TRY_ASSIGN(auto p, raw_file_path(raw_dir, "at.log"));
+    GS_TRY_ASSIGN(auto t, read_text_file(p, "raw/at.log", max_bytes));
+    return parse_at_log(t);
 }
 
-Expected<std::vector<AtRecord>, DatasetError> read_at_log(const std::filesystem::path& raw_dir,
-                                                          std::uintmax_t max_bytes) {
-    auto p = raw_file_path(raw_dir, "at.log");
-    if (!p) return Unexpected(p.error());
-    auto t = read_text_file(*p, "raw/at.log", max_bytes);
-    if (!t) return Unexpected(t.error());
-    return parse_at_log(*t);
+Expected<std::vector<RawChunk>, FileError> read_video_chunks(const std::filesystem::path& raw_dir,
+                                                             std::uintmax_t max_bytes) {
+    GS_TRY_ASSIGN(auto p, raw_file_path(raw_dir, "video_chunks.bin"));
+    GS_TRY_ASSIGN(auto b, read_binary(p, "raw/video_chunks.bin", max_bytes));
+    return parse_video_chunks(b);
 }
 
-Expected<std::vector<RawChunk>, DatasetError> read_video_chunks(
-    const std::filesystem::path& raw_dir, std::uintmax_t max_bytes) {
-    auto p = raw_file_path(raw_dir, "video_chunks.bin");
-    if (!p) return Unexpected(p.error());
-    auto b = read_binary(*p, "raw/video_chunks.bin", max_bytes);
-    if (!b) return Unexpected(b.error());
-    return parse_video_chunks(*b);
-}
-
-}  // namespace gs
+}  // namespace gs::dataset

@@ -9,8 +9,8 @@
 // t_us is microseconds since the start of the recording on the receiver's monotonic clock.
 // A recording killed mid-write may end in a partial record: readers report it, not fail on it.
 
-#include "drone/dataset/error.hpp"
-#include "drone/expected.hpp"
+#include "drone/core/expected.hpp"
+#include "drone/core/file_error.hpp"
 
 #include <cstdint>
 #include <filesystem>
@@ -19,7 +19,7 @@
 #include <string_view>
 #include <vector>
 
-namespace gs {
+namespace gs::dataset {
 
 struct RawRecord {
     std::int64_t t_us = 0;
@@ -50,24 +50,24 @@ struct RawReadResult {
 };
 
 // `name` is what errors call the file ("raw/navdata.bin").
-Expected<RawReadResult, DatasetError> parse_navdata_bin(
-    std::span<const std::uint8_t> bytes, const std::string& name = "raw/navdata.bin");
-Expected<std::vector<RawChunk>, DatasetError> parse_video_chunks(
+Expected<RawReadResult, FileError> parse_navdata_bin(std::span<const std::uint8_t> bytes,
+                                                     const std::string& name = "raw/navdata.bin");
+Expected<std::vector<RawChunk>, FileError> parse_video_chunks(
     std::span<const std::uint8_t> bytes, const std::string& name = "raw/video_chunks.bin");
-Expected<std::vector<AtRecord>, DatasetError> parse_at_log(std::string_view text,
-                                                           const std::string& name = "raw/at.log");
+Expected<std::vector<AtRecord>, FileError> parse_at_log(std::string_view text,
+                                                        const std::string& name = "raw/at.log");
 
 // File readers (bounded by `max_bytes`).
 // `name` inside `raw_dir` (a dataset's raw/), or UnsafePath when it, or raw/ itself, leads out of
 // the dataset directory (raw_dir's parent) through symlinks.
-Expected<std::filesystem::path, DatasetError> raw_file_path(const std::filesystem::path& raw_dir,
-                                                            const std::string& name);
+Expected<std::filesystem::path, FileError> raw_file_path(const std::filesystem::path& raw_dir,
+                                                         const std::string& name);
 
-Expected<RawReadResult, DatasetError> read_navdata_bin(const std::filesystem::path& raw_dir,
-                                                       std::uintmax_t max_bytes = 2ull << 30);
-Expected<std::vector<AtRecord>, DatasetError> read_at_log(const std::filesystem::path& raw_dir,
-                                                          std::uintmax_t max_bytes = 1ull << 30);
-Expected<std::vector<RawChunk>, DatasetError> read_video_chunks(
-    const std::filesystem::path& raw_dir, std::uintmax_t max_bytes = 1ull << 30);
+Expected<RawReadResult, FileError> read_navdata_bin(const std::filesystem::path& raw_dir,
+                                                    std::uintmax_t max_bytes = 2ull << 30);
+Expected<std::vector<AtRecord>, FileError> read_at_log(const std::filesystem::path& raw_dir,
+                                                       std::uintmax_t max_bytes = 1ull << 30);
+Expected<std::vector<RawChunk>, FileError> read_video_chunks(const std::filesystem::path& raw_dir,
+                                                             std::uintmax_t max_bytes = 1ull << 30);
 
-}  // namespace gs
+}  // namespace gs::dataset

@@ -5,26 +5,23 @@
 
 #include <fstream>
 
-namespace gs {
+namespace gs::dataset {
 
-Expected<std::vector<FrameRow>, DatasetError> replay_raw(const std::filesystem::path& raw_dir,
-                                                         RawReplayDecoders& dec,
-                                                         TimeNs max_nav_wait_ns) {
-    auto nav = read_navdata_bin(raw_dir);
-    if (!nav) return Unexpected(nav.error());
+Expected<std::vector<FrameRow>, FileError> replay_raw(const std::filesystem::path& raw_dir,
+                                                      RawReplayDecoders& dec,
+                                                      TimeNs max_nav_wait_ns) {
+    GS_TRY_ASSIGN(auto nav, read_navdata_bin(raw_dir));
     std::vector<RawChunk> chunks;
     std::ifstream pave;
     std::error_code ec;
     if (std::filesystem::exists(raw_dir / "video_chunks.bin", ec)) {
-        auto c = read_video_chunks(raw_dir);
-        if (!c) return Unexpected(c.error());
-        chunks = std::move(*c);
-        auto pave_path = raw_file_path(raw_dir, "video.pave");
-        if (!pave_path) return Unexpected(pave_path.error());
-        pave.open(*pave_path, std::ios::binary);
+        GS_TRY_ASSIGN(auto c, read_video_chunks(raw_dir));
+        chunks = std::move(c);
+        GS_TRY_ASSIGN(auto pave_path, raw_file_path(raw_dir, "video.pave"));
+        pave.open(pave_path, std::ios::binary);
         if (!pave)
             return Unexpected(
-                DatasetError{DatasetErrorCode::Missing, "raw/video.pave", 0, 0, "file not found"});
+                FileError{FileErrorCode::Missing, "raw/video.pave", 0, 0, "file not found"});
     }
     NavAligner aligner(max_nav_wait_ns);
     std::vector<FrameRow> rows;
@@ -37,7 +34,7 @@ Expected<std::vector<FrameRow>, DatasetError> replay_raw(const std::filesystem::
         while (aligner.pop_ready(latest, index, s)) rows.push_back(FrameRow{index, s, {}});
     };
     std::size_t ni = 0, ci = 0;
-    const auto& recs = nav->records;
+    const auto& recs = nav.records;
     while (ni < recs.size() || ci < chunks.size()) {
         // Receive-time order; on a tie the navdata goes first (it was received first on the wire
         // more often than not; the recorder's order on ties is not recorded).
@@ -74,4 +71,4 @@ Expected<std::vector<FrameRow>, DatasetError> replay_raw(const std::filesystem::
     return rows;
 }
 
-}  // namespace gs
+}  // namespace gs::dataset

@@ -12,7 +12,7 @@
 #include <span>
 #include <vector>
 
-namespace gs {
+namespace gs::dataset {
 
 struct RawReplayDecoders {
     // One navdata datagram -> its state (nullopt when it does not parse; it is then skipped).
@@ -32,8 +32,8 @@ RawReplayDecoders make_protocol_replay_decoders();
 std::optional<NavState> navdata_state(std::span<const std::uint8_t> datagram);
 
 // Replays `raw_dir` (raw/navdata.bin, raw/video.pave, raw/video_chunks.bin) into frames.csv rows.
-Expected<std::vector<FrameRow>, DatasetError> replay_raw(const std::filesystem::path& raw_dir,
-                                                         RawReplayDecoders& decoders,
-                                                         TimeNs max_nav_wait_ns = 500'000'000);
+Expected<std::vector<FrameRow>, FileError> replay_raw(const std::filesystem::path& raw_dir,
+                                                      RawReplayDecoders& decoders,
+                                                      TimeNs max_nav_wait_ns = 500'000'000);
 
-}  // namespace gs
+}  // namespace gs::dataset

@@ -1,24 +1,24 @@
 #include "drone/dataset/annexb.hpp"
 #include "drone/dataset/raw_replay.hpp"
-#include "drone/h264_decoder.hpp"
-#include "drone/navdata.hpp"
-#include "drone/pave.hpp"
+#include "drone/protocol/navdata.hpp"
+#include "drone/protocol/pave.hpp"
+#include "drone/video/h264_decoder.hpp"
 
 #include <memory>
 
-namespace gs {
+namespace gs::dataset {
 
 std::optional<NavState> navdata_state(std::span<const std::uint8_t> datagram) {
-    auto nd = navdata::parse_navdata(datagram);
+    auto nd = protocol::navdata::parse_navdata(datagram);
     if (!nd) return std::nullopt;
-    return navdata::to_nav_state(*nd, 0);
+    return protocol::navdata::to_nav_state(*nd, 0);
 }
 
 RawReplayDecoders make_protocol_replay_decoders() {
     // The same framer and decoder the link's video thread runs, fed the same bytes.
     struct Video {
-        PaveFramer framer;
-        H264Decoder decoder;
+        protocol::PaveFramer framer;
+        video::H264Decoder decoder;
         cv::Mat image;
         bool seen_idr = false;  // the writer skips frames before the first IDR
     };
@@ -28,16 +28,17 @@ RawReplayDecoders make_protocol_replay_decoders() {
     d.video = [v](std::span<const std::uint8_t> chunk, TimeNs recv_ns, std::vector<TimeNs>& out) {
         v->framer.push(chunk);
         while (auto ev = v->framer.next()) {
-            const auto* frame = std::get_if<PaveFrame>(&*ev);
-            if (frame == nullptr || frame->header.video_codec != PaveCodec::H264) continue;
-            AccessUnit au;
+            const auto* frame = std::get_if<protocol::PaveFrame>(&*ev);
+            if (frame == nullptr || frame->header.video_codec != protocol::PaveCodec::H264)
+                continue;
+            video::AccessUnit au;
             au.data = frame->payload;
             au.frame_number = frame->header.frame_number;
             au.display_width = frame->header.display_width;
             au.display_height = frame->header.display_height;
             au.stream_id = frame->header.stream_id;
             auto res = v->decoder.decode(au, v->image);
-            if (!res || *res != DecodeStatus::Frame) continue;
+            if (!res || *res != video::DecodeStatus::Frame) continue;
             if (!v->seen_idr) {
                 if (!annexb_has_idr(frame->payload)) continue;
                 v->seen_idr = true;
@@ -48,4 +49,4 @@ RawReplayDecoders make_protocol_replay_decoders() {
     return d;
 }
 
-}  // namespace gs
+}  // namespace gs::dataset

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <unordered_map>
 
-namespace gs {
+namespace gs::dataset {
 
 std::string FlightScore::false_regions_text() const {
     std::string s;
@@ -125,4 +125,4 @@ double ScoreSummary::min(const std::vector<double>& v) {
     return *std::min_element(v.begin(), v.end());
 }
 
-}  // namespace gs
+}  // namespace gs::dataset

@@ -19,7 +19,7 @@
 #include <string>
 #include <vector>
 
-namespace gs {
+namespace gs::dataset {
 
 // What the classifier reported at one frame: left, center, right unsafe.
 using RegionFlags = std::array<bool, 3>;
@@ -75,4 +75,4 @@ struct ScoreSummary {
     static double min(const std::vector<double>& v);
 };
 
-}  // namespace gs
+}  // namespace gs::dataset

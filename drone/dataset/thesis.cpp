@@ -10,7 +10,7 @@
 #include <charconv>
 #include <cmath>
 
-namespace gs {
+namespace gs::dataset {
 namespace fs = std::filesystem;
 
 namespace {
@@ -47,17 +47,16 @@ bool natural_less(const std::string& a, const std::string& b) {
     return a.size() - i < b.size() - j;
 }
 
-DatasetError derr(DatasetErrorCode c, std::string file, std::string msg, int line = 0,
-                  int col = 0) {
-    return DatasetError{c, std::move(file), line, col, std::move(msg)};
+FileError derr(FileErrorCode c, std::string file, std::string msg, int line = 0, int col = 0) {
+    return FileError{c, std::move(file), line, col, std::move(msg)};
 }
 
 struct ImuLine {
     double roll, pitch, yaw, vx, vy;
 };
 
-Expected<std::vector<ImuLine>, DatasetError> parse_imu(const std::string& text,
-                                                       const std::string& name) {
+Expected<std::vector<ImuLine>, FileError> parse_imu(const std::string& text,
+                                                    const std::string& name) {
     std::vector<ImuLine> out;
     int line_no = 0;
     std::size_t pos = 0;
@@ -78,7 +77,7 @@ Expected<std::vector<ImuLine>, DatasetError> parse_imu(const std::string& text,
             while (e < line.size() && !blank(line[e])) ++e;
             const int col = static_cast<int>(i + 1);
             if (n == 5)
-                return Unexpected(derr(DatasetErrorCode::Malformed, name,
+                return Unexpected(derr(FileErrorCode::Malformed, name,
                                        "expected 5 values (roll pitch yaw vx vy), got more",
                                        line_no, col));
             std::string_view tok = line.substr(i, e - i);
@@ -86,7 +85,7 @@ Expected<std::vector<ImuLine>, DatasetError> parse_imu(const std::string& text,
             auto [p, ec] = std::from_chars(tok.data(), tok.data() + tok.size(), v[n]);
             if (ec != std::errc() || p != tok.data() + tok.size())
                 return Unexpected(
-                    derr(DatasetErrorCode::Malformed, name,
+                    derr(FileErrorCode::Malformed, name,
                          "expected a number, got '" +
                              std::string(line.substr(i, std::min<std::size_t>(e - i, 40))) + "'",
                          line_no, col));
@@ -96,7 +95,7 @@ Expected<std::vector<ImuLine>, DatasetError> parse_imu(const std::string& text,
         if (n == 0) continue;  // blank line
         if (n != 5)
             return Unexpected(
-                derr(DatasetErrorCode::Malformed, name,
+                derr(FileErrorCode::Malformed, name,
                      "expected 5 values (roll pitch yaw vx vy), got " + std::to_string(n), line_no,
                      static_cast<int>(line.size() + 1)));
         out.push_back({v[0], v[1], v[2], v[3], v[4]});
@@ -111,20 +110,20 @@ struct ThesisMeta {
     std::optional<CameraCalibration> calibration;
 };
 
-Expected<ThesisMeta, DatasetError> parse_thesis_meta(const std::string& text,
-                                                     const DatasetLimits& limits,
-                                                     std::vector<std::string>& warnings) {
+Expected<ThesisMeta, FileError> parse_thesis_meta(const std::string& text,
+                                                  const DatasetLimits& limits,
+                                                  std::vector<std::string>& warnings) {
     const std::string file = kThesisMetaFile;
     nlohmann::json j;
     try {
         j = nlohmann::json::parse(text);
     } catch (const nlohmann::json::parse_error& e) {
         auto [l, c] = text_line_col(text, e.byte > 0 ? e.byte - 1 : 0);
-        return Unexpected(derr(DatasetErrorCode::Malformed, file, "invalid JSON", l, c));
+        return Unexpected(derr(FileErrorCode::Malformed, file, "invalid JSON", l, c));
     }
     if (!j.is_object())
-        return Unexpected(derr(DatasetErrorCode::Malformed, file, "expected a JSON object", 1, 1));
-    auto at = [&](DatasetErrorCode code, const std::string& key, const std::string& msg) {
+        return Unexpected(derr(FileErrorCode::Malformed, file, "expected a JSON object", 1, 1));
+    auto at = [&](FileErrorCode code, const std::string& key, const std::string& msg) {
         auto [l, c] = locate_json_key(text, key);
         return derr(code, file, "'" + key + "': " + msg, l, c);
     };
@@ -132,11 +131,11 @@ Expected<ThesisMeta, DatasetError> parse_thesis_meta(const std::string& text,
     for (const auto& [key, v] : j.items()) {
         if (key == "fps") {
             if (!v.is_number())
-                return Unexpected(at(DatasetErrorCode::Malformed, key, "expected a number"));
+                return Unexpected(at(FileErrorCode::Malformed, key, "expected a number"));
             const double fps = v.get<double>();
             if (!(fps > 0) || fps > limits.max_fps)
                 return Unexpected(at(
-                    DatasetErrorCode::OutOfRange, key,
+                    FileErrorCode::OutOfRange, key,
                     v.dump() + " is out of range (0, " + csv::format_number(limits.max_fps) + "]"));
             m.fps = fps;
         } else if (key == "camera") {
@@ -146,11 +145,11 @@ Expected<ThesisMeta, DatasetError> parse_thesis_meta(const std::string& text,
                 m.camera = CameraId::Bottom;
             } else {
                 return Unexpected(
-                    at(DatasetErrorCode::Malformed, key, "expected \"front\" or \"bottom\""));
+                    at(FileErrorCode::Malformed, key, "expected \"front\" or \"bottom\""));
             }
         } else if (key == "calibration") {
             if (!v.is_object())
-                return Unexpected(at(DatasetErrorCode::Malformed, key, "expected an object"));
+                return Unexpected(at(FileErrorCode::Malformed, key, "expected an object"));
             auto c = calibration_from_json(v);
             if (!c) {
                 const std::string k = c.error().key.empty() ? key : c.error().key;
@@ -170,16 +169,15 @@ struct ThesisExtra {
     std::vector<FrameRow> rows;  // t_ns, vz_mps, altitude_m, gt_* (roll ... vy unused)
 };
 
-Expected<ThesisExtra, DatasetError> parse_thesis_extra(std::string text, std::size_t images) {
-    auto tr = csv::Table::parse(std::move(text), kThesisExtraFile);
-    if (!tr) return Unexpected(tr.error());
-    const csv::Table& t = *tr;
+Expected<ThesisExtra, FileError> parse_thesis_extra(std::string text, std::size_t images) {
+    GS_TRY_ASSIGN(auto tr, csv::Table::parse(std::move(text), kThesisExtraFile));
+    const csv::Table& t = tr;
     const auto fc = t.column("frame");
     if (!fc)
-        return Unexpected(derr(DatasetErrorCode::Missing, kThesisExtraFile,
-                               "missing required column 'frame'", 1));
+        return Unexpected(
+            derr(FileErrorCode::Missing, kThesisExtraFile, "missing required column 'frame'", 1));
     if (t.rows() != images)
-        return Unexpected(derr(DatasetErrorCode::Inconsistent, kThesisExtraFile,
+        return Unexpected(derr(FileErrorCode::Inconsistent, kThesisExtraFile,
                                std::to_string(t.rows()) + " rows but the folder holds " +
                                    std::to_string(images) + " images"));
     const auto tc = t.column("t_ms");
@@ -188,26 +186,23 @@ Expected<ThesisExtra, DatasetError> parse_thesis_extra(std::string text, std::si
     x.rows.resize(images);
     for (std::size_t r = 0; r < t.rows(); ++r) {
         FrameRow& row = x.rows[r];
-        auto fi = t.integer(r, *fc);
-        if (!fi) return Unexpected(fi.error());
-        if (*fi != static_cast<std::int64_t>(r)) {
-            auto e =
-                t.error_at(r, *fc,
-                           "expected frame " + std::to_string(r) + ", got " + std::to_string(*fi) +
-                               " (rows are images 0, 1, 2 ... in order)");
-            e.code = DatasetErrorCode::Inconsistent;
+        GS_TRY_ASSIGN(auto fi, t.integer(r, *fc));
+        if (fi != static_cast<std::int64_t>(r)) {
+            auto e = t.error_at(r, *fc,
+                                "expected frame " + std::to_string(r) + ", got " +
+                                    std::to_string(fi) + " (rows are images 0, 1, 2 ... in order)");
+            e.code = FileErrorCode::Inconsistent;
             return Unexpected(e);
         }
-        row.frame = *fi;
+        row.frame = fi;
         if (tc) {
-            auto tv = t.number(r, *tc);
-            if (!tv) return Unexpected(tv.error());
-            if (!std::isfinite(*tv))
+            GS_TRY_ASSIGN(auto tv, t.number(r, *tc));
+            if (!std::isfinite(tv))
                 return Unexpected(t.error_at(r, *tc, "expected a time, got an empty field"));
-            row.nav.t_ns = csv::ms_to_ns_rounded(*tv);
+            row.nav.t_ns = csv::ms_to_ns_rounded(tv);
             if (r > 0 && row.nav.t_ns < x.rows[r - 1].nav.t_ns) {
                 auto e = t.error_at(r, *tc, "time goes backwards");
-                e.code = DatasetErrorCode::Inconsistent;
+                e.code = FileErrorCode::Inconsistent;
                 return Unexpected(e);
             }
         }
@@ -219,9 +214,8 @@ Expected<ThesisExtra, DatasetError> parse_thesis_extra(std::string text, std::si
                                  {"gt_yaw_deg", &row.gt.yaw_deg}}) {
             const auto col = t.column(name);
             if (!col) continue;
-            auto v = t.number(r, *col);
-            if (!v) return Unexpected(v.error());
-            *dst = *v;
+            GS_TRY_ASSIGN(auto v, t.number(r, *col));
+            *dst = v;
         }
     }
     return x;
@@ -241,7 +235,7 @@ std::string thesis_labels_json(const FlightLabels& l) {
 }
 
 // A dataset's labels, those it has, beside the images or frames written into `dst`.
-std::optional<DatasetError> write_labels(const Dataset& d, const fs::path& dst) {
+std::optional<FileError> write_labels(const Dataset& d, const fs::path& dst) {
     if (d.labels()) {
         if (auto e = write_file_atomic(dst / "labels.json", thesis_labels_json(*d.labels()),
                                        "labels.json"))
@@ -255,15 +249,15 @@ std::optional<DatasetError> write_labels(const Dataset& d, const fs::path& dst) 
 
 }  // namespace
 
-Expected<Dataset, DatasetError> open_thesis_folder(const fs::path& dir,
-                                                   const ThesisImportOptions& opts,
-                                                   const DatasetOpenOptions& open_opts) {
+Expected<Dataset, FileError> open_thesis_folder(const fs::path& dir,
+                                                const ThesisImportOptions& opts,
+                                                const DatasetOpenOptions& open_opts) {
     std::error_code ec;
     if (!fs::is_directory(dir, ec))
-        return Unexpected(derr(DatasetErrorCode::Missing, dir.string(), "not a directory"));
+        return Unexpected(derr(FileErrorCode::Missing, dir.string(), "not a directory"));
     const DatasetLimits& lim = open_opts.limits;
     if (opts.fps && (!(*opts.fps > 0) || *opts.fps > lim.max_fps))
-        return Unexpected(derr(DatasetErrorCode::OutOfRange, dir.string(),
+        return Unexpected(derr(FileErrorCode::OutOfRange, dir.string(),
                                "fps " + csv::format_number(*opts.fps) + " is out of range (0, " +
                                    csv::format_number(lim.max_fps) + "]"));
     std::vector<std::string> images, texts;
@@ -274,7 +268,7 @@ Expected<Dataset, DatasetError> open_thesis_folder(const fs::path& dir,
         if (is_image(it->path())) images.push_back(name);
         if (it->path().extension() == ".txt") texts.push_back(name);
     }
-    if (ec) return Unexpected(derr(DatasetErrorCode::Io, dir.string(), ec.message()));
+    if (ec) return Unexpected(derr(FileErrorCode::Io, dir.string(), ec.message()));
     std::string imu = opts.imu_file;
     if (imu.empty()) {
         if (std::find(texts.begin(), texts.end(), "imu.txt") != texts.end()) {
@@ -282,72 +276,59 @@ Expected<Dataset, DatasetError> open_thesis_folder(const fs::path& dir,
         } else if (texts.size() == 1) {
             imu = texts.front();
         } else {
-            return Unexpected(derr(DatasetErrorCode::Missing, dir.string(),
+            return Unexpected(derr(FileErrorCode::Missing, dir.string(),
                                    texts.empty() ? "no IMU text file (imu.txt)"
                                                  : "no imu.txt and several .txt files"));
         }
     }
     if (fs::path(imu).has_parent_path())
-        return Unexpected(
-            derr(DatasetErrorCode::UnsafePath, imu, "IMU file must be in the folder"));
-    auto imu_path = resolve_fixed(dir, imu);
-    if (!imu_path) return Unexpected(imu_path.error());
-    auto text = read_text_file(*imu_path, imu, lim.max_csv_bytes);
-    if (!text) return Unexpected(text.error());
-    auto lines = parse_imu(*text, imu);
-    if (!lines) return Unexpected(lines.error());
+        return Unexpected(derr(FileErrorCode::UnsafePath, imu, "IMU file must be in the folder"));
+    GS_TRY_ASSIGN(auto imu_path, resolve_fixed(dir, imu));
+    GS_TRY_ASSIGN(auto text, read_text_file(imu_path, imu, lim.max_csv_bytes));
+    GS_TRY_ASSIGN(auto lines, parse_imu(text, imu));
     if (images.empty())
-        return Unexpected(derr(DatasetErrorCode::Missing, dir.string(), "no image files"));
-    if (lines->size() != images.size())
-        return Unexpected(derr(DatasetErrorCode::Inconsistent, imu,
-                               std::to_string(lines->size()) + " lines but the folder holds " +
+        return Unexpected(derr(FileErrorCode::Missing, dir.string(), "no image files"));
+    if (lines.size() != images.size())
+        return Unexpected(derr(FileErrorCode::Inconsistent, imu,
+                               std::to_string(lines.size()) + " lines but the folder holds " +
                                    std::to_string(images.size()) + " images"));
     if (static_cast<std::int64_t>(images.size()) > lim.max_frames)
-        return Unexpected(derr(DatasetErrorCode::OutOfRange, dir.string(), "too many images"));
+        return Unexpected(derr(FileErrorCode::OutOfRange, dir.string(), "too many images"));
     std::sort(images.begin(), images.end(), natural_less);
     std::vector<fs::path> paths;
     paths.reserve(images.size());
     for (const auto& name : images) {
-        auto p = resolve_fixed(dir, name);
-        if (!p) return Unexpected(p.error());
-        paths.push_back(std::move(*p));
+        GS_TRY_ASSIGN(auto p, resolve_fixed(dir, name));
+        paths.push_back(std::move(p));
     }
 
     // The side files, when present.
     std::vector<std::string> warnings;
     ThesisMeta meta;
-    auto meta_path = resolve_fixed(dir, kThesisMetaFile);
-    if (!meta_path) return Unexpected(meta_path.error());
-    if (fs::exists(*meta_path, ec)) {
-        auto t = read_text_file(*meta_path, kThesisMetaFile, lim.max_json_bytes);
-        if (!t) return Unexpected(t.error());
-        auto m = parse_thesis_meta(*t, lim, warnings);
-        if (!m) return Unexpected(m.error());
-        meta = std::move(*m);
+    GS_TRY_ASSIGN(auto meta_path, resolve_fixed(dir, kThesisMetaFile));
+    if (fs::exists(meta_path, ec)) {
+        GS_TRY_ASSIGN(auto t, read_text_file(meta_path, kThesisMetaFile, lim.max_json_bytes));
+        GS_TRY_ASSIGN(auto m, parse_thesis_meta(t, lim, warnings));
+        meta = std::move(m);
     }
     std::optional<ThesisExtra> extra;
-    auto extra_path = resolve_fixed(dir, kThesisExtraFile);
-    if (!extra_path) return Unexpected(extra_path.error());
-    if (fs::exists(*extra_path, ec)) {
-        auto t = read_text_file(*extra_path, kThesisExtraFile, lim.max_csv_bytes);
-        if (!t) return Unexpected(t.error());
-        auto x = parse_thesis_extra(std::move(*t), images.size());
-        if (!x) return Unexpected(x.error());
-        extra = std::move(*x);
+    GS_TRY_ASSIGN(auto extra_path, resolve_fixed(dir, kThesisExtraFile));
+    if (fs::exists(extra_path, ec)) {
+        GS_TRY_ASSIGN(auto t, read_text_file(extra_path, kThesisExtraFile, lim.max_csv_bytes));
+        GS_TRY_ASSIGN(auto x, parse_thesis_extra(std::move(t), images.size()));
+        extra = std::move(x);
     }
-    auto labels = read_labels(dir, lim);
-    if (!labels) return Unexpected(labels.error());
+    GS_TRY_ASSIGN(auto labels, read_labels(dir, lim));
 
     cv::Mat first = cv::imread(paths.front().string(), cv::IMREAD_COLOR);
     if (first.empty())
-        return Unexpected(
-            derr(DatasetErrorCode::Malformed, images.front(), "not a decodable image"));
+        return Unexpected(derr(FileErrorCode::Malformed, images.front(), "not a decodable image"));
     DatasetInfo info;
     info.camera = opts.camera.value_or(meta.camera.value_or(CameraId::Front));
     info.width = first.cols;
     info.height = first.rows;
     if (info.width > lim.max_dimension || info.height > lim.max_dimension)
-        return Unexpected(derr(DatasetErrorCode::OutOfRange, images.front(), "image too large"));
+        return Unexpected(derr(FileErrorCode::OutOfRange, images.front(), "image too large"));
     info.fps = opts.fps.value_or(meta.fps.value_or(kThesisDefaultFps));
     info.frames = static_cast<std::int64_t>(images.size());
     info.images = ".";
@@ -359,9 +340,8 @@ Expected<Dataset, DatasetError> open_thesis_folder(const fs::path& dir,
         calib.width = info.width;
         calib.height = info.height;
     } else {
-        auto cal = default_calibration(info.camera, open_opts.assets_dir);
-        if (!cal) return Unexpected(cal.error());
-        calib = scaled_to(*cal, info.width, info.height);
+        GS_TRY_ASSIGN(auto cal, default_calibration(info.camera, open_opts.assets_dir));
+        calib = cal.scaled_to(info.width, info.height);
     }
     const bool extra_times = extra && extra->has_time;
     if (extra_times && opts.fps)
@@ -376,7 +356,7 @@ Expected<Dataset, DatasetError> open_thesis_folder(const fs::path& dir,
         r.frame = static_cast<std::int64_t>(i);
         if (!extra_times || opts.fps)
             r.nav.t_ns = std::llround(static_cast<double>(i) * 1e9 / info.fps);
-        const ImuLine& l = (*lines)[i];
+        const ImuLine& l = (lines)[i];
         r.nav.roll_deg = l.roll;
         r.nav.pitch_deg = l.pitch;
         r.nav.yaw_deg = l.yaw;
@@ -385,24 +365,23 @@ Expected<Dataset, DatasetError> open_thesis_folder(const fs::path& dir,
         rows.push_back(r);
     }
     return Dataset::from_parts(dir, info, calib, std::move(rows), std::move(paths),
-                               std::move(labels->flight), std::move(labels->rows),
+                               std::move(labels.flight), std::move(labels.rows),
                                std::move(warnings));
 }
 
-Expected<Dataset, DatasetError> import_thesis(const fs::path& src, const fs::path& dst,
-                                              const ThesisImportOptions& opts,
-                                              const DatasetOpenOptions& open_opts) {
-    auto d = open_thesis_folder(src, opts, open_opts);
-    if (!d) return Unexpected(d.error());
+Expected<Dataset, FileError> import_thesis(const fs::path& src, const fs::path& dst,
+                                           const ThesisImportOptions& opts,
+                                           const DatasetOpenOptions& open_opts) {
+    GS_TRY_ASSIGN(auto d, open_thesis_folder(src, opts, open_opts));
     std::error_code ec;
     if (fs::exists(dst, ec) && (!fs::is_directory(dst, ec) || !fs::is_empty(dst, ec)))
         return Unexpected(
-            derr(DatasetErrorCode::Io, dst.string(), "exists and is not an empty directory"));
+            derr(FileErrorCode::Io, dst.string(), "exists and is not an empty directory"));
     fs::create_directories(dst / "frames", ec);
-    if (ec) return Unexpected(derr(DatasetErrorCode::Io, dst.string(), ec.message()));
+    if (ec) return Unexpected(derr(FileErrorCode::Io, dst.string(), ec.message()));
     std::string frames = frames_csv_header();
-    for (std::size_t i = 0; i < d->frames().size(); ++i) {
-        const fs::path& from = d->image_files()[i];
+    for (std::size_t i = 0; i < d.frames().size(); ++i) {
+        const fs::path& from = d.image_files()[i];
         std::string ext = from.extension().string();
         std::transform(ext.begin(), ext.end(), ext.begin(),
                        [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
@@ -413,31 +392,29 @@ Expected<Dataset, DatasetError> import_thesis(const fs::path& src, const fs::pat
             if (img.empty() ||
                 !cv::imwrite((dst / "frames" / (std::string(name) + ".png")).string(), img))
                 return Unexpected(
-                    derr(DatasetErrorCode::Io, from.filename().string(), "cannot convert to PNG"));
+                    derr(FileErrorCode::Io, from.filename().string(), "cannot convert to PNG"));
         } else {
             fs::copy_file(from, dst / "frames" / (name + ext), ec);
             if (ec)
-                return Unexpected(
-                    derr(DatasetErrorCode::Io, from.filename().string(), ec.message()));
+                return Unexpected(derr(FileErrorCode::Io, from.filename().string(), ec.message()));
         }
-        frames += frames_csv_row(d->frames()[i]);
+        frames += frames_csv_row(d.frames()[i]);
     }
-    DatasetInfo info = d->info();
+    DatasetInfo info = d.info();
     info.images = "frames";
     if (auto e = write_file_atomic(dst / "frames.csv", frames, "frames.csv")) return Unexpected(*e);
-    if (auto e = write_labels(*d, dst)) return Unexpected(*e);
+    if (auto e = write_labels(d, dst)) return Unexpected(*e);
     if (auto e = write_file_atomic(dst / "flight.json", flight_json_text(info), "flight.json"))
         return Unexpected(*e);
     return Dataset::open(dst, open_opts);
 }
 
-std::optional<DatasetError> export_thesis(const Dataset& d, FrameStore& frames,
-                                          const fs::path& dst) {
+std::optional<FileError> export_thesis(const Dataset& d, FrameStore& frames, const fs::path& dst) {
     std::error_code ec;
     if (fs::exists(dst, ec) && (!fs::is_directory(dst, ec) || !fs::is_empty(dst, ec)))
-        return derr(DatasetErrorCode::Io, dst.string(), "exists and is not an empty directory");
+        return derr(FileErrorCode::Io, dst.string(), "exists and is not an empty directory");
     fs::create_directories(dst, ec);
-    if (ec) return derr(DatasetErrorCode::Io, dst.string(), ec.message());
+    if (ec) return derr(FileErrorCode::Io, dst.string(), ec.message());
     std::string imu;
     std::string extra = "frame,t_ms,vz_mps,altitude_m,gt_x_m,gt_y_m,gt_z_m,gt_yaw_deg\n";
     cv::Mat img;
@@ -447,7 +424,7 @@ std::optional<DatasetError> export_thesis(const Dataset& d, FrameStore& frames,
         char name[32];
         std::snprintf(name, sizeof name, "%06lld.png", static_cast<long long>(i));
         if (!cv::imwrite((dst / name).string(), img))
-            return derr(DatasetErrorCode::Io, name, "cannot write image");
+            return derr(FileErrorCode::Io, name, "cannot write image");
         const FrameRow& row = d.frames()[static_cast<std::size_t>(i)];
         const NavState& s = row.nav;
         imu += num(s.roll_deg) + ' ' + num(s.pitch_deg) + ' ' + num(s.yaw_deg) + ' ' +
@@ -470,4 +447,4 @@ std::optional<DatasetError> export_thesis(const Dataset& d, FrameStore& frames,
     return write_file_atomic(dst / "imu.txt", imu, "imu.txt");
 }
 
-}  // namespace gs
+}  // namespace gs::dataset

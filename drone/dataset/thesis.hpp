@@ -24,7 +24,7 @@
 #include <optional>
 #include <string>
 
-namespace gs {
+namespace gs::dataset {
 
 inline constexpr double kThesisDefaultFps = 25;
 inline constexpr const char* kThesisExtraFile = "imu_extra.csv";
@@ -40,21 +40,21 @@ struct ThesisImportOptions {
 
 // The folder as an in-memory Dataset (images read in place; natural order: image_2 before
 // image_10). The image count must equal the IMU line count.
-Expected<Dataset, DatasetError> open_thesis_folder(const std::filesystem::path& dir,
-                                                   const ThesisImportOptions& opts = {},
-                                                   const DatasetOpenOptions& open_opts = {});
+Expected<Dataset, FileError> open_thesis_folder(const std::filesystem::path& dir,
+                                                const ThesisImportOptions& opts = {},
+                                                const DatasetOpenOptions& open_opts = {});
 
 // Converts a thesis folder into a dataset directory `dst` (must not exist or be empty):
 // flight.json (source "imported"), frames.csv, frames/ (the image files copied), labels.* when
 // the folder has them. Returns it opened.
-Expected<Dataset, DatasetError> import_thesis(const std::filesystem::path& src,
-                                              const std::filesystem::path& dst,
-                                              const ThesisImportOptions& opts = {},
-                                              const DatasetOpenOptions& open_opts = {});
+Expected<Dataset, FileError> import_thesis(const std::filesystem::path& src,
+                                           const std::filesystem::path& dst,
+                                           const ThesisImportOptions& opts = {},
+                                           const DatasetOpenOptions& open_opts = {});
 
 // Writes `d` in the thesis layout into `dst`: 000000.png ... (pixels from `frames`) and imu.txt
 // (unknown values written as "nan"), plus imu_extra.csv, imu_meta.json and the labels (above).
-[[nodiscard]] std::optional<DatasetError> export_thesis(const Dataset& d, FrameStore& frames,
-                                                        const std::filesystem::path& dst);
+[[nodiscard]] std::optional<FileError> export_thesis(const Dataset& d, FrameStore& frames,
+                                                     const std::filesystem::path& dst);
 
-}  // namespace gs
+}  // namespace gs::dataset

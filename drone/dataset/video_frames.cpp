@@ -1,10 +1,10 @@
 #include "drone/dataset/video_frames.hpp"
 
-#include "drone/h264_decoder.hpp"
+#include "drone/video/h264_decoder.hpp"
 
 #include <fstream>
 
-namespace gs {
+namespace gs::dataset {
 namespace {
 
 class VideoFrames final : public FrameStore {
@@ -20,15 +20,15 @@ public:
     bool ok() const { return static_cast<bool>(in_); }
     std::int64_t count() const override { return static_cast<std::int64_t>(units_.size()); }
 
-    std::optional<DatasetError> read(std::int64_t index, cv::Mat& out) override {
+    std::optional<FileError> read(std::int64_t index, cv::Mat& out) override {
         if (index < 0 || index >= count())
-            return err(DatasetErrorCode::OutOfRange, "no access unit " + std::to_string(index));
+            return err(FileErrorCode::OutOfRange, "no access unit " + std::to_string(index));
         std::int64_t from = index;
         if (index != last_ + 1 || last_ < 0) {
             // Random access: restart at the last IDR at or before `index`.
             while (from >= 0 && !units_[static_cast<std::size_t>(from)].idr) --from;
             if (from < 0)
-                return err(DatasetErrorCode::Malformed,
+                return err(FileErrorCode::Malformed,
                            "no IDR at or before access unit " + std::to_string(index));
             decoder_.reset();
         }
@@ -40,8 +40,8 @@ public:
             in_.seekg(static_cast<std::streamoff>(u.offset));
             in_.read(reinterpret_cast<char*>(buf_.data()), static_cast<std::streamsize>(u.size));
             if (!in_)
-                return err(DatasetErrorCode::Io, "read failed at access unit " + std::to_string(i));
-            AccessUnit au;
+                return err(FileErrorCode::Io, "read failed at access unit " + std::to_string(i));
+            video::AccessUnit au;
             au.data = buf_;
             au.frame_number = static_cast<std::uint32_t>(i);
             au.display_width = width_;
@@ -53,14 +53,14 @@ public:
             last_ = i;
             if (i < index) continue;
             if (!r)
-                return err(DatasetErrorCode::Malformed,
+                return err(FileErrorCode::Malformed,
                            "access unit " + std::to_string(i) + ": " + to_string(r.error()));
-            if (*r != DecodeStatus::Frame)
-                return err(DatasetErrorCode::Malformed,
+            if (*r != video::DecodeStatus::Frame)
+                return err(FileErrorCode::Malformed,
                            "access unit " + std::to_string(i) + " produced no picture");
         }
         if (out.cols != width_ || out.rows != height_)
-            return err(DatasetErrorCode::Inconsistent,
+            return err(FileErrorCode::Inconsistent,
                        "decoded " + std::to_string(out.cols) + "x" + std::to_string(out.rows) +
                            ", flight.json says " + std::to_string(width_) + "x" +
                            std::to_string(height_));
@@ -69,35 +69,35 @@ public:
     }
 
 private:
-    DatasetError err(DatasetErrorCode c, std::string msg) const {
-        return DatasetError{c, name_, 0, 0, std::move(msg)};
+    FileError err(FileErrorCode c, std::string msg) const {
+        return FileError{c, name_, 0, 0, std::move(msg)};
     }
     std::filesystem::path path_;
     std::string name_;
     std::vector<AccessUnitSpan> units_;
     int width_, height_;
     std::ifstream in_;
-    H264Decoder decoder_;
+    video::H264Decoder decoder_;
     std::vector<std::uint8_t> buf_;
     std::int64_t last_ = -1;
 };
 
 }  // namespace
 
-Expected<std::unique_ptr<FrameStore>, DatasetError> open_video_frames(const Dataset& d) {
+Expected<std::unique_ptr<FrameStore>, FileError> open_video_frames(const Dataset& d) {
     if (!d.video_path())
-        return Unexpected(DatasetError{DatasetErrorCode::Missing, d.info().video, 0, 0,
-                                       "the dataset has no video"});
+        return Unexpected(
+            FileError{FileErrorCode::Missing, d.info().video, 0, 0, "the dataset has no video"});
     auto v = std::make_unique<VideoFrames>(d);
     if (!v->ok())
         return Unexpected(
-            DatasetError{DatasetErrorCode::Io, d.info().video, 0, 0, "cannot open for reading"});
+            FileError{FileErrorCode::Io, d.info().video, 0, 0, "cannot open for reading"});
     return std::unique_ptr<FrameStore>(std::move(v));
 }
 
-Expected<std::unique_ptr<FrameStore>, DatasetError> open_frames(const Dataset& d) {
+Expected<std::unique_ptr<FrameStore>, FileError> open_frames(const Dataset& d) {
     if (d.video_path()) return open_video_frames(d);
     return open_image_frames(d);
 }
 
-}  // namespace gs
+}  // namespace gs::dataset

@@ -5,11 +5,11 @@
 
 #include "drone/dataset/frame_store.hpp"
 
-namespace gs {
+namespace gs::dataset {
 
 // Frames decoded from the dataset's video.h264 (Missing when it has none).
-Expected<std::unique_ptr<FrameStore>, DatasetError> open_video_frames(const Dataset& d);
+Expected<std::unique_ptr<FrameStore>, FileError> open_video_frames(const Dataset& d);
 // video.h264 when present (the source of truth), else the frames/ images.
-Expected<std::unique_ptr<FrameStore>, DatasetError> open_frames(const Dataset& d);
+Expected<std::unique_ptr<FrameStore>, FileError> open_frames(const Dataset& d);
 
-}  // namespace gs
+}  // namespace gs::dataset

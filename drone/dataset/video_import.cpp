@@ -1,8 +1,9 @@
 #include "drone/dataset/video_import.hpp"
 
 #include "drone/dataset/writer.hpp"
-#include "drone/h264_decoder.hpp"
-#include "drone/h264_encoder.hpp"
+#include "drone/core/file_io.hpp"
+#include "drone/video/h264_decoder.hpp"
+#include "drone/video/h264_encoder.hpp"
 
 extern "C" {
 #include <libavcodec/avcodec.h>
@@ -20,9 +21,15 @@ extern "C" {
 #include <limits>
 #include <vector>
 
-namespace gs {
+namespace gs::dataset {
 namespace {
 namespace fs = std::filesystem;
+using video::H264Decoder;
+using video::H264Encoder;
+using video::H264EncoderConfig;
+using video::AccessUnit;
+using video::DecodeStatus;
+using video::contains_idr;
 
 std::string av_error_text(int code) {
     char b[AV_ERROR_MAX_STRING_SIZE] = {};
@@ -350,4 +357,4 @@ Expected<VideoImportSummary, std::string> import_video(const fs::path& input,
     return sum;
 }
 
-}  // namespace gs
+}  // namespace gs::dataset

@@ -11,8 +11,8 @@
 // frames) at a high bitrate so the import adds little damage of its own. Frame times come from
 // the container (each frame's presentation time) or from --fps.
 
-#include "drone/calibration.hpp"
-#include "drone/expected.hpp"
+#include "drone/core/camera_calibration.hpp"
+#include "drone/core/expected.hpp"
 
 #include <cstdint>
 #include <filesystem>
@@ -20,7 +20,7 @@
 #include <optional>
 #include <string>
 
-namespace gs {
+namespace gs::dataset {
 
 enum class VideoImportMode {
     Auto,    // copy when the stream is H.264 without reordering, else encode
@@ -56,4 +56,4 @@ struct VideoImportSummary {
     const std::filesystem::path& input, const std::filesystem::path& out_dir,
     const VideoImportOptions& options);
 
-}  // namespace gs
+}  // namespace gs::dataset

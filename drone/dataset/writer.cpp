@@ -15,13 +15,13 @@
 #include <cstring>
 #include <deque>
 
-namespace gs {
+namespace gs::dataset {
 namespace fs = std::filesystem;
 
 namespace {
 
-DatasetError io_error(const std::string& name, const std::string& what) {
-    return DatasetError{DatasetErrorCode::Io, name, 0, 0, what};
+FileError io_error(const std::string& name, const std::string& what) {
+    return FileError{FileErrorCode::Io, name, 0, 0, what};
 }
 
 std::string frame_file_name(std::int64_t index, const char* ext) {
@@ -99,32 +99,6 @@ std::string navdata_csv_row(const NavState& s) {
     return out;
 }
 
-std::optional<DatasetError> write_file_atomic(const fs::path& path, std::string_view text,
-                                              const std::string& name) {
-    const fs::path tmp = path.string() + ".tmp";
-    const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-    if (fd < 0) return io_error(name, std::string("cannot create: ") + std::strerror(errno));
-    std::size_t done = 0;
-    while (done < text.size()) {
-        const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
-        if (n < 0 && errno == EINTR) continue;
-        if (n <= 0) {
-            const int e = errno;
-            ::close(fd);
-            ::unlink(tmp.c_str());
-            return io_error(name, std::string("write failed: ") + std::strerror(e));
-        }
-        done += static_cast<std::size_t>(n);
-    }
-    ::close(fd);
-    if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-        const int e = errno;
-        ::unlink(tmp.c_str());
-        return io_error(name, std::string("rename failed: ") + std::strerror(e));
-    }
-    return std::nullopt;
-}
-
 // ---------------------------------------------------------------------------------------------
 // Worker-side state: only the worker thread touches it (after create()).
 
@@ -137,7 +111,7 @@ struct OutFile {
     std::string buf;
     bool failed = false;
 
-    std::optional<DatasetError> open_new(const fs::path& p, std::string n) {
+    std::optional<FileError> open_new(const fs::path& p, std::string n) {
         path = p;
         name = std::move(n);
         fd = ::open(p.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
@@ -209,7 +183,7 @@ struct DatasetWriter::Files {
         return frames_csv.buf.size() + navdata_csv.buf.size() + video.buf.size() +
                raw_nav.buf.size() + raw_pave.buf.size() + raw_chunks.buf.size() + raw_at.buf.size();
     }
-    void note_error(const DatasetError& e) {
+    void note_error(const FileError& e) {
         ++st.write_errors;
         if (st.first_error.empty()) st.first_error = to_string(e);
     }
@@ -222,19 +196,19 @@ DatasetWriter::DatasetWriter(fs::path dir, DatasetWriterOptions opts, const Cloc
       t0_(clock.now_ns()),
       queue_(opts_.queue_capacity, QueueFull::RejectNew) {}
 
-Expected<std::unique_ptr<DatasetWriter>, DatasetError> DatasetWriter::create(
+Expected<std::unique_ptr<DatasetWriter>, FileError> DatasetWriter::create(
     const fs::path& dir, const DatasetWriterOptions& opts, const Clock& clock) {
     std::error_code ec;
     if (fs::exists(dir, ec)) {
         if (!fs::is_directory(dir, ec) || !fs::is_empty(dir, ec))
-            return Unexpected(DatasetError{DatasetErrorCode::Io, dir.string(), 0, 0,
-                                           "exists and is not an empty directory"});
+            return Unexpected(FileError{FileErrorCode::Io, dir.string(), 0, 0,
+                                        "exists and is not an empty directory"});
     }
     fs::create_directories(dir, ec);
     if (ec) return Unexpected(io_error(dir.string(), "cannot create directory: " + ec.message()));
     if (opts.width < 1 || opts.height < 1 || !(opts.fps > 0))
-        return Unexpected(DatasetError{DatasetErrorCode::OutOfRange, "flight.json", 0, 0,
-                                       "width, height and fps must be positive"});
+        return Unexpected(FileError{FileErrorCode::OutOfRange, "flight.json", 0, 0,
+                                    "width, height and fps must be positive"});
     auto opts2 = opts;
     if (opts2.flush_interval > std::chrono::seconds(1))
         opts2.flush_interval = std::chrono::seconds(1);
@@ -457,7 +431,7 @@ void DatasetWriter::run() {
                 ok = false;
             }
             const std::string name = "frames/" + frame_file_name(index, ".png");
-            std::optional<DatasetError> e;
+            std::optional<FileError> e;
             if (!ok) {
                 e = io_error(name, "PNG encoding failed");
             } else {
@@ -565,4 +539,4 @@ void DatasetWriter::run() {
     stats_.publish(f.st);
 }
 
-}  // namespace gs
+}  // namespace gs::dataset

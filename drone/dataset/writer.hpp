@@ -6,10 +6,10 @@
 // in an order that keeps the dataset readable if the process is killed: video bytes before the
 // frames.csv rows that describe them, whole lines and whole records only.
 
-#include "drone/clock.hpp"
+#include "drone/core/clock.hpp"
+#include "drone/core/sample.hpp"
+#include "drone/core/sync.hpp"
 #include "drone/dataset/dataset.hpp"
-#include "drone/sample.hpp"
-#include "drone/sync.hpp"
 
 #include <opencv2/core.hpp>
 
@@ -26,7 +26,7 @@
 #include <variant>
 #include <vector>
 
-namespace gs {
+namespace gs::dataset {
 
 struct DatasetWriterOptions {
     CameraId camera = CameraId::Front;
@@ -75,7 +75,7 @@ public:
     // the worker. Stream time 0 is clock.now_ns() at this call (times are kept in whole
     // microseconds, the resolution of raw/): every *_ns argument below is on
     // the same monotonic clock.
-    static Expected<std::unique_ptr<DatasetWriter>, DatasetError> create(
+    static Expected<std::unique_ptr<DatasetWriter>, FileError> create(
         const std::filesystem::path& dir, const DatasetWriterOptions& opts, const Clock& clock);
     ~DatasetWriter();
     DatasetWriter(const DatasetWriter&) = delete;
@@ -159,9 +159,5 @@ std::string frames_csv_header();
 std::string frames_csv_row(const FrameRow& row);
 std::string navdata_csv_header();
 std::string navdata_csv_row(const NavState& s);
-// Writes `text` to `path` through a temporary file and a rename (never half a file).
-[[nodiscard]] std::optional<DatasetError> write_file_atomic(const std::filesystem::path& path,
-                                                            std::string_view text,
-                                                            const std::string& name);
 
-}  // namespace gs
+}  // namespace gs::dataset

@@ -1,13 +1,13 @@
 #include "drone/link/at_scheduler.hpp"
 
-#include "drone/navdata.hpp"
+#include "drone/protocol/navdata.hpp"
 
 #include <algorithm>
 #include <cmath>
 
 namespace gs::link {
 namespace {
-using navdata::DroneState;
+using protocol::navdata::DroneState;
 float clamp1(float v) {
     return std::isfinite(v) ? std::clamp(v, -1.0f, 1.0f) : 0.0f;
 }
@@ -146,18 +146,19 @@ void AtScheduler::build(TimeNs now, std::optional<std::uint32_t> drone_state,
     }
     const bool flight = intent_ != FlyIntent::Unknown || emergency_bit;
     if (flight) {
-        commands_.push_back(at::ref(seq_.next(), at::ref_input(fly(), emergency_bit)));
+        commands_.push_back(
+            protocol::at::ref(seq_.next(), protocol::at::ref_input(fly(), emergency_bit)));
         if (moving_) {
-            commands_.push_back(at::pcmd(seq_.next(), at::kPcmdProgressive, move_.roll, move_.pitch,
-                                         move_.gaz, move_.yaw));
+            commands_.push_back(protocol::at::pcmd(seq_.next(), protocol::at::kPcmdProgressive,
+                                                   move_.roll, move_.pitch, move_.gaz, move_.yaw));
         } else {
-            commands_.push_back(at::hover(seq_.next()));
+            commands_.push_back(protocol::at::hover(seq_.next()));
         }
     } else if (lost_) {
         // Lost while the take-off intent was unknown or Fly: PCMD hover alone holds a flying
         // drone in place and feeds its communication watchdog, without a REF that a drone which
         // rebooted meanwhile would take as a take-off (or a flying one as a landing).
-        commands_.push_back(at::hover(seq_.next()));
+        commands_.push_back(protocol::at::hover(seq_.next()));
     }
     // The watchdog bit is answered every cycle while the drone reports it (an answer may be
     // lost); with no flight command to send, AT*COMWDG is the keep-alive. Not while the link
@@ -165,16 +166,16 @@ void AtScheduler::build(TimeNs now, std::optional<std::uint32_t> drone_state,
     const bool watchdog = drone_state && DroneState{*drone_state}.com_watchdog() &&
                           !DroneState{*drone_state}.navdata_bootstrap();
     if (!lost_ && (watchdog || !flight)) {
-        commands_.push_back(at::comwdg(seq_.next()));
+        commands_.push_back(protocol::at::comwdg(seq_.next()));
         ++counters_.comwdg_sent;
     }
 
     for (const OneShot& s : oneshots_) {
         switch (s.kind) {
             case OneShot::Kind::Config: {
-                auto ids =
-                    at::config_ids(seq_.peek(), ids_.session, ids_.profile, ids_.application);
-                auto cfg = at::config(seq_.peek() + 1, s.key, s.value);
+                auto ids = protocol::at::config_ids(seq_.peek(), ids_.session, ids_.profile,
+                                                    ids_.application);
+                auto cfg = protocol::at::config(seq_.peek() + 1, s.key, s.value);
                 if (!ids || !cfg) {
                     ++counters_.encode_errors;
                     break;
@@ -186,29 +187,29 @@ void AtScheduler::build(TimeNs now, std::optional<std::uint32_t> drone_state,
                 break;
             }
             case OneShot::Kind::Ctrl:
-                commands_.push_back(at::ctrl(seq_.next(), s.a, s.b));
+                commands_.push_back(protocol::at::ctrl(seq_.next(), s.a, s.b));
                 break;
             case OneShot::Kind::Comwdg:
-                commands_.push_back(at::comwdg(seq_.next()));
+                commands_.push_back(protocol::at::comwdg(seq_.next()));
                 break;
             case OneShot::Kind::Ftrim:
-                commands_.push_back(at::ftrim(seq_.next()));
+                commands_.push_back(protocol::at::ftrim(seq_.next()));
                 break;
             case OneShot::Kind::Calib:
-                commands_.push_back(at::calib(seq_.next(), s.a));
+                commands_.push_back(protocol::at::calib(seq_.next(), s.a));
                 break;
             case OneShot::Kind::Led:
-                commands_.push_back(at::led(seq_.next(), s.a, s.f, s.b));
+                commands_.push_back(protocol::at::led(seq_.next(), s.a, s.f, s.b));
                 break;
             case OneShot::Kind::Anim:
-                commands_.push_back(at::anim(seq_.next(), s.a, s.b));
+                commands_.push_back(protocol::at::anim(seq_.next(), s.a, s.b));
                 break;
         }
     }
     oneshots_.clear();
     if (commands_.empty()) return;
     counters_.commands += commands_.size();
-    auto packed = at::pack_into(commands_, out);
+    auto packed = protocol::at::pack_into(commands_, out);
     if (!packed) {
         ++counters_.encode_errors;
         return;

@@ -19,10 +19,10 @@
 // no REF bit 9 goes to a drone we cannot see (it may have rebooted and would take a replayed
 // take-off bit as a take-off); the intent is adopted again when navdata returns.
 
-#include "drone/at.hpp"
-#include "drone/clock.hpp"
+#include "drone/core/clock.hpp"
 #include "drone/link/commands.hpp"
 #include "drone/link/link_state.hpp"
+#include "drone/protocol/at.hpp"
 
 #include <cstdint>
 #include <optional>
@@ -98,7 +98,7 @@ public:
     void build(TimeNs now, std::optional<std::uint32_t> drone_state, std::vector<std::string>& out);
 
     const AtCounters& counters() const { return counters_; }
-    at::Seq next_seq() const { return seq_.peek(); }
+    protocol::at::Seq next_seq() const { return seq_.peek(); }
 
 private:
     void land_intent();          // Land, and forget the take-off being watched
@@ -111,7 +111,7 @@ private:
     NavdataIds ids_;
     TimeNs emergency_timeout_ns_;
     TimeNs takeoff_timeout_ns_;
-    at::SeqCounter seq_;
+    protocol::at::SeqCounter seq_;
     FlyIntent intent_ = FlyIntent::Unknown;
     bool lost_ = false;                // the link is lost: hover only, no watchdog answers
     bool seen_flying_ = false;         // the drone showed FLY since the intent became Fly

@@ -1,10 +1,11 @@
 #include "drone/link/drone_link.hpp"
+#include "drone/core/unknown.hpp"
 
-#include "drone/capture_clock.hpp"
+#include "drone/video/capture_clock.hpp"
 
-#include "drone/h264_decoder.hpp"
-#include "drone/net.hpp"
-#include "drone/pave.hpp"
+#include "drone/protocol/pave.hpp"
+#include "drone/transport/net.hpp"
+#include "drone/video/h264_decoder.hpp"
 
 #include <pthread.h>
 #include <sched.h>
@@ -18,10 +19,6 @@
 namespace gs::link {
 namespace {
 constexpr std::size_t kNavdataMax = 4096;  // NAVDATA_MAX_SIZE (PROTOCOL.md §1.4)
-constexpr std::uint32_t kBitFly = 1u << 0;
-constexpr std::uint32_t kBitVbatLow = 1u << 15;
-constexpr std::uint32_t kBitAnglesOut = 1u << 19;
-constexpr std::uint32_t kBitEmergency = 1u << 31;
 constexpr std::array<std::uint8_t, 4> kWakeUp = {1, 0, 0, 0};
 constexpr std::size_t kFramePool = 6;
 constexpr int kMaxFlightAnim = 19;  // FLIP_RIGHT (PROTOCOL.md §2.9)
@@ -62,9 +59,9 @@ double RateMeter::rate_hz(TimeNs now) const {
 }
 
 struct DroneLink::Sockets {
-    net::UdpSocket at;
-    net::UdpSocket navdata;
-    net::Endpoint at_to, navdata_to, video_to, control_to;
+    transport::UdpSocket at;
+    transport::UdpSocket navdata;
+    transport::Endpoint at_to, navdata_to, video_to, control_to;
 };
 
 DroneLink::DroneLink(LinkConfig config, Clock& clock) : config_(std::move(config)), clock_(clock) {}
@@ -73,15 +70,20 @@ DroneLink::~DroneLink() {
     stop();
 }
 
-Expected<bool, std::string> DroneLink::start() {
-    if (running_) return true;
-    auto drone = net::Endpoint::parse(config_.drone_address + ":0");
-    if (!drone) return Unexpected{"bad drone address '" + config_.drone_address + "'"};
-    auto local = net::Endpoint::parse(config_.bind_address + ":0");
-    if (!local) return Unexpected{"bad bind address '" + config_.bind_address + "'"};
+Expected<void, StartError> DroneLink::start() {
+    using enum StartError::Code;
+    if (running_) return {};
+    auto drone = transport::Endpoint::parse(config_.drone_address + ":0");
+    if (!drone)
+        return Unexpected(
+            StartError{BadDroneAddress, "bad drone address '" + config_.drone_address + "'"});
+    auto local = transport::Endpoint::parse(config_.bind_address + ":0");
+    if (!local)
+        return Unexpected(
+            StartError{BadBindAddress, "bad bind address '" + config_.bind_address + "'"});
     auto s = std::make_unique<Sockets>();
     auto with_port = [&](std::uint16_t port) {
-        net::Endpoint e = *drone;
+        transport::Endpoint e = *drone;
         e.port = port;
         return e;
     };
@@ -89,11 +91,11 @@ Expected<bool, std::string> DroneLink::start() {
     s->navdata_to = with_port(config_.navdata_port);
     s->video_to = with_port(config_.video_port);
     s->control_to = with_port(config_.control_port);
-    auto at = net::UdpSocket::bind(*local);
-    if (!at) return Unexpected{"AT socket: " + at.error().message()};
+    auto at = transport::UdpSocket::bind(*local);
+    if (!at) return Unexpected(StartError{Socket, "AT socket: " + at.error().message()});
     (void)at->set_send_buffer(4096);
-    auto nav = net::UdpSocket::bind(*local);
-    if (!nav) return Unexpected{"navdata socket: " + nav.error().message()};
+    auto nav = transport::UdpSocket::bind(*local);
+    if (!nav) return Unexpected(StartError{Socket, "navdata socket: " + nav.error().message()});
     s->at = std::move(*at);
     s->navdata = std::move(*nav);
     sockets_ = std::move(s);
@@ -107,7 +109,7 @@ Expected<bool, std::string> DroneLink::start() {
     threads_.emplace_back([this] { at_loop(); });
     if (config_.video) threads_.emplace_back([this] { video_loop(); });
     if (config_.control) threads_.emplace_back([this] { control_loop(); });
-    return true;
+    return {};
 }
 
 void DroneLink::stop() {
@@ -211,13 +213,13 @@ std::future<CommandResult> DroneLink::submit(Command c) {
     struct V {
         DroneLink& link;
         bool connected;
-        std::uint32_t bits;
+        protocol::navdata::DroneState state;
         double battery;
         const std::string& nc;
 
         std::future<CommandResult> operator()(const Takeoff&) {
             if (!connected) return ready(ResultCode::NotConnected, nc);
-            if (bits & kBitEmergency) {
+            if (state.emergency()) {
                 return ready(
                     ResultCode::Rejected,
                     "the drone reports an emergency (motors cut): send Emergency to reset it");
@@ -229,9 +231,9 @@ std::future<CommandResult> DroneLink::submit(Command c) {
                         std::to_string(static_cast<int>(link.config_.min_takeoff_battery_pct)) +
                         " % take-off minimum");
             }
-            if (bits & kBitVbatLow)
+            if (state.vbat_low())
                 return ready(ResultCode::Rejected, "the drone reports a low battery");
-            if (bits & kBitAnglesOut) {
+            if (state.angles_out_of_range()) {
                 return ready(
                     ResultCode::Rejected,
                     "the drone reports its angles out of range: put it level on the ground");
@@ -252,7 +254,7 @@ std::future<CommandResult> DroneLink::submit(Command c) {
         std::future<CommandResult> operator()(const Emergency&) {
             AtRequest r;
             r.kind = AtRequest::Kind::Emergency;
-            r.drone_emergency = bits & kBitEmergency;
+            r.drone_emergency = state.emergency();
             link.push_at(std::move(r));
             return connected ? ready(ResultCode::Sent) : ready(ResultCode::NotConnected, nc);
         }
@@ -272,20 +274,20 @@ std::future<CommandResult> DroneLink::submit(Command c) {
         }
         std::future<CommandResult> operator()(const FlatTrim&) {
             if (!connected) return ready(ResultCode::NotConnected, nc);
-            if (bits & kBitFly)
-                return ready(ResultCode::Rejected, "flat trim needs the drone landed");
+            if (state.fly()) return ready(ResultCode::Rejected, "flat trim needs the drone landed");
             return oneshot(OneShot::Kind::Ftrim);
         }
         std::future<CommandResult> operator()(const Calibrate&) {
             if (!connected) return ready(ResultCode::NotConnected, nc);
-            if (!(bits & kBitFly)) {
+            if (!state.fly()) {
                 return ready(ResultCode::Rejected,
                              "magnetometer calibration needs the drone flying");
             }
             return oneshot(OneShot::Kind::Calib);
         }
         std::future<CommandResult> operator()(const SetConfig& s) {
-            if (!config_text_ok(s.key) || !config_text_ok(s.value) || s.key.empty()) {
+            if (!protocol::config_text_ok(s.key) || !protocol::config_text_ok(s.value) ||
+                s.key.empty()) {
                 return ready(
                     ResultCode::Rejected,
                     "configuration key and value may not contain quotes or control characters");
@@ -326,7 +328,8 @@ std::future<CommandResult> DroneLink::submit(Command c) {
                 return ready(ResultCode::Rejected, "flight animation duration must be positive");
             }
             return (*this)(SetConfig{"control:flight_anim",
-                                     at::flight_anim_value(a.anim_id, a.duration_ms), false});
+                                     protocol::at::flight_anim_value(a.anim_id, a.duration_ms),
+                                     false});
         }
         std::future<CommandResult> oneshot(OneShot::Kind k) {
             OneShot o;
@@ -341,7 +344,7 @@ std::future<CommandResult> DroneLink::submit(Command c) {
             return ready(ResultCode::Sent);
         }
     };
-    return std::visit(V{*this, connected, bits, battery, not_connected}, c);
+    return std::visit(V{*this, connected, {bits}, battery, not_connected}, c);
 }
 
 CommandResult DroneLink::execute(Command c, std::chrono::milliseconds timeout) {
@@ -461,7 +464,7 @@ void DroneLink::navdata_loop() {
             sm.on_config_dump(*d, clock_.now_ns(), actions);
         }
 
-        auto got = sockets_->navdata.recv_from(std::span<std::uint8_t>(buf), net::Millis{5});
+        auto got = sockets_->navdata.recv_from(std::span<std::uint8_t>(buf), transport::Millis{5});
         now = clock_.now_ns();
         if (got) {
             const std::span<const std::uint8_t> bytes(buf.data(), got->size);
@@ -476,13 +479,13 @@ void DroneLink::navdata_loop() {
                 if (!subs.raw.empty())
                     fan_out(subs.raw,
                             RawEvent{RawEvent::Kind::Navdata, now, {bytes.begin(), bytes.end()}});
-                auto nd = navdata::parse_navdata(bytes);
+                auto nd = protocol::navdata::parse_navdata(bytes);
                 if (!nd) {
-                    if (nd.error().code == navdata::NavdataErrc::BadChecksum)
+                    if (nd.error().code == protocol::navdata::NavdataErrc::BadChecksum)
                         ++stats.checksum_failures;
                     else
                         ++stats.parse_errors;
-                    stats.last_error = navdata::to_string(nd.error());
+                    stats.last_error = protocol::navdata::to_string(nd.error());
                 } else if (sm.on_navdata({nd->header.drone_state.raw, nd->header.sequence}, now,
                                          actions)) {
                     ++stats.accepted;
@@ -495,13 +498,13 @@ void DroneLink::navdata_loop() {
                         s.drone_time_s =
                             nd->time->time.seconds() + nd->time->time.microseconds() * 1e-6;
                     }
-                    s.state = navdata::to_nav_state(*nd, now - start_ns_);
+                    s.state = protocol::navdata::to_nav_state(*nd, now - start_ns_);
                     s.data = std::move(*nd);
                     if (!subs.navdata.empty()) fan_out(subs.navdata, s);
                     nav_slot_.publish(std::move(s));
                 }
             }
-        } else if (got.error().code != net::NetErrc::Timeout) {
+        } else if (got.error().code != transport::NetErrc::Timeout) {
             stats.last_error = got.error().message();
         }
         sm.tick(now, actions);
@@ -518,8 +521,8 @@ void DroneLink::navdata_loop() {
     for (auto& [id, r] : pending) r.done.set_value({ResultCode::NotConnected, "link stopped"});
 }
 
-bool accept_video_codec(const PaveHeader& h, VideoStats& stats) {
-    if (h.video_codec == PaveCodec::H264) return true;
+bool accept_video_codec(const protocol::PaveHeader& h, VideoStats& stats) {
+    if (h.video_codec == protocol::PaveCodec::H264) return true;
     ++stats.unsupported_codec_frames;
     stats.last_error = "PaVE frame " + std::to_string(h.frame_number) + " has codec " +
                        to_string(h.video_codec) +
@@ -528,7 +531,7 @@ bool accept_video_codec(const PaveHeader& h, VideoStats& stats) {
 }
 
 double AtStats::period_ms_quantile(double q) const {
-    if (periods == 0) return std::numeric_limits<double>::quiet_NaN();
+    if (periods == 0) return kUnknown;
     const double want = q * static_cast<double>(periods);
     double seen = 0;
     for (std::size_t i = 0; i < kPeriodBins; ++i) {
@@ -599,7 +602,7 @@ void DroneLink::at_loop() {
         sched.build(now, drone_state, datagrams);
         subscribers_.read_if_newer(subs_gen, subs);
         for (const auto& d : datagrams) {
-            auto sent = sockets_->at.send_to(d, sockets_->at_to, net::Millis{5});
+            auto sent = sockets_->at.send_to(d, sockets_->at_to, transport::Millis{5});
             if (!sent) ++stats.send_errors;
             if (!subs.raw.empty()) {
                 const auto* p = reinterpret_cast<const std::uint8_t*>(d.data());
@@ -626,8 +629,8 @@ void DroneLink::at_loop() {
 void DroneLink::video_loop() {
     VideoStats stats;
     RateMeter rate;
-    PaveFramer framer;
-    H264Decoder decoder;
+    protocol::PaveFramer framer;
+    video::H264Decoder decoder;
     std::array<cv::Mat, kFramePool> pool;
     std::vector<std::uint8_t> buf(64 * 1024);
     std::int64_t index = 0;
@@ -644,9 +647,9 @@ void DroneLink::video_loop() {
         return pool[0];
     };
 
-    CaptureClock capture_clock;  // kept across reconnects: the drone's clock goes on
+    video::CaptureClock capture_clock;  // kept across reconnects: the drone's clock goes on
     while (running_) {
-        auto stream = net::TcpStream::connect(sockets_->video_to, net::Millis{500});
+        auto stream = transport::TcpStream::connect(sockets_->video_to, transport::Millis{500});
         if (!stream) {
             stats.last_error = stream.error().message();
             video_stats_slot_.publish(stats);
@@ -659,11 +662,11 @@ void DroneLink::video_loop() {
         decoder.reset();
         TimeNs last_data = clock_.now_ns();
         while (running_) {
-            auto got = stream->read_some(std::span<std::uint8_t>(buf), net::Millis{20});
+            auto got = stream->read_some(std::span<std::uint8_t>(buf), transport::Millis{20});
             const TimeNs now = clock_.now_ns();
             subscribers_.read_if_newer(subs_gen, subs);
             if (!got) {
-                if (got.error().code == net::NetErrc::Timeout) {
+                if (got.error().code == transport::NetErrc::Timeout) {
                     if (now - last_data > config_.video_silence_reconnect_ns) {
                         stats.last_error =
                             "no video for " + std::to_string((now - last_data) / 1'000'000) + " ms";
@@ -687,11 +690,11 @@ void DroneLink::video_loop() {
                         RawEvent{RawEvent::Kind::Video, now, {chunk.begin(), chunk.end()}});
             framer.push(chunk);
             while (auto ev = framer.next()) {
-                auto* frame = std::get_if<PaveFrame>(&*ev);
+                auto* frame = std::get_if<protocol::PaveFrame>(&*ev);
                 if (frame == nullptr) continue;  // resync events are counted by the framer
                 ++stats.pave_frames;
                 if (!accept_video_codec(frame->header, stats)) continue;
-                AccessUnit au;
+                video::AccessUnit au;
                 au.data = frame->payload;
                 au.frame_number = frame->header.frame_number;
                 au.display_width = frame->header.display_width;
@@ -701,7 +704,7 @@ void DroneLink::video_loop() {
                 const TimeNs t0 = clock_.now_ns();
                 auto res = decoder.decode(au, out);
                 stats.decode_ms_last = ns_to_ms(clock_.now_ns() - t0);
-                if (!res || *res != DecodeStatus::Frame) continue;
+                if (!res || *res != video::DecodeStatus::Frame) continue;
                 FrameSample fs;
                 fs.index = index++;
                 fs.recv_ns = now;
@@ -724,7 +727,7 @@ void DroneLink::video_loop() {
                     e.t_ns = fs.t_ns;
                     e.frame_number = frame->header.frame_number;
                     e.pave_timestamp_ms = frame->header.timestamp;
-                    e.is_idr = contains_idr(frame->payload);
+                    e.is_idr = video::contains_idr(frame->payload);
                     e.bytes.assign(frame->payload.begin(), frame->payload.end());
                     e.image = out;
                     fan_out(subs.access_units, std::move(e));
@@ -756,17 +759,17 @@ void DroneLink::control_loop() {
     std::vector<std::uint8_t> buf(8192);
     auto set_connected = [&](bool on) { control_connected_slot_.publish(on); };
     while (running_) {
-        auto stream = net::TcpStream::connect(sockets_->control_to, net::Millis{500});
+        auto stream = transport::TcpStream::connect(sockets_->control_to, transport::Millis{500});
         if (!stream) {
             std::this_thread::sleep_for(std::chrono::nanoseconds(config_.reconnect_delay_ns));
             continue;
         }
         set_connected(true);
-        ConfigDumpReader reader;
+        protocol::ConfigDumpReader reader;
         while (running_) {
-            auto got = stream->read_some(std::span<std::uint8_t>(buf), net::Millis{50});
+            auto got = stream->read_some(std::span<std::uint8_t>(buf), transport::Millis{50});
             if (!got) {
-                if (got.error().code == net::NetErrc::Timeout) continue;
+                if (got.error().code == transport::NetErrc::Timeout) continue;
                 break;
             }
             if (auto dump = reader.push(std::span<const std::uint8_t>(buf.data(), *got))) {

@@ -7,15 +7,15 @@
 // Threads share data only through latest-value slots and bounded queues. Every stream publishes
 // a snapshot and counters; commands are typed values with typed results.
 
-#include "drone/clock.hpp"
-#include "drone/config.hpp"
+#include "drone/core/clock.hpp"
+#include "drone/core/sample.hpp"
+#include "drone/core/sync.hpp"
 #include "drone/link/at_scheduler.hpp"
 #include "drone/link/commands.hpp"
 #include "drone/link/link_state.hpp"
-#include "drone/navdata.hpp"
-#include "drone/pave.hpp"
-#include "drone/sample.hpp"
-#include "drone/sync.hpp"
+#include "drone/protocol/config.hpp"
+#include "drone/protocol/navdata.hpp"
+#include "drone/protocol/pave.hpp"
 
 #include <array>
 #include <atomic>
@@ -50,9 +50,9 @@ struct LinkConfig {
 struct NavSample {
     TimeNs recv_ns = 0;  // monotonic receive time
     std::uint32_t seq = 0;
-    double drone_time_s = kUnknown;  // from the time option, when sent
-    NavState state;                  // units of DATASET.md, t_ns from the link's start
-    navdata::Navdata data;           // every decoded option
+    double drone_time_s = kUnknown;   // from the time option, when sent
+    NavState state;                   // units of DATASET.md, t_ns from the link's start
+    protocol::navdata::Navdata data;  // every decoded option
 };
 
 // Raw bytes as they crossed the wire, for recording (DATASET.md raw/).
@@ -122,7 +122,7 @@ struct VideoStats {
 
 // True when the frame's codec is H.264 (the only one decoded); otherwise counts it in
 // stats.unsupported_codec_frames and says why in stats.last_error.
-[[nodiscard]] bool accept_video_codec(const PaveHeader& h, VideoStats& stats);
+[[nodiscard]] bool accept_video_codec(const protocol::PaveHeader& h, VideoStats& stats);
 
 struct AtStats {
     AtCounters counters;
@@ -154,6 +154,13 @@ struct LinkStatus {
     TimeNs now_ns = 0;  // when this status was assembled (age = now_ns - navdata.last_ns)
 };
 
+// Why DroneLink::start() failed; `message` is the sentence shown to the user.
+struct StartError {
+    enum class Code { BadDroneAddress, BadBindAddress, Socket };
+    Code code;
+    std::string message;
+};
+
 class DroneLink {
 public:
     explicit DroneLink(LinkConfig config, Clock& clock = SteadyClock::instance());
@@ -161,9 +168,9 @@ public:
     DroneLink(const DroneLink&) = delete;
     DroneLink& operator=(const DroneLink&) = delete;
 
-    // Opens the sockets and starts the threads. Fails with a message when a socket cannot be
-    // opened (the drone need not be reachable yet).
-    [[nodiscard]] Expected<bool, std::string> start();
+    // Opens the sockets and starts the threads (nothing when already running). Fails when a
+    // socket cannot be opened (the drone need not be reachable yet).
+    [[nodiscard]] Expected<void, StartError> start();
     void stop();
     bool running() const { return running_.load(); }
 
@@ -175,7 +182,7 @@ public:
 
     const LatestValue<NavSample>& navdata() const { return nav_slot_; }
     const LatestValue<FrameSample>& video() const { return frame_slot_; }
-    const LatestValue<ConfigMap>& config() const { return config_slot_; }
+    const LatestValue<protocol::ConfigMap>& config() const { return config_slot_; }
     LinkStatus status() const;
     ConnectionState state() const;
 
@@ -244,11 +251,11 @@ private:
 
     BoundedQueue<AtRequest> at_queue_{256};
     BoundedQueue<NavRequest> nav_queue_{64};
-    BoundedQueue<ConfigMap> dump_queue_{4};
+    BoundedQueue<protocol::ConfigMap> dump_queue_{4};
 
     LatestValue<NavSample> nav_slot_;
     LatestValue<FrameSample> frame_slot_;
-    LatestValue<ConfigMap> config_slot_;
+    LatestValue<protocol::ConfigMap> config_slot_;
     LatestValue<NavdataStats> nav_stats_slot_;
     LatestValue<VideoStats> video_stats_slot_;
     LatestValue<AtStats> at_stats_slot_;

@@ -4,11 +4,10 @@
 #include <cmath>
 
 namespace gs::link {
+
+using protocol::navdata::DroneState;
+
 namespace {
-constexpr std::uint32_t kBitAck = 1u << 6;
-constexpr std::uint32_t kBitDemo = 1u << 10;
-constexpr std::uint32_t kBitBootstrap = 1u << 11;
-constexpr std::uint32_t kBitComWatchdog = 1u << 30;
 
 std::string trimmed(std::string s) {
     auto sp = [](char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n'; };
@@ -21,9 +20,9 @@ std::string trimmed(std::string s) {
 bool same_value(const std::string& written, const std::string& read) {
     const std::string a = trimmed(written), b = trimmed(read);
     if (a == b) return true;
-    auto ba = config_bool(a), bb = config_bool(b);
+    auto ba = protocol::config_bool(a), bb = protocol::config_bool(b);
     if (ba && bb) return *ba == *bb;
-    auto fa = config_float(a), fb = config_float(b);
+    auto fa = protocol::config_float(a), fb = protocol::config_float(b);
     if (fa && fb) return std::abs(*fa - *fb) <= 1e-6 * std::max(1.0, std::abs(*fa));
     return false;
 }
@@ -108,7 +107,7 @@ void LinkStateMachine::cancel_jobs(LinkActions& out) {
 }
 
 bool LinkStateMachine::ack_bit() const {
-    return last_state_ && (*last_state_ & kBitAck);
+    return last_state_ && DroneState{*last_state_}.command();
 }
 
 std::uint64_t LinkStateMachine::write_config(std::string key, std::string value, bool verify) {
@@ -157,7 +156,7 @@ void LinkStateMachine::begin_configuration() {
 
 bool LinkStateMachine::on_navdata(const NavdataHeaderInfo& nav, TimeNs now, LinkActions& out) {
     if (state_ == ConnectionState::Disconnected) return false;
-    const bool bootstrap = nav.drone_state & kBitBootstrap;
+    const bool bootstrap = DroneState{nav.drone_state}.navdata_bootstrap();
     if (last_seq_ && nav.sequence <= *last_seq_) {
         if (bootstrap && configured_) {
             // The drone restarted: its sequence began again and it waits to be configured.
@@ -177,7 +176,7 @@ bool LinkStateMachine::on_navdata(const NavdataHeaderInfo& nav, TimeNs now, Link
     ++counters_.packets_accepted;
 
     // The AT sender answers the bit with AT*COMWDG every cycle while it is set.
-    const bool comwdg = (nav.drone_state & kBitComWatchdog) && !bootstrap;
+    const bool comwdg = DroneState{nav.drone_state}.com_watchdog() && !bootstrap;
     if (comwdg && !prev_comwdg_) {
         ++counters_.com_watchdog_events;
         last_seq_.reset();  // the SDK resets its expectation after a watchdog event
@@ -215,7 +214,8 @@ bool LinkStateMachine::on_navdata(const NavdataHeaderInfo& nav, TimeNs now, Link
     return true;
 }
 
-void LinkStateMachine::on_config_dump(const ConfigMap& dump, TimeNs now, LinkActions& out) {
+void LinkStateMachine::on_config_dump(const protocol::ConfigMap& dump, TimeNs now,
+                                      LinkActions& out) {
     pending_dump_ = dump;
     run_jobs(now, out);
 }
@@ -371,8 +371,8 @@ void LinkStateMachine::tick(TimeNs now, LinkActions& out) {
     }
     run_jobs(now, out);
     if (state_ == ConnectionState::Configuring && configured_ && last_state_) {
-        const bool bootstrap = *last_state_ & kBitBootstrap;
-        const bool demo = *last_state_ & kBitDemo;
+        const bool bootstrap = DroneState{*last_state_}.navdata_bootstrap();
+        const bool demo = DroneState{*last_state_}.navdata_demo();
         const bool settled = now - configured_at_ns_ > t.settle_ns;
         if (!bootstrap && demo == setup_.navdata_demo) {
             enter_connected("navdata " + std::string(demo ? "demo" : "full"), out);

@@ -7,8 +7,8 @@
 //                → Configuring   (CONFIG_IDS + CONFIG, wait ACK bit, AT*CTRL=…,5,0, wait clear)
 //                → Connected     → LinkLost (no navdata for 500 ms) → Connected / Configuring
 
-#include "drone/clock.hpp"
-#include "drone/config.hpp"
+#include "drone/core/clock.hpp"
+#include "drone/protocol/config.hpp"
 
 #include <cstdint>
 #include <deque>
@@ -107,7 +107,7 @@ public:
     // order or duplicate); its header still feeds the ACK logic only when accepted.
     bool on_navdata(const NavdataHeaderInfo& nav, TimeNs now, LinkActions& out);
     // A configuration dump arrived on 5559 (requested by send_ctrl_get_config).
-    void on_config_dump(const ConfigMap& dump, TimeNs now, LinkActions& out);
+    void on_config_dump(const protocol::ConfigMap& dump, TimeNs now, LinkActions& out);
     // Time passes (call every few ms, and after on_navdata).
     void tick(TimeNs now, LinkActions& out);
 
@@ -163,7 +163,7 @@ private:
     bool prev_comwdg_ = false;
     std::deque<Job> jobs_;
     std::uint64_t next_id_ = 1;
-    std::optional<ConfigMap> pending_dump_;
+    std::optional<protocol::ConfigMap> pending_dump_;
 };
 
 }  // namespace gs::link

@@ -2,8 +2,7 @@
 
 #include "drone/dataset/annexb.hpp"
 #include "drone/dataset/raw_replay.hpp"
-#include "drone/pave.hpp"
-#include "drone/sim/virtual_drone.hpp"
+#include "drone/protocol/pave.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -33,16 +32,16 @@ double wrap180(double deg) {
 }
 
 // The pose at `t` from samples in time order: interpolated inside, nearest outside.
-sim::Pose pose_at(const std::deque<sim::GroundTruth>& h, TimeNs t) {
+TruthPose pose_at(const std::deque<TruthSample>& h, TimeNs t) {
     auto after = std::lower_bound(h.begin(), h.end(), t,
-                                  [](const sim::GroundTruth& g, TimeNs v) { return g.t_ns < v; });
+                                  [](const TruthSample& g, TimeNs v) { return g.t_ns < v; });
     if (after == h.end()) return h.back().pose;
     if (after == h.begin() || after->t_ns == t) return after->pose;
-    const sim::GroundTruth& a = *(after - 1);
-    const sim::GroundTruth& b = *after;
+    const TruthSample& a = *(after - 1);
+    const TruthSample& b = *after;
     const double w = static_cast<double>(t - a.t_ns) / static_cast<double>(b.t_ns - a.t_ns);
     auto lerp = [w](double x, double y) { return x + (y - x) * w; };
-    sim::Pose p;
+    TruthPose p;
     p.x_m = lerp(a.pose.x_m, b.pose.x_m);
     p.y_m = lerp(a.pose.y_m, b.pose.y_m);
     p.z_m = lerp(a.pose.z_m, b.pose.z_m);
@@ -56,38 +55,37 @@ sim::Pose pose_at(const std::deque<sim::GroundTruth>& h, TimeNs t) {
 CameraId reported_camera(const link::DroneLink& link) {
     const auto cfg = link.config().latest();
     const auto v = cfg ? cfg->get("video:video_channel") : std::nullopt;
-    const auto ch = v ? config_int(*v) : std::nullopt;
+    const auto ch = v ? protocol::config_int(*v) : std::nullopt;
     return ch && *ch == 1 ? CameraId::Bottom : CameraId::Front;
 }
 
 }  // namespace
 
-Scenario scenario_of(const std::string& name) {
-    if (name == "left") return Scenario::Left;
-    if (name == "right") return Scenario::Right;
-    if (name == "center" || name == "centre") return Scenario::Center;
-    return Scenario::None;
+dataset::Scenario scenario_of(const std::string& name) {
+    if (name == "left") return dataset::Scenario::Left;
+    if (name == "right") return dataset::Scenario::Right;
+    if (name == "center" || name == "centre") return dataset::Scenario::Center;
+    return dataset::Scenario::None;
 }
 
 struct Recorder::State {
     RecorderOptions opts;
     std::filesystem::path dir;
-    std::unique_ptr<DatasetWriter> writer;
+    std::unique_ptr<dataset::DatasetWriter> writer;
     std::shared_ptr<BoundedQueue<link::RawEvent>> raw;
     std::shared_ptr<BoundedQueue<link::AccessUnitEvent>> units;
-    std::shared_ptr<BoundedQueue<FrameRow>> rows;  // the writer's row tap (frame_tap only)
+    std::shared_ptr<BoundedQueue<dataset::FrameRow>> rows;  // the writer's row tap (frame_tap only)
 
     // A frame is recorded only when the recorded video bytes hold it whole: the link may have
     // been in the middle of a frame when the recording began, and replaying raw/ must find
     // every frame frames.csv has. This framer sees exactly what raw/video.pave holds.
-    PaveFramer framer;
+    protocol::PaveFramer framer;
     std::deque<std::uint32_t> complete;  // frame numbers it completed, oldest first
     std::uint64_t not_in_raw = 0;
 
     // Frames waiting for a ground-truth sample after their capture.
     std::deque<link::AccessUnitEvent> pending;
-    std::deque<sim::GroundTruth> truth;
-    std::optional<std::size_t> target;
+    std::deque<TruthSample> truth;
 
     // The writer's frame index, predicted by its own rule (the first IDR starts the video).
     bool seen_idr = false;
@@ -104,18 +102,18 @@ struct Recorder::State {
     double cpu_ms = 0;
 };
 
-Recorder::Recorder(link::DroneLink& link, const sim::VirtualDrone* truth)
+Recorder::Recorder(link::DroneLink& link, const GroundTruthSource* truth)
     : link_(link), truth_(truth) {}
 
 Recorder::~Recorder() {
     stop();
 }
 
-Expected<bool, std::string> Recorder::start(const std::filesystem::path& dir,
-                                            RecorderOptions opts) {
+Expected<void, StartError> Recorder::start(const std::filesystem::path& dir, RecorderOptions opts) {
     if (running_) {
         auto st = status();
-        return Unexpected(std::string("already recording to ") + st.path);
+        return Unexpected(
+            StartError{StartError::Code::AlreadyRecording, "already recording to " + st.path});
     }
     auto s = std::make_unique<State>();
     opts.writer.write_raw = true;
@@ -128,28 +126,27 @@ Expected<bool, std::string> Recorder::start(const std::filesystem::path& dir,
     }
     if (!opts.writer.calibration) {
         auto c = default_calibration(opts.writer.camera, GS_ASSETS_DIR);
-        if (c) opts.writer.calibration = scaled_to(*c, opts.writer.width, opts.writer.height);
+        if (c) opts.writer.calibration = c->scaled_to(opts.writer.width, opts.writer.height);
     }
     if (opts.frame_tap > 0) {
-        s->rows =
-            std::make_shared<BoundedQueue<FrameRow>>(std::max<std::size_t>(opts.frame_tap, 64));
+        s->rows = std::make_shared<BoundedQueue<dataset::FrameRow>>(
+            std::max<std::size_t>(opts.frame_tap, 64));
         opts.writer.row_tap = s->rows;
     }
-    auto w = DatasetWriter::create(dir, opts.writer, link_.clock());
-    if (!w) return Unexpected(to_string(w.error()));
+    auto w = dataset::DatasetWriter::create(dir, opts.writer, link_.clock());
+    if (!w) return Unexpected(StartError{StartError::Code::Dataset, to_string(w.error())});
     s->writer = std::move(*w);
     s->dir = dir;
     s->opts = opts;
     if (truth_ != nullptr) {
-        const sim::Scene& scene = truth_->scene();
-        if (!scene.target_id.empty()) s->target = sim::find_obstacle(scene, scene.target_id);
+        const TruthScene scene = truth_->truth_scene();
         nlohmann::ordered_json j;
         j["scenario"] = to_string(scenario_of(scene.scenario));
         j["scene"] = scene.name;
         if (!scene.target_id.empty()) j["target"] = scene.target_id;
         j["source"] = "virtual drone ground truth";
         if (!scene.description.empty()) j["description"] = scene.description;
-        (void)s->writer->set_labels(FlightLabels{scenario_of(scene.scenario), j.dump()});
+        (void)s->writer->set_labels(dataset::FlightLabels{scenario_of(scene.scenario), j.dump()});
     }
     tap_ =
         opts.frame_tap > 0 ? std::make_shared<BoundedQueue<FrameSample>>(opts.frame_tap) : nullptr;
@@ -165,7 +162,7 @@ Expected<bool, std::string> Recorder::start(const std::filesystem::path& dir,
     stop_ = false;
     running_ = true;
     thread_ = std::thread([this] { run(); });
-    return true;
+    return {};
 }
 
 RecorderStatus Recorder::stop() {
@@ -184,7 +181,7 @@ RecorderStatus Recorder::status() const {
 
 void Recorder::run() {
     State& s = *state_;
-    DatasetWriter& w = *s.writer;
+    dataset::DatasetWriter& w = *s.writer;
     const Clock& clock = link_.clock();
     const double cpu0 = thread_cpu_ms();
     std::vector<link::RawEvent> raws;
@@ -194,14 +191,14 @@ void Recorder::run() {
     auto on_raw = [&](link::RawEvent& e) {
         switch (e.kind) {
             case link::RawEvent::Kind::Navdata: {
-                const auto nav = navdata_state(e.bytes);
+                const auto nav = dataset::navdata_state(e.bytes);
                 (void)w.take_navdata(e.t_ns, std::move(e.bytes), nav);
                 break;
             }
             case link::RawEvent::Kind::Video:
                 s.framer.push(e.bytes);
                 while (auto ev = s.framer.next()) {
-                    const auto* f = std::get_if<PaveFrame>(&*ev);
+                    const auto* f = std::get_if<protocol::PaveFrame>(&*ev);
                     if (f == nullptr) continue;
                     s.complete.push_back(f->header.frame_number);
                     if (s.complete.size() > kCompleteHistory) s.complete.pop_front();
@@ -223,22 +220,20 @@ void Recorder::run() {
     };
 
     auto write_frame = [&](link::AccessUnitEvent& e) {
-        std::optional<FrameLabel> label;
+        std::optional<dataset::FrameLabel> label;
         if (truth_ != nullptr) {
-            FrameLabel l;
+            dataset::FrameLabel l;
             if (!s.truth.empty()) {
-                const sim::Pose p = pose_at(s.truth, e.recv_ns);
-                l.gt = GroundTruthPose{p.x_m, p.y_m, p.z_m, p.yaw_deg};
-                if (s.target) {
-                    const auto hit =
-                        sim::obstacle_relative(truth_->scene(), *s.target, p.x_m, p.y_m, p.yaw_deg);
-                    l.distance_m = hit.distance_m;
-                    l.lateral_m = hit.lateral_m;
+                const TruthPose p = pose_at(s.truth, e.recv_ns);
+                l.gt = dataset::GroundTruthPose{p.x_m, p.y_m, p.z_m, p.yaw_deg};
+                if (const auto hit = truth_->target_offset(p)) {
+                    l.distance_m = hit->distance_m;
+                    l.lateral_m = hit->lateral_m;
                 }
             }
             label = l;
         }
-        const bool idr = annexb_has_idr(e.bytes);
+        const bool idr = dataset::annexb_has_idr(e.bytes);
         cv::Mat image = std::move(e.image);  // released at the end of this call unless tapped
         if (!w.take_frame(e.recv_ns, std::move(e.bytes), {}, label)) return;  // counted there
         if (!s.seen_idr && !idr) return;  // the writer skips it too (and counts it)
@@ -322,7 +317,7 @@ void Recorder::run() {
         for (auto& r : raws) on_raw(r);
         raws.clear();
         if (truth_ != nullptr) {
-            const sim::GroundTruth g = truth_->ground_truth();
+            const TruthSample g = truth_->truth_sample();
             if (g.t_ns != 0 && (s.truth.empty() || g.t_ns > s.truth.back().t_ns)) {
                 s.truth.push_back(g);
                 if (s.truth.size() > kTruthHistory) s.truth.pop_front();

@@ -10,10 +10,11 @@
 // queue does the same; every loss is counted in status().drops. status() is a latest-value read,
 // cheap enough for a GUI frame.
 
+#include "drone/core/sample.hpp"
+#include "drone/core/sync.hpp"
 #include "drone/dataset/writer.hpp"
 #include "drone/link/drone_link.hpp"
-#include "drone/sample.hpp"
-#include "drone/sync.hpp"
+#include "drone/record/ground_truth.hpp"
 
 #include <atomic>
 #include <cstdint>
@@ -23,17 +24,12 @@
 #include <string>
 #include <thread>
 
-namespace gs::sim {
-class VirtualDrone;
-struct Scene;
-}  // namespace gs::sim
-
 namespace gs::record {
 
 struct RecorderOptions {
     // size, fps, calibration, source of flight.json; queue sizes. write_raw stays on; the
     // camera comes from `camera` below.
-    DatasetWriterOptions writer;
+    dataset::DatasetWriterOptions writer;
     // flight.json's camera, writer.calibration being its calibration. Unset: the camera the
     // drone's configuration reports (video:video_channel in the link's last configuration dump;
     // front when the link has none); writer.calibration is then taken as writer.camera's and
@@ -68,18 +64,25 @@ struct RecorderStatus {
     double cpu_ms = 0;    // CPU time of the recorder's own thread (not the writer's)
 };
 
+// Why Recorder::start() failed; `message` is the sentence shown to the user.
+struct StartError {
+    enum class Code { AlreadyRecording, Dataset };
+    Code code;
+    std::string message;
+};
+
 class Recorder {
 public:
     // `link` (and `truth`, when given) must outlive the recorder.
-    explicit Recorder(link::DroneLink& link, const sim::VirtualDrone* truth = nullptr);
+    explicit Recorder(link::DroneLink& link, const GroundTruthSource* truth = nullptr);
     ~Recorder();
     Recorder(const Recorder&) = delete;
     Recorder& operator=(const Recorder&) = delete;
 
-    // Creates the dataset in `dir` (new or empty) and starts recording. Fails with a message
-    // when already recording or the directory cannot be written.
-    [[nodiscard]] Expected<bool, std::string> start(const std::filesystem::path& dir,
-                                                    RecorderOptions opts = {});
+    // Creates the dataset in `dir` (new or empty) and starts recording. Fails when already
+    // recording or the directory cannot be written.
+    [[nodiscard]] Expected<void, StartError> start(const std::filesystem::path& dir,
+                                                   RecorderOptions opts = {});
     // Stops, writes everything still queued, closes the dataset; returns the final status.
     // Idempotent.
     RecorderStatus stop();
@@ -95,7 +98,7 @@ private:
     void run();
 
     link::DroneLink& link_;
-    const sim::VirtualDrone* truth_;
+    const GroundTruthSource* truth_;
     std::atomic<bool> running_{false};
     std::atomic<bool> stop_{false};
     std::unique_ptr<State> state_;  // the recorder thread's own (set before it starts)
@@ -105,6 +108,6 @@ private:
 };
 
 // labels.json's scenario from a scene's ("left", "right", "center", "none"; else none).
-Scenario scenario_of(const std::string& name);
+dataset::Scenario scenario_of(const std::string& name);
 
 }  // namespace gs::record

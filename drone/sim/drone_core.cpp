@@ -1,7 +1,7 @@
 #include "drone/sim/drone_core.hpp"
 #include "drone/sim/units.hpp"
 
-#include "drone/navdata_writer.hpp"
+#include "drone/sim/navdata_writer.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -12,35 +12,17 @@ namespace {
 constexpr TimeNs kStepNs = ms_to_ns(5);
 constexpr double kStepS = 0.005;
 
-enum Bit : std::uint32_t {
-    kFly = 1u << 0,
-    kVideo = 1u << 1,
-    kVision = 1u << 2,
-    kAltitude = 1u << 4,
-    kUserStart = 1u << 5,
-    kCommand = 1u << 6,
-    kCamera = 1u << 7,
-    kDemo = 1u << 10,
-    kBootstrap = 1u << 11,
-    kComLost = 1u << 13,
-    kVbatLow = 1u << 15,
-    kCutout = 1u << 22,
-    kThreads = 0x0F800000u,  // PIC version + AT codec, navdata, video, acquisition threads
-    kComWatchdog = 1u << 30,
-    kEmergency = 1u << 31,
-};
-
-double config_number(const ConfigMap& c, const char* key, double fallback) {
+double config_number(const protocol::ConfigMap& c, const char* key, double fallback) {
     auto v = c.get(key);
     if (!v) return fallback;
-    auto f = config_float(*v);
+    auto f = protocol::config_float(*v);
     return f ? *f : fallback;
 }
 }  // namespace
 
-ConfigMap default_drone_config() {
-    ConfigMap c;
-    auto f = [](double v) { return config_format_float(v); };
+protocol::ConfigMap default_drone_config() {
+    protocol::ConfigMap c;
+    auto f = [](double v) { return protocol::config_format_float(v); };
     c.set("general:num_version_config", "1");
     c.set("general:num_version_mb", "33");
     c.set("general:num_version_soft", "2.4.8");
@@ -127,7 +109,7 @@ Pose DroneCore::pose() const {
 
 int DroneCore::video_channel() const {
     auto v = config_.get("video:video_channel");
-    auto n = v ? config_int(*v) : std::nullopt;
+    auto n = v ? protocol::config_int(*v) : std::nullopt;
     return n && *n == 1 ? 1 : 0;
 }
 
@@ -135,13 +117,13 @@ bool DroneCore::autopilot_done() const {
     return !options_.autopilot.empty() && ap_step_ >= options_.autopilot.size();
 }
 
-void DroneCore::on_navdata_trigger(const net::Endpoint& from, TimeNs now) {
+void DroneCore::on_navdata_trigger(const transport::Endpoint& from, TimeNs now) {
     now_ = std::max(now_, now);
     if (booting(now)) return;
     navdata_client_ = from;
 }
 
-void DroneCore::on_at(std::span<const std::uint8_t> datagram, const net::Endpoint& from,
+void DroneCore::on_at(std::span<const std::uint8_t> datagram, const transport::Endpoint& from,
                       TimeNs now) {
     if (booting(now)) {
         ++counters_.at_while_booting;
@@ -185,10 +167,10 @@ void DroneCore::apply_command(const at::Command& c, TimeNs now) {
         void set(std::int32_t flags, float roll, float pitch, float gaz, float yaw) {
             if (flags & at::kPcmdProgressive) d.autopilot_yield("manual move");
             d.input_.progressive = flags & at::kPcmdProgressive;
-            d.input_.roll = roll;
-            d.input_.pitch = pitch;
-            d.input_.gaz = gaz;
-            d.input_.yaw = yaw;
+            d.input_.roll = static_cast<double>(roll);
+            d.input_.pitch = static_cast<double>(pitch);
+            d.input_.gaz = static_cast<double>(gaz);
+            d.input_.yaw = static_cast<double>(yaw);
         }
         void operator()(const at::Ftrim&) {
             if (!d.model_.state().flying()) ++d.counters_.ftrims;
@@ -214,7 +196,7 @@ void DroneCore::apply_command(const at::Command& c, TimeNs now) {
             if (c.mode == static_cast<std::int32_t>(at::CtrlMode::Ack)) {
                 d.ack_ = false;
             } else if (c.mode == static_cast<std::int32_t>(at::CtrlMode::CfgGet)) {
-                d.pending_dump_ = format_config_dump(d.config_);
+                d.pending_dump_ = protocol::format_config_dump(d.config_);
                 d.ack_ = true;
             }
         }
@@ -239,10 +221,10 @@ void DroneCore::apply_config(const std::string& key, const std::string& value) {
         return;
     }
     // Typed keys keep their type: a value that does not parse is ignored.
-    const bool is_bool = config_bool(*current).has_value();
-    const bool is_number = config_float(*current).has_value();
-    if (is_bool && !config_bool(value)) return;
-    if (!is_bool && is_number && !config_float(value)) return;
+    const bool is_bool = protocol::config_bool(*current).has_value();
+    const bool is_number = protocol::config_float(*current).has_value();
+    if (is_bool && !protocol::config_bool(value)) return;
+    if (!is_bool && is_number && !protocol::config_float(value)) return;
     config_.set(key, value);
 
     if (key == "control:flight_anim") {
@@ -252,10 +234,10 @@ void DroneCore::apply_config(const std::string& key, const std::string& value) {
         ++counters_.leds;
     }
     if (key == "general:navdata_demo") {
-        demo_ = *config_bool(value);
+        demo_ = *protocol::config_bool(value);
         bootstrap_ = false;
     } else if (key == "general:navdata_options") {
-        navdata_options_ = static_cast<std::uint32_t>(config_int(value).value_or(65537));
+        navdata_options_ = static_cast<std::uint32_t>(protocol::config_int(value).value_or(65537));
     }
     FlightLimits l;
     l.euler_angle_max_rad = config_number(config_, "control:euler_angle_max", 0.2094);
@@ -387,7 +369,7 @@ void DroneCore::advance(TimeNs now, std::vector<OutDatagram>& out) {
         if (calibration_yaw_left_deg_ > 0) {
             in.progressive = true;
             in.roll = in.pitch = in.gaz = 0;
-            in.yaw = 0.5f;
+            in.yaw = 0.5;
             calibration_yaw_left_deg_ -= std::abs(model_.state().yaw_rate_deg_s) * kStepS;
         }
         model_.step(in, kStepS);
@@ -404,18 +386,25 @@ void DroneCore::advance(TimeNs now, std::vector<OutDatagram>& out) {
 }
 
 void DroneCore::update_bits() {
+    using B = navdata::DroneStateBit;
     const FlightState& s = model_.state();
-    std::uint32_t b = kThreads | kVideo | kVision | kCamera;
-    if (s.flying()) b |= kFly | kAltitude;
-    if (s.user_start) b |= kUserStart;
-    if (ack_) b |= kCommand;
-    if (demo_) b |= kDemo;
-    if (bootstrap_) b |= kBootstrap;
-    if (com_lost_) b |= kComLost;
-    if (s.battery_low) b |= kVbatLow;
-    if (s.emergency) b |= kEmergency | kCutout;
-    if (com_watchdog_) b |= kComWatchdog;
-    state_bits_ = b;
+    navdata::DroneState b;
+    // Always on: video, vision, camera, the PIC version and the firmware's four threads.
+    for (B on : {B::Video, B::Vision, B::Camera, B::PicVersion, B::AtcodecThreadOn,
+                 B::NavdataThreadOn, B::VideoThreadOn, B::AcqThreadOn})
+        b.set(on, true);
+    b.set(B::Fly, s.flying());
+    b.set(B::Altitude, s.flying());
+    b.set(B::UserFeedbackStart, s.user_start);
+    b.set(B::Command, ack_);
+    b.set(B::NavdataDemo, demo_);
+    b.set(B::NavdataBootstrap, bootstrap_);
+    b.set(B::ComLost, com_lost_);
+    b.set(B::VbatLow, s.battery_low);
+    b.set(B::Emergency, s.emergency);
+    b.set(B::Cutout, s.emergency);
+    b.set(B::ComWatchdog, com_watchdog_);
+    state_bits_ = b.raw;
 }
 
 void DroneCore::emit_navdata(std::vector<OutDatagram>& out) {
@@ -511,7 +500,7 @@ void DroneCore::emit_navdata(std::vector<OutDatagram>& out) {
 void DroneCore::send(std::vector<std::uint8_t> bytes, std::vector<OutDatagram>& out) {
     const NavdataFaults& f = options_.faults;
     std::uniform_real_distribution<double> u(0.0, 1.0);
-    const net::Endpoint to = *navdata_client_;
+    const transport::Endpoint to = *navdata_client_;
     if (f.loss > 0 && u(rng_) < f.loss) {
         ++counters_.navdata_dropped;
         return;

@@ -8,13 +8,13 @@
 // blackout, reboot) are applied here from a seeded generator, so a run is reproducible.
 // The sockets and the video live in virtual_drone.hpp.
 
-#include "drone/at_parser.hpp"
-#include "drone/clock.hpp"
-#include "drone/config.hpp"
-#include "drone/endpoint.hpp"
-#include "drone/navdata.hpp"
+#include "drone/core/clock.hpp"
+#include "drone/protocol/config.hpp"
+#include "drone/protocol/navdata.hpp"
+#include "drone/sim/at_parser.hpp"
 #include "drone/sim/flight_model.hpp"
 #include "drone/sim/scene.hpp"
+#include "drone/transport/endpoint.hpp"
 
 #include <cstdint>
 #include <optional>
@@ -49,7 +49,7 @@ struct DroneCoreOptions {
 };
 
 struct OutDatagram {
-    net::Endpoint to;
+    transport::Endpoint to;
     std::vector<std::uint8_t> bytes;
 };
 
@@ -77,8 +77,8 @@ public:
     explicit DroneCore(DroneCoreOptions options = {});
 
     // Any datagram on the navdata port wakes navdata up towards its sender.
-    void on_navdata_trigger(const net::Endpoint& from, TimeNs now);
-    void on_at(std::span<const std::uint8_t> datagram, const net::Endpoint& from, TimeNs now);
+    void on_navdata_trigger(const transport::Endpoint& from, TimeNs now);
+    void on_at(std::span<const std::uint8_t> datagram, const transport::Endpoint& from, TimeNs now);
     // Runs the drone up to `now` (fixed 5 ms physics steps) and appends the navdata due.
     void advance(TimeNs now, std::vector<OutDatagram>& out);
 
@@ -104,9 +104,9 @@ public:
         video_frame_number_ = number;
         video_frame_size_ = size_bytes;
     }
-    const ConfigMap& config() const { return config_; }
+    const protocol::ConfigMap& config() const { return config_; }
     const DroneCoreCounters& counters() const { return counters_; }
-    std::optional<net::Endpoint> navdata_client() const { return navdata_client_; }
+    std::optional<transport::Endpoint> navdata_client() const { return navdata_client_; }
     std::uint32_t navdata_sequence() const { return seq_; }
     TimeNs now() const { return now_; }
     bool autopilot_done() const;
@@ -125,9 +125,9 @@ private:
 
     DroneCoreOptions options_;
     FlightModel model_;
-    ConfigMap config_;
+    protocol::ConfigMap config_;
     at::SeqFilter seq_filter_;
-    std::optional<net::Endpoint> navdata_client_;
+    std::optional<transport::Endpoint> navdata_client_;
     std::optional<std::string> pending_dump_;
     std::mt19937_64 rng_;
     std::optional<OutDatagram> held_;  // reorder fault: sent after the next datagram
@@ -158,10 +158,10 @@ private:
     bool ap_active_ = false;
     std::string ap_yield_reason_;
     DroneCoreCounters counters_;
-    navdata::Navdata nav_;  // reused packet contents
+    protocol::navdata::Navdata nav_;  // reused packet contents
 };
 
 // The configuration a factory-fresh AR.Drone 2 reports (PROTOCOL.md §5.4 defaults).
-ConfigMap default_drone_config();
+protocol::ConfigMap default_drone_config();
 
 }  // namespace gs::sim

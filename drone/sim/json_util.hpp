@@ -2,7 +2,7 @@
 // Internal helpers for reading the simulator's JSON assets: typed getters that remember the first
 // error with the file and the JSON path, so loaders read straight through and check once.
 
-#include "drone/expected.hpp"
+#include "drone/core/expected.hpp"
 #include "drone/sim/asset_error.hpp"
 
 #include <nlohmann/json.hpp>

@@ -1,11 +1,12 @@
 #include "drone/sim/obstacle_flights.hpp"
+#include "drone/core/unknown.hpp"
 
 #include "drone/dataset/csv.hpp"
 #include "drone/dataset/writer.hpp"
-#include "drone/h264_encoder.hpp"
 #include "drone/sim/drone_core.hpp"
 #include "drone/sim/renderer.hpp"
 #include "drone/sim/rng.hpp"
+#include "drone/video/h264_encoder.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -221,18 +222,18 @@ Expected<ObstacleFlightSummary, std::string> write_obstacle_flight(const fs::pat
     const CameraCalibration calib = builtin_calibration(CameraId::Front);
     auto renderer = Renderer::create(scene, calib, CameraKind::Front);
     if (!renderer) return Unexpected("renderer: " + to_string(renderer.error()));
-    H264EncoderConfig ec_cfg;
+    video::H264EncoderConfig ec_cfg;
     ec_cfg.width = calib.width;
     ec_cfg.height = calib.height;
     ec_cfg.fps = static_cast<int>(std::lround(p.fps));
     ec_cfg.gop = 15;
     ec_cfg.bitrate_bps = p.bitrate_bps;
-    auto encoder = H264Encoder::create(ec_cfg);
+    auto encoder = video::H264Encoder::create(ec_cfg);
     if (!encoder) return Unexpected("H.264 encoder: " + to_string(encoder.error()));
 
     std::ofstream video(dir / "video.h264", std::ios::binary);
     if (!video) return Unexpected("cannot create " + (dir / "video.h264").string());
-    std::string frames_csv = frames_csv_header();
+    std::string frames_csv = dataset::frames_csv_header();
     std::string labels_csv = "frame,distance_m,lateral_m\n";
 
     Rng noise(mix_seed(p.seed, 0x0b5));
@@ -257,7 +258,7 @@ Expected<ObstacleFlightSummary, std::string> write_obstacle_flight(const fs::pat
                         static_cast<std::streamsize>(au.size()));
             sum.video_bytes += au.size();
 
-            FrameRow row;
+            dataset::FrameRow row;
             row.frame = f.index;
             row.nav.t_ns = f.t_ns;
             row.nav.roll_deg = s.roll_deg + gauss(noise, p.attitude_noise_deg);
@@ -268,10 +269,11 @@ Expected<ObstacleFlightSummary, std::string> write_obstacle_flight(const fs::pat
             row.nav.vz_mps = s.vz_mps + gauss(noise, p.velocity_noise_mps);
             row.nav.altitude_m = s.z_m;
             row.nav.battery_pct = std::floor(s.battery_pct);
-            row.gt = GroundTruthPose{f.pose.x_m, f.pose.y_m, f.pose.z_m, f.pose.yaw_deg};
-            frames_csv += frames_csv_row(row);
-            labels_csv += std::to_string(f.index) + ',' + csv::format_number(f.distance_m) + ',' +
-                          csv::format_number(f.lateral_m) + '\n';
+            row.gt = dataset::GroundTruthPose{f.pose.x_m, f.pose.y_m, f.pose.z_m, f.pose.yaw_deg};
+            frames_csv += dataset::frames_csv_row(row);
+            labels_csv += std::to_string(f.index) + ',' +
+                          dataset::csv::format_number(f.distance_m) + ',' +
+                          dataset::csv::format_number(f.lateral_m) + '\n';
             if (f.index == 0) sum.start_distance_m = f.distance_m;
             sum.end_distance_m = f.distance_m;
             sum.write_ms += since_ms(t0);
@@ -284,7 +286,7 @@ Expected<ObstacleFlightSummary, std::string> write_obstacle_flight(const fs::pat
     sum.duration_s = flown->duration_s;
     const std::int64_t index = flown->frames;
 
-    DatasetInfo info;
+    dataset::DatasetInfo info;
     info.camera = CameraId::Front;
     info.width = calib.width;
     info.height = calib.height;
@@ -297,7 +299,8 @@ Expected<ObstacleFlightSummary, std::string> write_obstacle_flight(const fs::pat
     if (auto e = write_text(dir / "labels.json", fl.extra_labels().dump(2) + "\n"))
         return Unexpected(*e);
     // flight.json last: a half-written flight is not a dataset.
-    if (auto e = write_text(dir / "flight.json", flight_json_text(info))) return Unexpected(*e);
+    if (auto e = write_text(dir / "flight.json", dataset::flight_json_text(info)))
+        return Unexpected(*e);
     return sum;
 }
 

@@ -14,8 +14,9 @@
 // and heading wobble, lighting and textures. Alternate flights of each kind form the tuning and
 // test splits.
 
-#include "drone/calibration.hpp"
-#include "drone/expected.hpp"
+#include "drone/core/camera_calibration.hpp"
+#include "drone/core/expected.hpp"
+#include "drone/core/unknown.hpp"
 #include "drone/sim/flight_model.hpp"
 #include "drone/sim/scene.hpp"
 
@@ -52,11 +53,11 @@ struct ObstacleFlightParams {
     // the recording ends (passed, or stopped before it): the start is moved across the heading to
     // cancel the drift the flight accumulates, so a side flight stays a pass and a centre flight
     // stays head-on. NaN: start where the scene says.
-    double end_lateral_m = std::numeric_limits<double>::quiet_NaN();
+    double end_lateral_m = kUnknown;
     // Clutter (scenery) whose footprint comes closer than this to the path flown is removed, so
     // the target is the only obstacle near the flight and a flag elsewhere is a false alarm.
     // NaN: the scene as it is.
-    double clear_path_m = std::numeric_limits<double>::quiet_NaN();
+    double clear_path_m = kUnknown;
     int bitrate_bps = 1'500'000;  // the drone's default video bitrate
     std::uint64_t seed = 1;       // noise
 };

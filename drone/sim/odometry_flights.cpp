@@ -297,7 +297,7 @@ Expected<OdometryFlightSummary, std::string> write_odometry_flight(const fs::pat
     OdometryFlightSummary sum;
     sum.frames = static_cast<int>(samples.size());
     sum.duration_s = samples.back().t_s;
-    std::string frames_csv = frames_csv_header();
+    std::string frames_csv = dataset::frames_csv_header();
     std::string distances = "frame,bottom_m,top_m\n";
     const std::vector<int> jpeg{cv::IMWRITE_JPEG_QUALITY, p.jpeg_quality};
     cv::Mat img;
@@ -325,16 +325,16 @@ Expected<OdometryFlightSummary, std::string> write_odometry_flight(const fs::pat
                 std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t3)
                     .count();
         }
-        FrameRow row;
+        dataset::FrameRow row;
         row.frame = fi;
         row.nav = s.nav;
         row.gt = {s.bottom.x_m, s.bottom.y_m, s.bottom.z_m, s.bottom.yaw_deg};
-        frames_csv += frames_csv_row(row);
+        frames_csv += dataset::frames_csv_row(row);
         distances += std::to_string(fi) + ',' + fixed3(s.bottom_distance_m) + ',' +
                      (p.top_camera ? fixed3(s.top_distance_m) : std::string()) + '\n';
     }
 
-    DatasetInfo info;
+    dataset::DatasetInfo info;
     info.camera = CameraId::Bottom;
     info.width = calib.width;
     info.height = calib.height;
@@ -359,7 +359,7 @@ Expected<OdometryFlightSummary, std::string> write_odometry_flight(const fs::pat
              << calib.dist[4]
              << "],\n  \"source\": \"simulated upward camera (bottom model)\"\n}\n";
     for (auto [name, text] : std::array<std::pair<const char*, std::string>, 4>{
-             {{"flight.json", flight_json_text(info)},
+             {{"flight.json", dataset::flight_json_text(info)},
               {"frames.csv", frames_csv},
               {"distances.csv", distances},
               {"top.json", top_json.str()}}}) {

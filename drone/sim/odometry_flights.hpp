@@ -11,7 +11,7 @@
 // odometry`: top/ (one image per frame), top.json (its calibration) and distances.csv
 // (frame,bottom_m,top_m).
 
-#include "drone/calibration.hpp"
+#include "drone/core/camera_calibration.hpp"
 #include "drone/dataset/dataset.hpp"
 #include "drone/sim/scene.hpp"
 

@@ -7,8 +7,8 @@
 // procedural textures once per pixel. Deterministic: the same pose gives the same bytes.
 // Preallocated buffers: no allocation per frame once the output image has its size.
 
-#include "drone/calibration.hpp"
-#include "drone/expected.hpp"
+#include "drone/core/camera_calibration.hpp"
+#include "drone/core/expected.hpp"
 #include "drone/sim/scene.hpp"
 
 #include <opencv2/core.hpp>

@@ -2,7 +2,7 @@
 // Finding the virtual drone's scenarios: a name from assets/scenes/ ("warehouse") or a path to a
 // scene JSON file.
 
-#include "drone/expected.hpp"
+#include "drone/core/expected.hpp"
 #include "drone/sim/asset_error.hpp"
 #include "drone/sim/scene.hpp"
 

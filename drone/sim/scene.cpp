@@ -103,9 +103,8 @@ cv::Point2d to_flight(double px, double py, double x, double y, double h_deg) {
 }  // namespace
 
 Expected<Scene, AssetError> load_scene(const std::string& path) {
-    auto doc = read_json_file(path);
-    if (!doc) return Unexpected{doc.error()};
-    const nlohmann::json& j = *doc;
+    GS_TRY_ASSIGN(auto doc, read_json_file(path));
+    const nlohmann::json& j = doc;
     JsonReader r(path);
     Scene s;
     s.source_file = path;

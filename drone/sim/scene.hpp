@@ -6,7 +6,7 @@
 // World frame (DATASET.md): x forward along the initial heading, y right, z up, metres; yaw
 // clockwise seen from above, roll positive = right side down, pitch positive = nose up.
 
-#include "drone/expected.hpp"
+#include "drone/core/expected.hpp"
 #include "drone/sim/asset_error.hpp"
 #include "drone/sim/texture.hpp"
 

@@ -1,8 +1,8 @@
 #include "drone/sim/virtual_drone.hpp"
 
-#include "drone/h264_encoder.hpp"
-#include "drone/net.hpp"
-#include "drone/pave.hpp"
+#include "drone/protocol/pave.hpp"
+#include "drone/transport/net.hpp"
+#include "drone/video/h264_encoder.hpp"
 
 #include <poll.h>
 #include <sys/socket.h>
@@ -26,35 +26,58 @@ TimeNs mono_now() {
 }  // namespace
 
 struct VirtualDrone::Sockets {
-    net::UdpSocket at, navdata;
-    net::TcpListener video, control;
+    transport::UdpSocket at, navdata;
+    transport::TcpListener video, control;
     std::optional<Renderer> front;  // built before the video port is served
 };
 
-VirtualDrone::VirtualDrone(VirtualDroneOptions options) : options_(std::move(options)) {}
+VirtualDrone::VirtualDrone(VirtualDroneOptions options) : options_(std::move(options)) {
+    if (!options_.scene.target_id.empty())
+        target_ = find_obstacle(options_.scene, options_.scene.target_id);
+}
+
+record::TruthScene VirtualDrone::truth_scene() const {
+    const Scene& s = options_.scene;
+    return {s.scenario, s.name, s.target_id, s.description};
+}
+
+record::TruthSample VirtualDrone::truth_sample() const {
+    const GroundTruth g = ground_truth();
+    const Pose& p = g.pose;
+    return {g.t_ns, {p.x_m, p.y_m, p.z_m, p.roll_deg, p.pitch_deg, p.yaw_deg}};
+}
+
+std::optional<record::TargetOffset> VirtualDrone::target_offset(const record::TruthPose& p) const {
+    if (!target_) return std::nullopt;
+    const ObstacleHit hit = obstacle_relative(options_.scene, *target_, p.x_m, p.y_m, p.yaw_deg);
+    return record::TargetOffset{hit.distance_m, hit.lateral_m};
+}
 
 VirtualDrone::~VirtualDrone() {
     stop();
 }
 
-Expected<bool, std::string> VirtualDrone::start() {
-    if (running_) return true;
-    auto ep = [&](std::uint16_t port) -> Expected<net::Endpoint, std::string> {
-        auto e = net::Endpoint::parse(options_.bind_address + ":" + std::to_string(port));
-        if (!e) return Unexpected{"bad bind address '" + options_.bind_address + "'"};
+Expected<void, StartError> VirtualDrone::start() {
+    using enum StartError::Code;
+    if (running_) return {};
+    auto ep = [&](std::uint16_t port) -> Expected<transport::Endpoint, StartError> {
+        auto e = transport::Endpoint::parse(options_.bind_address + ":" + std::to_string(port));
+        if (!e)
+            return Unexpected(
+                StartError{BadBindAddress, "bad bind address '" + options_.bind_address + "'"});
         return *e;
     };
     auto s = std::make_unique<Sockets>();
-    auto at_ep = ep(options_.at_port);
-    if (!at_ep) return Unexpected{at_ep.error()};
-    auto at = net::UdpSocket::bind(*at_ep);
-    if (!at) return Unexpected{"AT port: " + at.error().message()};
-    auto nav = net::UdpSocket::bind(*ep(options_.navdata_port));
-    if (!nav) return Unexpected{"navdata port: " + nav.error().message()};
-    auto video = net::TcpListener::listen(*ep(options_.video_port));
-    if (!video) return Unexpected{"video port: " + video.error().message()};
-    auto control = net::TcpListener::listen(*ep(options_.control_port));
-    if (!control) return Unexpected{"control port: " + control.error().message()};
+    GS_TRY_ASSIGN(auto at_ep, ep(options_.at_port));
+    auto at = transport::UdpSocket::bind(at_ep);
+    if (!at) return Unexpected(StartError{Socket, "AT port: " + at.error().message()});
+    auto nav = transport::UdpSocket::bind(*ep(options_.navdata_port));
+    if (!nav) return Unexpected(StartError{Socket, "navdata port: " + nav.error().message()});
+    auto video = transport::TcpListener::listen(*ep(options_.video_port));
+    if (!video) return Unexpected(StartError{Socket, "video port: " + video.error().message()});
+    auto control = transport::TcpListener::listen(*ep(options_.control_port));
+    if (!control)
+        return Unexpected(StartError{Socket, "control port: " + control.error().message()});
     s->at = std::move(*at);
     s->navdata = std::move(*nav);
     s->video = std::move(*video);
@@ -67,7 +90,8 @@ Expected<bool, std::string> VirtualDrone::start() {
         // Building a renderer inverts the lens model for every pixel: do it before serving.
         auto front = Renderer::create(options_.scene, camera_calibration(CameraId::Front),
                                       CameraKind::Front);
-        if (!front) return Unexpected{"renderer: " + to_string(front.error())};
+        if (!front)
+            return Unexpected(StartError{Renderer, "renderer: " + to_string(front.error())});
         s->front.emplace(std::move(*front));
     }
     sockets_ = std::move(s);
@@ -80,7 +104,7 @@ Expected<bool, std::string> VirtualDrone::start() {
     threads_.emplace_back([this] { core_loop(); });
     if (options_.video) threads_.emplace_back([this] { video_loop(); });
     threads_.emplace_back([this] { control_loop(); });
-    return true;
+    return {};
 }
 
 void VirtualDrone::stop() {
@@ -115,12 +139,13 @@ void VirtualDrone::core_loop() {
         TimeNs now = mono_now();
         // Drain whatever arrived on both ports.
         for (int i = 0; i < 64; ++i) {
-            auto got = sockets_->at.recv_from(std::span<std::uint8_t>(buf), net::Millis{0});
+            auto got = sockets_->at.recv_from(std::span<std::uint8_t>(buf), transport::Millis{0});
             if (!got) break;
             core.on_at(std::span<const std::uint8_t>(buf.data(), got->size), got->from, now);
         }
         for (int i = 0; i < 16; ++i) {
-            auto got = sockets_->navdata.recv_from(std::span<std::uint8_t>(buf), net::Millis{0});
+            auto got =
+                sockets_->navdata.recv_from(std::span<std::uint8_t>(buf), transport::Millis{0});
             if (!got) break;
             core.on_navdata_trigger(got->from, now);
         }
@@ -146,7 +171,7 @@ void VirtualDrone::core_loop() {
         core.advance(now, out);
         for (const auto& d : out) {
             (void)sockets_->navdata.send_to(std::span<const std::uint8_t>(d.bytes), d.to,
-                                            net::Millis{2});
+                                            transport::Millis{2});
         }
         if (auto dump = core.take_config_dump()) dumps_.push(std::move(*dump));
 
@@ -177,11 +202,11 @@ void VirtualDrone::video_loop() {
     // the bottom camera's is built only when a client first selects it.
     std::optional<Renderer>& front = sockets_->front;
     std::optional<Renderer> bottom;
-    H264EncoderConfig ec;
+    video::H264EncoderConfig ec;
     ec.fps = options_.fps;
     ec.gop = options_.gop;
     ec.bitrate_bps = options_.bitrate_bps;
-    auto encoder = H264Encoder::create(ec);
+    auto encoder = video::H264Encoder::create(ec);
     if (!encoder) {
         report.error = "encoder: " + to_string(encoder.error());
         video_report_.publish(report);
@@ -198,7 +223,7 @@ void VirtualDrone::video_loop() {
     bool reset_pending = false, reset_during_idr = false;
 
     while (running_) {
-        auto client = sockets_->video.accept(net::Millis{100});
+        auto client = sockets_->video.accept(transport::Millis{100});
         if (!client) continue;
         ++report.clients;
         (void)client->set_no_delay(true);
@@ -235,7 +260,7 @@ void VirtualDrone::video_loop() {
                 video_report_.publish(report);
                 continue;
             }
-            PaveHeader h;
+            protocol::PaveHeader h;
             h.header_size = 68;
             h.payload_size = static_cast<std::uint32_t>(au.size());
             h.encoded_stream_width = 640;
@@ -245,13 +270,13 @@ void VirtualDrone::video_loop() {
             h.frame_number = frame_number;
             // The capture time is the pose's: the physics step the image was rendered from.
             h.timestamp = static_cast<std::uint32_t>((std::max(cam->t_ns, t0) - t0) / 1'000'000);
-            h.frame_type = idr ? PaveFrameType::Idr : PaveFrameType::P;
+            h.frame_type = idr ? protocol::PaveFrameType::Idr : protocol::PaveFrameType::P;
             h.stream_byte_position_lw = static_cast<std::uint32_t>(byte_pos);
             h.stream_byte_position_uw = static_cast<std::uint32_t>(byte_pos >> 32);
             h.stream_id = static_cast<std::uint16_t>(cam->channel == 1 ? 2 : 1);
             h.advertised_size = h.payload_size;
             packet.resize(h.header_size + au.size());
-            auto w = write_pave_header(h, std::span<std::uint8_t>(packet));
+            auto w = protocol::write_pave_header(h, std::span<std::uint8_t>(packet));
             if (!w) continue;
             std::copy(au.begin(), au.end(), packet.begin() + h.header_size);
             byte_pos += au.size();
@@ -267,7 +292,7 @@ void VirtualDrone::video_loop() {
                 // Half a frame, then a TCP reset (SO_LINGER 0 turns close into RST).
                 (void)client->write_all(
                     std::span<const std::uint8_t>(packet.data(), packet.size() / 2),
-                    net::Millis{200});
+                    transport::Millis{200});
                 linger l{1, 0};
                 ::setsockopt(client->native_handle(), SOL_SOCKET, SO_LINGER, &l, sizeof l);
                 client->close();
@@ -275,7 +300,8 @@ void VirtualDrone::video_loop() {
                 video_report_.publish(report);
                 break;
             }
-            auto sent = client->write_all(std::span<const std::uint8_t>(packet), net::Millis{500});
+            auto sent =
+                client->write_all(std::span<const std::uint8_t>(packet), transport::Millis{500});
             if (!sent) {
                 report.error = "video client: " + sent.error().message();
                 video_report_.publish(report);
@@ -290,15 +316,15 @@ void VirtualDrone::video_loop() {
 }
 
 void VirtualDrone::control_loop() {
-    net::TcpStream client;
+    transport::TcpStream client;
     while (running_) {
         if (!client.is_open()) {
-            auto c = sockets_->control.accept(net::Millis{50});
+            auto c = sockets_->control.accept(transport::Millis{50});
             if (c) client = std::move(*c);
         }
         auto dump = dumps_.pop_for(std::chrono::milliseconds(20));
         if (!dump || !client.is_open()) continue;
-        auto w = client.write_all(*dump, net::Millis{500});
+        auto w = client.write_all(*dump, transport::Millis{500});
         if (!w) client.close();
     }
 }

@@ -5,10 +5,11 @@
 // Threads: one owns the DroneCore (UDP I/O + physics), one renders/encodes/serves video, one
 // serves the control port; they share data only through latest-value slots and bounded queues.
 
+#include "drone/core/sync.hpp"
+#include "drone/record/ground_truth.hpp"
 #include "drone/sim/drone_core.hpp"
 #include "drone/sim/renderer.hpp"
 #include "drone/sim/scene.hpp"
-#include "drone/sync.hpp"
 
 #include <atomic>
 #include <cstdint>
@@ -75,7 +76,15 @@ struct GroundTruth {
     std::uint32_t frame_number = 0;  // last video frame rendered
 };
 
-class VirtualDrone {
+// Why VirtualDrone::start() failed; `message` is the sentence shown to the user.
+struct StartError {
+    enum class Code { BadBindAddress, Socket, Renderer };
+    Code code;
+    std::string message;
+};
+
+// Also the recorder's ground truth: the scene's scenario, the drone's pose, the target obstacle.
+class VirtualDrone final : public record::GroundTruthSource {
 public:
     explicit VirtualDrone(VirtualDroneOptions options);
     ~VirtualDrone();
@@ -83,7 +92,7 @@ public:
     VirtualDrone& operator=(const VirtualDrone&) = delete;
 
     // Binds every port (0 = ephemeral; see the bound ports below) and starts the threads.
-    [[nodiscard]] Expected<bool, std::string> start();
+    [[nodiscard]] Expected<void, StartError> start();
     void stop();
 
     std::uint16_t at_port() const { return ports_[0]; }
@@ -96,12 +105,18 @@ public:
     GroundTruth ground_truth() const { return truth_.latest().value_or(GroundTruth{}); }
     const Scene& scene() const { return options_.scene; }
 
+    // record::GroundTruthSource
+    record::TruthScene truth_scene() const override;
+    record::TruthSample truth_sample() const override;
+    std::optional<record::TargetOffset> target_offset(const record::TruthPose& p) const override;
+
 private:
     void core_loop();
     void video_loop();
     void control_loop();
 
     VirtualDroneOptions options_;
+    std::optional<std::size_t> target_;  // the scene's target obstacle (index), if it names one
     std::atomic<bool> running_{false};
     std::uint16_t ports_[4] = {0, 0, 0, 0};
     struct Sockets;

@@ -2,7 +2,7 @@
 // bad input built in /tmp: success writes flight.json's calibration shape; failures exit non-zero
 // with a reason and write no file.
 #include "cli_test_util.hpp"
-#include "drone/h264_encoder.hpp"
+#include "drone/video/h264_encoder.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -100,10 +100,10 @@ TEST(CalibrateCli, VideoOnlyDatasetIsDecodedThroughTheDatasetReader) {
     // A recorded dataset holding only video.h264 (as `record` writes): the 11 real frames encoded
     // as H.264, read back through the dataset reader and decoded; --step 2 takes 6 of them.
     const fs::path ds = scratch("video_only");
-    gs::H264EncoderConfig ec;
+    gs::video::H264EncoderConfig ec;
     ec.bitrate_bps = 8'000'000;  // the corners must survive the encoding
-    auto enc = gs::H264Encoder::create(ec);
-    ASSERT_TRUE(enc.has_value()) << gs::to_string(enc.error());
+    auto enc = gs::video::H264Encoder::create(ec);
+    ASSERT_TRUE(enc.has_value()) << gs::video::to_string(enc.error());
     std::ofstream video(ds / "video.h264", std::ios::binary);
     std::ofstream csv(ds / "frames.csv");
     csv << "frame,t_ms,roll_deg\n";

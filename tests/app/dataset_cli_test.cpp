@@ -133,8 +133,8 @@ TEST_F(ThesisCli, ExportThenImportReplaysToTheSameDecisions) {
         run_cli("dataset import-thesis " + thesis().string() + " " + back.string());
     ASSERT_EQ(imp.exit_code, 0) << imp.out;
     // The values per frame come back: times, attitude, velocities, altitude, ground truth.
-    auto a = Dataset::open(kFlight);
-    auto b = Dataset::open(back);
+    auto a = dataset::Dataset::open(kFlight);
+    auto b = dataset::Dataset::open(back);
     ASSERT_TRUE(a && b);
     ASSERT_EQ(b->frame_count(), kFlightFrames);
     EXPECT_EQ(b->info().fps, a->info().fps);

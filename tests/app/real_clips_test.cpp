@@ -20,6 +20,7 @@
 namespace gs::test {
 namespace {
 namespace fs = std::filesystem;
+namespace csv = gs::dataset::csv;
 
 const fs::path kVideoDir = fs::path(GS_FIXTURES_DIR) / "real" / "video";
 const fs::path kWindows = fs::path(GS_TEST_DATA_DIR) / "real_clips" / "windows.csv";

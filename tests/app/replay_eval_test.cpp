@@ -35,10 +35,10 @@ nlohmann::json read_json(const fs::path& p) {
     return nlohmann::json::parse(read_text(p));
 }
 
-csv::Table read_csv(const fs::path& p) {
-    auto t = csv::Table::parse(read_text(p), p.filename().string());
+dataset::csv::Table read_csv(const fs::path& p) {
+    auto t = dataset::csv::Table::parse(read_text(p), p.filename().string());
     EXPECT_TRUE(t) << (t ? "" : to_string(t.error()));
-    return t ? std::move(*t) : *csv::Table::parse("x\n", "empty");
+    return t ? std::move(*t) : *dataset::csv::Table::parse("x\n", "empty");
 }
 
 // Every frame of an MP4 file decoded to BGR (libavformat + libavcodec), for checking what
@@ -102,10 +102,10 @@ TEST(ReplayCli, ShippedFlightGivesOneDecisionRowPerFrameAndASummary) {
     ASSERT_EQ(r.exit_code, 0) << r.out;
     EXPECT_NE(r.out.find("replayed 153 of 153 frames"), std::string::npos) << r.out;
 
-    auto ds = Dataset::open(kFlight);
+    auto ds = dataset::Dataset::open(kFlight);
     ASSERT_TRUE(ds) << to_string(ds.error());
     ASSERT_EQ(ds->frame_count(), kFlightFrames);
-    const csv::Table d = read_csv(out / "decisions.csv");
+    const dataset::csv::Table d = read_csv(out / "decisions.csv");
     const std::vector<std::string> header = {"frame", "t_ms",       "left",         "center",
                                              "right", "left_score", "center_score", "right_score"};
     ASSERT_EQ(d.header(), header);
@@ -113,7 +113,7 @@ TEST(ReplayCli, ShippedFlightGivesOneDecisionRowPerFrameAndASummary) {
     int left = 0, right = 0;
     for (std::size_t i = 0; i < d.rows(); ++i) {
         EXPECT_EQ(d.field(i, 0), std::to_string(i));
-        EXPECT_EQ(d.field(i, 1), csv::format_ms(ds->frames()[i].nav.t_ns)) << i;
+        EXPECT_EQ(d.field(i, 1), dataset::csv::format_ms(ds->frames()[i].nav.t_ns)) << i;
         for (std::size_t c = 2; c < 5; ++c)
             EXPECT_TRUE(d.field(i, c) == "0" || d.field(i, c) == "1");
         left += d.field(i, 2) == "1";
@@ -168,7 +168,7 @@ TEST(ReplayCli, VideoShowsTheRegionBarAndPlotsAreWritten) {
     EXPECT_EQ(frames[0].cols, 640);
     EXPECT_EQ(frames[0].rows, 360);
     // The bar across the top follows decisions.csv: red where the region was unsafe.
-    const csv::Table d = read_csv(out / "decisions.csv");
+    const dataset::csv::Table d = read_csv(out / "decisions.csv");
     int checked_red = 0, checked_green = 0;
     for (std::size_t i = 0; i < d.rows(); ++i) {
         const cv::Vec3b left_bar = frames[i].at<cv::Vec3b>(5, 60);
@@ -308,10 +308,10 @@ protected:
 };
 
 TEST_F(EvalCli, GeneratedFlightsAreLabelledDatasets) {
-    auto c = Dataset::open(flights() / "center");
+    auto c = dataset::Dataset::open(flights() / "center");
     ASSERT_TRUE(c) << to_string(c.error());
     ASSERT_TRUE(c->labels());
-    EXPECT_EQ(c->labels()->scenario, Scenario::Center);
+    EXPECT_EQ(c->labels()->scenario, dataset::Scenario::Center);
     ASSERT_TRUE(c->label_rows());
     ASSERT_EQ(c->label_rows()->size(), static_cast<std::size_t>(c->frame_count()));
     // The drone flies at the pillar and stops 0.6 m before it (the generator's stop_before_m).
@@ -319,9 +319,9 @@ TEST_F(EvalCli, GeneratedFlightsAreLabelledDatasets) {
     EXPECT_GT(c->label_rows()->back().distance_m, 0.6);
     EXPECT_LT(c->label_rows()->back().distance_m, 0.7);
     EXPECT_FALSE(c->calibration_is_default());
-    auto o = Dataset::open(flights() / "open");
+    auto o = dataset::Dataset::open(flights() / "open");
     ASSERT_TRUE(o) << to_string(o.error());
-    EXPECT_EQ(o->labels()->scenario, Scenario::None);
+    EXPECT_EQ(o->labels()->scenario, dataset::Scenario::None);
     EXPECT_TRUE(std::isnan(o->label_rows()->front().distance_m));
     // Ground truth: the camera moved about 8 m forward along x.
     EXPECT_NEAR(o->frames().back().gt.x_m - o->frames().front().gt.x_m, 8.0, 0.1);
@@ -350,7 +350,7 @@ TEST_F(EvalCli, ScoresEveryFlightAndWritesTheReports) {
         const nlohmann::json s = read_json(out / name / "summary.json");
         EXPECT_EQ(s["score"]["tp"], f["tp"]) << name;
         EXPECT_EQ(s["score"]["fp"], f["fp"]) << name;
-        const csv::Table d = read_csv(out / name / "decisions.csv");
+        const dataset::csv::Table d = read_csv(out / name / "decisions.csv");
         EXPECT_EQ(static_cast<int>(d.rows()), f["frames"].get<int>()) << name;
         tp += f["tp"].get<int>();
         fp += f["fp"].get<int>();

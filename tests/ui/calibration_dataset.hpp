@@ -4,7 +4,7 @@
 // DATASET.md), for the window's calibration mode. The fixtures are read from GS_FIXTURES_DIR and
 // never copied into the repository.
 
-#include "drone/calibration.hpp"
+#include "drone/core/camera_calibration.hpp"
 
 #include <filesystem>
 #include <string>

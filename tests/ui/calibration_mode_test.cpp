@@ -7,8 +7,9 @@
 #include "app/gui_adapter.hpp"
 #include "app/session.hpp"
 #include "calibration_dataset.hpp"
-#include "drone/calibration.hpp"
+#include "drone/core/camera_calibration.hpp"
 #include "imgui_fixture.hpp"
+#include "support/wait.hpp"
 
 #include <GLFW/glfw3.h>
 #include <gtest/gtest.h>
@@ -107,13 +108,9 @@ protected:
         return a;
     }
     bool run_until(const std::function<bool()>& pred, std::chrono::milliseconds timeout) {
-        const auto t0 = std::chrono::steady_clock::now();
-        while (std::chrono::steady_clock::now() - t0 < timeout) {
-            step();
-            if (pred()) return true;
-            std::this_thread::sleep_for(5ms);
-        }
-        return false;
+        return gs::test::wait_until(
+                   pred, timeout, [&] { step(); }, std::chrono::milliseconds(5))
+            .has_value();
     }
     // A left click on a button the window reported in its layout (press, then release).
     Actions click(const char* button) {

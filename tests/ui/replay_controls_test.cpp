@@ -6,6 +6,7 @@
 #include "app/gui_adapter.hpp"
 #include "app/session.hpp"
 #include "imgui_fixture.hpp"
+#include "support/wait.hpp"
 
 #include <gtest/gtest.h>
 
@@ -50,13 +51,9 @@ protected:
         return a;
     }
     bool run_until(const std::function<bool()>& pred, std::chrono::milliseconds timeout) {
-        const auto t0 = std::chrono::steady_clock::now();
-        while (std::chrono::steady_clock::now() - t0 < timeout) {
-            step();
-            if (pred()) return true;
-            std::this_thread::sleep_for(5ms);
-        }
-        return false;
+        return gs::test::wait_until(
+                   pred, timeout, [&] { step(); }, std::chrono::milliseconds(5))
+            .has_value();
     }
     // Runs window frames for `d` and returns how many dataset frames the replay advanced.
     std::int64_t advance_during(std::chrono::milliseconds d) {

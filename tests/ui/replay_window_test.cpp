@@ -4,7 +4,7 @@
 // replays the flight offscreen under Xvfb (lock-stepped: window frame k shows dataset frame k)
 // and the screenshot's region bars must be red on the left and green elsewhere, as decided.
 #include "app/pipeline.hpp"
-#include "drone/calibration.hpp"
+#include "drone/core/camera_calibration.hpp"
 #include "drone/dataset/dataset.hpp"
 #include "drone/dataset/dataset_source.hpp"
 #include "drone/dataset/video_frames.hpp"
@@ -77,16 +77,16 @@ void write_flight(const fs::path& dir) {
 // Per frame: which regions the pipeline (the window's own classifier path) flags.
 std::vector<std::array<bool, 3>> classify(const fs::path& dir) {
     std::vector<std::array<bool, 3>> out;
-    auto ds = Dataset::open(dir);
+    auto ds = dataset::Dataset::open(dir);
     EXPECT_TRUE(ds) << (ds ? "" : to_string(ds.error()));
     if (!ds) return out;
-    auto frames = open_frames(*ds);
+    auto frames = dataset::open_frames(*ds);
     EXPECT_TRUE(frames);
     if (!frames) return out;
     app::ObstaclePipeline pipe(std::string(vision::kDefaultClassifier), ds->calibration());
     const CameraCalibration calib = ds->calibration();
-    DatasetSource src(std::move(*ds), std::move(*frames), SteadyClock::instance(),
-                      Pacing::fastest());
+    dataset::DatasetSource src(std::move(*ds), std::move(*frames), SteadyClock::instance(),
+                               Pacing::fastest());
     FrameSample f;
     while (src.next(f) == SourceStatus::Sample) {
         const auto& res = pipe.process(f);

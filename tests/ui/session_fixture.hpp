@@ -6,6 +6,7 @@
 #include "app/gui_adapter.hpp"
 #include "app/session.hpp"
 #include "imgui_fixture.hpp"
+#include "support/wait.hpp"
 
 #include <gtest/gtest.h>
 
@@ -40,13 +41,9 @@ protected:
     // Window frames (~100 per second) until `pred` holds or `timeout` passes.
     bool run_until(const std::function<bool()>& pred, std::chrono::milliseconds timeout,
                    const InputState& in = {}) {
-        const auto t0 = std::chrono::steady_clock::now();
-        while (std::chrono::steady_clock::now() - t0 < timeout) {
-            step(in);
-            if (pred()) return true;
-            std::this_thread::sleep_for(std::chrono::milliseconds(10));
-        }
-        return false;
+        return gs::test::wait_until(
+                   pred, timeout, [&] { step(in); }, std::chrono::milliseconds(10))
+            .has_value();
     }
     static InputState key(PilotKey k) {
         InputState in;

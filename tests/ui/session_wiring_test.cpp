@@ -4,8 +4,8 @@
 // waits are bounded polls on the drone's own state, never fixed sleeps standing in for logic.
 #include "app/gui_adapter.hpp"
 #include "app/session.hpp"
-#include "drone/at_parser.hpp"
 #include "drone/dataset/dataset.hpp"
+#include "drone/sim/at_parser.hpp"
 #include "session_fixture.hpp"
 
 #include <gtest/gtest.h>
@@ -30,14 +30,14 @@ protected:
 };
 
 // Every PCMD the link sent, parsed from the AT datagrams it published as raw events.
-std::vector<at::Pcmd> sent_pcmds(BoundedQueue<link::RawEvent>& raw) {
-    std::vector<at::Pcmd> out;
+std::vector<sim::at::Pcmd> sent_pcmds(BoundedQueue<link::RawEvent>& raw) {
+    std::vector<sim::at::Pcmd> out;
     while (auto e = raw.try_pop()) {
         if (e->kind != link::RawEvent::Kind::At) continue;
-        auto p = at::parse_datagram(std::span<const std::uint8_t>(e->bytes));
+        auto p = sim::at::parse_datagram(std::span<const std::uint8_t>(e->bytes));
         if (!p) continue;
         for (const auto& c : p->commands)
-            if (const auto* pc = std::get_if<at::Pcmd>(&c.body)) out.push_back(*pc);
+            if (const auto* pc = std::get_if<sim::at::Pcmd>(&c.body)) out.push_back(*pc);
     }
     return out;
 }
@@ -99,7 +99,8 @@ TEST_F(Wiring, TakeoffKeyWHeldAndEscapeReachTheVirtualDroneAsAtCommands) {
     // Escape: emergency; the drone cuts its motors and reports bit 31.
     const Actions ea = step(key(PilotKey::Emergency));
     EXPECT_TRUE(ea.emergency);
-    ASSERT_TRUE(run_until([&] { return (drone->status().drone_state >> 31) & 1u; }, 5s))
+    ASSERT_TRUE(run_until(
+        [&] { return protocol::navdata::DroneState{drone->status().drone_state}.emergency(); }, 5s))
         << "emergency bit never set";
     EXPECT_FALSE(drone->status().flight.motors_on);
     ASSERT_TRUE(
@@ -201,7 +202,7 @@ TEST_F(Wiring, RKeyRecordsTheVirtualDroneAsADatasetThatOpensForReplay) {
     const std::string path = snap.recording.path;
     ASSERT_FALSE(path.empty());
     EXPECT_EQ(std::filesystem::path(path).parent_path(), root);
-    auto ds = Dataset::open(path);
+    auto ds = dataset::Dataset::open(path);
     ASSERT_TRUE(ds) << to_string(ds.error());
     EXPECT_GE(ds->frame_count(), 15);
     EXPECT_EQ(static_cast<std::uint64_t>(ds->frame_count()), snap.recording.frames);
@@ -271,7 +272,7 @@ TEST_F(Wiring, BottomCameraRunsVisualOdometryBesideTheNavdataPath) {
     step();
     ASSERT_TRUE(step(key(PilotKey::Record)).record_stop);
     ASSERT_TRUE(run_until([&] { return !snap.recording.active; }, 8s));
-    auto ds = Dataset::open(snap.recording.path);
+    auto ds = dataset::Dataset::open(snap.recording.path);
     ASSERT_TRUE(ds) << to_string(ds.error());
     EXPECT_EQ(ds->info().camera, CameraId::Bottom);
     EXPECT_GE(ds->frame_count(), 5);

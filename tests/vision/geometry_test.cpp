@@ -11,6 +11,7 @@
 #include <vector>
 
 using namespace gs::vision;
+using gs::CameraCalibration;
 
 TEST(TrackerGrid, ABusyBackgroundCannotTakeEverySlot) {
     // Fine, strong texture on the top half of the view only at first; a weakly textured lower

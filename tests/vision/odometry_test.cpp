@@ -19,6 +19,7 @@
 #include <vector>
 
 using namespace gs::vision;
+using gs::CameraCalibration;
 
 namespace {
 

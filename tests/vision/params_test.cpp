@@ -7,6 +7,7 @@
 #include <set>
 
 using namespace gs::vision;
+using gs::CameraCalibration;
 
 namespace {
 CameraCalibration calib() {

@@ -12,6 +12,8 @@
 #include <vector>
 
 using namespace gs::vision;
+using gs::CameraCalibration;
+using gs::kUnknown;
 
 namespace {
 const std::string kDir = std::string(GS_FIXTURES_DIR) + "/real/semi_synthetic_tti_approach";
@@ -41,7 +43,7 @@ ApproachRun run(const char* name, bool ego_motion = true) {
         const FrameResult& res = c->process(in);
         const PlotSeries* s = res.find_series("centre.scale_raw");
         EXPECT_NE(s, nullptr);
-        r.scale.push_back(s && !s->points.empty() ? s->points.back().y : kNaN);
+        r.scale.push_back(s && !s->points.empty() ? s->points.back().y : kUnknown);
         r.centre_unsafe.push_back(res.region(Region::Centre).unsafe);
         r.centre_valid.push_back(res.region(Region::Centre).valid);
         r.centre_score.push_back(res.region(Region::Centre).score);

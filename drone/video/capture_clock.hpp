@@ -1,0 +1,49 @@
+#pragma once
+// Capture times for video frames on the receiver's clock, from the drone's own frame timestamps.
+//
+// A frame's receive time carries the network, the drone's encoder queue and the receiving
+// thread's scheduling: frames arrive bunched (two in one TCP read get the same time) or late
+// under load, and a classifier that measures image motion per second sees that jitter as motion.
+// The PaVE header's timestamp is the drone's capture clock (ms). CaptureClock maps it onto the
+// receiver's monotonic clock by the smallest observed delay (the frame that came fastest tells the
+// offset best, as NTP and PX4's timesync do), allowed to creep up by a bounded clock skew so that
+// a drone clock running slow is followed; a timestamp going backwards or jumping away from the
+// receive time (a drone reboot, a new stream) re-anchors it, counted. Pure: times are arguments.
+#include "drone/core/clock.hpp"
+
+#include <cstdint>
+
+namespace gs::video {
+
+struct CaptureClockParams {
+    // How fast the offset may grow (drone clock slower than ours): 200 µs per second (200 ppm,
+    // ten times a crystal's tolerance).
+    double max_skew_ppm = 200;
+    // A drone time step this far from the receive time step re-anchors (reboot, stall, wrap).
+    TimeNs max_jump_ns = 1'000'000'000;
+};
+
+class CaptureClock {
+public:
+    explicit CaptureClock(CaptureClockParams p = {}) : p_(p) {}
+
+    // The capture time of a frame stamped `drone_ms` by the drone and received at `recv_ns`:
+    // never after `recv_ns`, never before the previous result.
+    TimeNs map(std::uint32_t drone_ms, TimeNs recv_ns);
+    void reset() { have_ = false; }
+
+    std::uint64_t anchors() const { return anchors_; }  // re-anchorings, the first one included
+    TimeNs offset_ns() const { return offset_ns_; }     // receiver time - drone time
+
+private:
+    CaptureClockParams p_;
+    bool have_ = false;
+    std::uint32_t last_ms_ = 0;
+    TimeNs drone_ns_ = 0;  // unwrapped drone time of the last frame
+    TimeNs last_recv_ns_ = 0;
+    TimeNs last_out_ns_ = 0;
+    TimeNs offset_ns_ = 0;
+    std::uint64_t anchors_ = 0;
+};
+
+}  // namespace gs::video
