@@ -95,6 +95,18 @@ bool EgoMotionEstimator::fit_translation(const EgoPrior& prior, bool fix_w, doub
     bool have_t = t_prior || fix_w;
     if (t_prior && !fix_w) t = prior.translation;
     const int iters = std::max(2, p.iterations);
+    // The flow less the rotation's, per point: computed again only when w changes (a buffer
+    // kept per thread, so no frame allocates once it has grown).
+    thread_local std::vector<cv::Vec2d> derot;
+    derot.resize(n);
+    const auto derotate = [&] {
+        for (std::size_t i = 0; i < n; ++i) {
+            const Pt& q = pts_[i];
+            derot[i] = {q.rx - (q.j[0][0] * w[0] + q.j[0][1] * w[1] + q.j[0][2] * w[2]),
+                         q.ry - (q.j[1][0] * w[0] + q.j[1][1] * w[1] + q.j[1][2] * w[2])};
+        }
+    };
+    derotate();
     for (int it = 0; it < iters; ++it) {
         // t given w: the derotated flow must be parallel to the ray from the FOE. Each point's
         // residual a . t is divided by its standard deviation (sigma times the ray's length L,
@@ -102,8 +114,7 @@ bool EgoMotionEstimator::fit_translation(const EgoPrior& prior, bool fix_w, doub
         cv::Matx33d m = cv::Matx33d::zeros();
         for (std::size_t i = 0; i < n; ++i) {
             const Pt& q = pts_[i];
-            const double gx = q.rx - (q.j[0][0] * w[0] + q.j[0][1] * w[1] + q.j[0][2] * w[2]);
-            const double gy = q.ry - (q.j[1][0] * w[0] + q.j[1][1] * w[1] + q.j[1][2] * w[2]);
+            const double gx = derot[i][0], gy = derot[i][1];
             const cv::Vec3d a(gy, -gx, gx * q.y - gy * q.x);
             double l2 = 1.0;
             if (have_t) {
@@ -122,8 +133,7 @@ bool EgoMotionEstimator::fit_translation(const EgoPrior& prior, bool fix_w, doub
         double s = 0;
         for (std::size_t i = 0; i < n; ++i) {
             const Pt& q = pts_[i];
-            const double gx = q.rx - (q.j[0][0] * w[0] + q.j[0][1] * w[1] + q.j[0][2] * w[2]);
-            const double gy = q.ry - (q.j[1][0] * w[0] + q.j[1][1] * w[1] + q.j[1][2] * w[2]);
+            const double gx = derot[i][0], gy = derot[i][1];
             s += wt_[i] * (gx * (q.x * tn[2] - tn[0]) + gy * (q.y * tn[2] - tn[1]));
         }
         if (s < 0) tn = -tn;
@@ -151,13 +161,13 @@ bool EgoMotionEstimator::fit_translation(const EgoPrior& prior, bool fix_w, doub
             cv::Vec3d sol;
             if (!cv::solve(a, b, sol, cv::DECOMP_SVD)) return false;
             w = sol;
+            derotate();
         }
 
         // Residuals (noise units) and the next weights.
         for (std::size_t i = 0; i < n; ++i) {
             const Pt& q = pts_[i];
-            const double gx = q.rx - (q.j[0][0] * w[0] + q.j[0][1] * w[1] + q.j[0][2] * w[2]);
-            const double gy = q.ry - (q.j[1][0] * w[0] + q.j[1][1] * w[1] + q.j[1][2] * w[2]);
+            const double gx = derot[i][0], gy = derot[i][1];
             const double lx = q.x * t[2] - t[0], ly = q.y * t[2] - t[1];
             const double l = std::max(std::sqrt(lx * lx + ly * ly), kMinRay);
             res_[i] = (-ly * gx + lx * gy) / l * q.s / sigma_n;
