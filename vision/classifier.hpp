@@ -57,7 +57,7 @@ struct RegionDecision {
     bool unsafe = false;
     bool valid = false;                                // enough evidence for a score this frame
     UnknownReason unknown = UnknownReason::WarmingUp;  // None when valid
-    double score = kUnknown;                               // unsafe when score > threshold (and valid)
+    double score = kUnknown;                           // unsafe when score > threshold (and valid)
     double threshold = kUnknown;
     int support = 0;  // trajectories / points behind the score
 };

@@ -103,7 +103,7 @@ bool EgoMotionEstimator::fit_translation(const EgoPrior& prior, bool fix_w, doub
         for (std::size_t i = 0; i < n; ++i) {
             const Pt& q = pts_[i];
             derot[i] = {q.rx - (q.j[0][0] * w[0] + q.j[0][1] * w[1] + q.j[0][2] * w[2]),
-                         q.ry - (q.j[1][0] * w[0] + q.j[1][1] * w[1] + q.j[1][2] * w[2])};
+                        q.ry - (q.j[1][0] * w[0] + q.j[1][1] * w[1] + q.j[1][2] * w[2])};
         }
     };
     derotate();

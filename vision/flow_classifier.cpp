@@ -265,8 +265,8 @@ bool FlowClassifier::choose_foe(const FrameInput& in, UnknownReason& why) {
     } else if (!p_.ego_motion) {
         // No ego-motion from the images asked for: the thesis' premise, forward flight (the
         // FOE where the level forward direction appears), every point judged by its TTC.
-        const cv::Point2f f = vision::focus_of_expansion(calib_, in.attitude.roll_deg,
-                                                         in.attitude.pitch_deg, kUnknown, kUnknown, kUnknown);
+        const cv::Point2f f = vision::focus_of_expansion(
+            calib_, in.attitude.roll_deg, in.attitude.pitch_deg, kUnknown, kUnknown, kUnknown);
         foe_ = std::isnan(f.x)
                    ? cv::Point2f(static_cast<float>(calib_.cx), static_cast<float>(calib_.cy))
                    : f;
@@ -297,10 +297,12 @@ void FlowClassifier::classify(const FrameInput& in) {
     UnknownReason why = UnknownReason::None;
     const bool known = choose_foe(in, why);
     plot(s_prior_rejected_, em.prior_rotation_rejected || nav_rejected_ ? 1 : 0);
-    plot(s_foe_img_x_,
-         em.translation == EgoMotion::Translation::Known ? static_cast<double>(em.foe.x) : kUnknown);
+    plot(s_foe_img_x_, em.translation == EgoMotion::Translation::Known
+                           ? static_cast<double>(em.foe.x)
+                           : kUnknown);
     plot(s_foe_nav_x_, nav_moving_ ? calib_.fx * nav_dir_[0] / nav_dir_[2] + calib_.cx : kUnknown);
-    plot(s_foe_x_, known && foe_source_ != FoeSource::Still ? static_cast<double>(foe_.x) : kUnknown);
+    plot(s_foe_x_,
+         known && foe_source_ != FoeSource::Still ? static_cast<double>(foe_.x) : kUnknown);
     plot(s_foe_sigma_, known && foe_source_ != FoeSource::Still ? foe_sigma_px_ : kUnknown);
     if (!known) {
         const auto& tracks = tracker_.tracks();
@@ -340,7 +342,8 @@ void FlowClassifier::classify(const FrameInput& in) {
         hazards += d.support;
         // Enough rated points to judge the region; fewer than k of them in the corridor: 0.
         const bool judged = rated_count_[ri] >= k;
-        double score = d.support >= k ? kth_largest_inplace(hazard_[ri], k) : (judged ? 0.0 : kUnknown);
+        double score =
+            d.support >= k ? kth_largest_inplace(hazard_[ri], k) : (judged ? 0.0 : kUnknown);
         bool raw = !std::isnan(score) && score > d.threshold;
         if (centre) {
             plot(s_centre_points_, score);

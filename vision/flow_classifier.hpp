@@ -167,10 +167,10 @@ private:
     RingBuffer<cv::Vec3d> level_velocity_{Trajectory::kHistory};  // navdata (forward, right, down)
     RingBuffer<DirectionSample> image_dirs_{Trajectory::kHistory};
     bool metric_ = false;
-    bool nav_moving_ = false;    // the navdata velocity is known, forward and fast enough
-    bool nav_slow_ = false;      // the navdata velocity is known and below min_speed_mps
-    bool nav_rejected_ = false;  // the images contradicted the navdata FOE this frame
-    double nav_speed_ = kUnknown;    // its magnitude (m/s), NaN without one
+    bool nav_moving_ = false;      // the navdata velocity is known, forward and fast enough
+    bool nav_slow_ = false;        // the navdata velocity is known and below min_speed_mps
+    bool nav_rejected_ = false;    // the images contradicted the navdata FOE this frame
+    double nav_speed_ = kUnknown;  // its magnitude (m/s), NaN without one
     cv::Vec3d nav_dir_{0, 0, 1};
     double nav_sigma_px_ = 0;  // standard error of its FOE
     double foe_sigma_px_ = 0;  // standard error of the FOE used

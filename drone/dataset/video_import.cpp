@@ -1,7 +1,7 @@
 #include "drone/dataset/video_import.hpp"
 
-#include "drone/dataset/writer.hpp"
 #include "drone/core/file_io.hpp"
+#include "drone/dataset/writer.hpp"
 #include "drone/video/h264_decoder.hpp"
 #include "drone/video/h264_encoder.hpp"
 
@@ -24,12 +24,12 @@ extern "C" {
 namespace gs::dataset {
 namespace {
 namespace fs = std::filesystem;
+using video::AccessUnit;
+using video::contains_idr;
+using video::DecodeStatus;
 using video::H264Decoder;
 using video::H264Encoder;
 using video::H264EncoderConfig;
-using video::AccessUnit;
-using video::DecodeStatus;
-using video::contains_idr;
 
 std::string av_error_text(int code) {
     char b[AV_ERROR_MAX_STRING_SIZE] = {};
