@@ -3,14 +3,17 @@
 //   dataset export-thesis DATASET OUT    the thesis' layout: one image per frame + imu.txt
 //   dataset import-thesis FOLDER OUT     a thesis-style folder into a dataset directory
 //   dataset frames DATASET OUT [--every N] [--from A --to B]   frames as PNG files
+//   dataset import-video FILE --out DIR [--fps N]  any video file (no navdata) into a dataset
 #include "app/cli_options.hpp"
 #include "app/command.hpp"
 #include "app/replay_outputs.hpp"
 #include "drone/dataset/thesis.hpp"
 #include "drone/dataset/video_frames.hpp"
+#include "drone/dataset/video_import.hpp"
 
 #include <opencv2/imgcodecs.hpp>
 
+#include <unistd.h>
 #include <cstdio>
 #include <iostream>
 #include <memory>
@@ -23,6 +26,13 @@ struct Opts {
     std::string in, out;
     double fps = 0;  // --fps (thesis-style folders); 0: not given
     std::int64_t every = 1, from = 0, to = -1;
+    // import-video
+    std::string mode = "auto";
+    std::string camera = "front";
+    std::string calibration;
+    int bitrate_kbps = 6000;
+    std::int64_t max_frames = -1;
+    bool quiet = false;
 };
 
 int info(const Opts& o) {
@@ -110,6 +120,53 @@ int frames_cmd(const Opts& o) {
     return 0;
 }
 
+int import_video_cmd(const Opts& o) {
+    using dataset::VideoImportMode;
+    dataset::VideoImportOptions vo;
+    vo.mode = o.mode == "copy"     ? VideoImportMode::Copy
+              : o.mode == "encode" ? VideoImportMode::Encode
+                                   : VideoImportMode::Auto;
+    vo.fps = o.fps;
+    vo.camera = o.camera == "bottom" ? CameraId::Bottom : CameraId::Front;
+    vo.bitrate_bps = o.bitrate_kbps * 1000;
+    vo.max_frames = o.max_frames;
+    if (!o.calibration.empty()) {
+        auto c = load_calibration_file(o.calibration);
+        if (!c) throw fail(to_string(c.error()));
+        vo.calibration = *c;
+    }
+    const bool tty = !o.quiet && ::isatty(STDERR_FILENO) == 1;
+    if (tty)
+        vo.progress = [](std::int64_t n) {
+            if (n % 25 == 0) std::cerr << "\rimport-video: " << n << " frames" << std::flush;
+        };
+    auto r = dataset::import_video(o.in, o.out, vo);
+    if (tty) std::cerr << "\r\033[K" << std::flush;
+    if (!r) throw fail(r.error());
+    if (vo.calibration && (vo.calibration->width != 0 && (vo.calibration->width != r->width ||
+                                                          vo.calibration->height != r->height)))
+        std::cerr << "ardrone-gs: note: the calibration is for " << vo.calibration->width << "x"
+                  << vo.calibration->height << ", the frames are " << r->width << "x" << r->height
+                  << '\n';
+    if (!o.quiet)
+        std::cout << "imported " << r->frames << " frames (" << r->width << "x" << r->height << ", "
+                  << fixed(r->fps, 2) << " fps, " << r->codec << ", "
+                  << (r->copied ? "access units copied" : "encoded again as H.264") << ") into "
+                  << o.out << "; no navdata: attitude and velocity unknown\n";
+    if (!o.quiet && r->skipped_before_keyframe > 0)
+        std::cout << "  " << r->skipped_before_keyframe
+                  << " access units before the first IDR could not be decoded and were left out\n";
+    if (!o.quiet && r->decode_errors > 0)
+        std::cout << "  " << r->decode_errors << " packets the decoder refused\n";
+    if (!o.quiet && r->untimed)
+        std::cout << "  the file has no frame times: frame n at n / " << fixed(r->fps, 2)
+                  << " s (give --fps if the camera ran at another rate)\n";
+    if (!o.quiet && r->timestamp_repairs > 0)
+        std::cout << "  " << r->timestamp_repairs
+                  << " frames without an increasing timestamp were placed one frame interval on\n";
+    return 0;
+}
+
 CommandRegistration reg_info(
     70, "dataset", "Look at and convert flight datasets (DATASET.md)", [](CLI::App& parent) {
         auto o = std::make_shared<Opts>();
@@ -159,6 +216,40 @@ CommandRegistration reg_frames(
         c->add_option("--to", o->to, "Last frame (default: the last)")
             ->check(number_in(0, 1e12, "a frame index"));
         set_action(*c, [o] { return frames_cmd(*o); });
+    });
+
+CommandRegistration reg_import_video(
+    74, "dataset", "Look at and convert flight datasets (DATASET.md)", [](CLI::App& parent) {
+        auto o = std::make_shared<Opts>();
+        auto* c = parent.add_subcommand(
+            "import-video", "Turn any video file (MP4, AVI, MKV, raw H.264 ...) into a dataset");
+        c->footer(
+            "The dataset has no navdata: frames.csv holds the frame times and empty (unknown) "
+            "attitude, velocity and altitude, which the classifiers treat as such. An H.264 "
+            "stream without B-frames (the AR.Drone's) is copied bit for bit; other video is "
+            "decoded and encoded again as H.264 (Baseline, IDR every 15 frames). Frame times are "
+            "the container's unless --fps is given. Add labels.json / labels.csv (DATASET.md) by "
+            "hand to evaluate it.");
+        c->add_option("FILE", o->in, "Video file")->required()->check(CLI::ExistingFile);
+        c->add_option("--out,-o", o->out, "Dataset directory to create (new or empty)")->required();
+        c->add_option("--fps", o->fps,
+                      "Frame rate: frame n at n / FPS s (default: the container's timestamps)")
+            ->type_name("FPS")
+            ->check(CLI::Range(0.001, 1000.0));
+        c->add_option("--video", o->mode, "copy, encode, or auto (copy when possible)")
+            ->capture_default_str()
+            ->check(CLI::IsMember({"auto", "copy", "encode"}));
+        c->add_option("--bitrate", o->bitrate_kbps, "H.264 bitrate in kbit/s when encoding")
+            ->capture_default_str()
+            ->check(CLI::Range(100, 100000));
+        c->add_option("--camera", o->camera, "Which camera filmed it (front or bottom)")
+            ->capture_default_str()
+            ->check(CLI::IsMember({"front", "bottom"}));
+        add_calibration_option(*c, o->calibration, "the camera default (written to flight.json)");
+        c->add_option("--max-frames", o->max_frames, "Import at most this many frames")
+            ->check(CLI::NonNegativeNumber);
+        c->add_flag("--quiet,-q", o->quiet, "No summary line");
+        set_action(*c, [o] { return import_video_cmd(*o); });
     });
 
 }  // namespace

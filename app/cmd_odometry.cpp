@@ -42,6 +42,9 @@ struct Opts {
     std::string generate;
     std::uint64_t seed = 1;
     double duration_s = 0;
+    double imu_noise_deg = -1;  // < 0: the generator's default
+    double imu_bias_deg = 0;
+    double imu_bias_walk_dps = 0;
     bool no_top = false;
     double top_delay_s = 0;
 };
@@ -102,6 +105,9 @@ int run(const Opts& o) {
         gp.duration_s = o.duration_s;
         gp.top_camera = !o.no_top;
         gp.top_delay_s = o.top_delay_s;
+        if (o.imu_noise_deg >= 0) gp.nav_attitude_noise_deg = o.imu_noise_deg;
+        gp.nav_attitude_bias_deg = o.imu_bias_deg;
+        gp.nav_attitude_bias_walk_dps = o.imu_bias_walk_dps;
         auto r = sim::write_odometry_flight(dir, gp, o.seed);
         if (!r) throw fail("cannot generate the flight: " + r.error());
         std::cout << "generated " << sim::to_string(*test) << " (seed " << o.seed
@@ -127,6 +133,7 @@ int run(const Opts& o) {
     if (o.thesis) {
         params.centre_on_principal_point = false;
         params.tilt_compensation = false;
+        params.image_tilt = false;
     }
     auto ys = vision::yaw_source_from_string(o.yaw);
     if (!ys) throw fail("unknown --yaw '" + o.yaw + "' (visual, navdata, fused)");
@@ -315,7 +322,8 @@ CommandRegistration reg(60, [](CLI::App& root) {
     sub->add_flag("--single", o->single, "Use the bottom camera only, even when top/ exists");
     sub->add_flag(
         "--thesis", o->thesis,
-        "As the thesis computed it: homography about the pixel origin, no tilt compensation");
+        "As the thesis computed it: homography about the pixel origin, no tilt compensation "
+        "(neither from navdata nor from the images)");
     sub->add_option("--yaw", o->yaw, "Rotation source: visual, navdata or fused")
         ->capture_default_str();
     add_dataset_input_options(*sub, o->input,
@@ -338,6 +346,16 @@ CommandRegistration reg(60, [](CLI::App& root) {
     sub->add_option("--top-delay", o->top_delay_s,
                     "Generated top camera captures this many seconds late (unsynchronised)")
         ->check(number_in(0, 1, "a delay in seconds"));
+    sub->add_option("--imu-noise", o->imu_noise_deg,
+                    "Generated navdata roll/pitch white noise in degrees (default 0.05)")
+        ->check(number_in(0, 10, "degrees"));
+    sub->add_option("--imu-bias", o->imu_bias_deg,
+                    "Generated navdata roll/pitch bias: starts at this many degrees per axis "
+                    "(its sign from --seed)")
+        ->check(number_in(0, 10, "degrees"));
+    sub->add_option("--imu-bias-walk", o->imu_bias_walk_dps,
+                    "... and drifts as a random walk of this many degrees per sqrt(second)")
+        ->check(number_in(0, 10, "degrees per sqrt(second)"));
     set_action(*sub, [o] { return run(*o); });
 });
 

@@ -139,11 +139,14 @@ const FrameResult& TrackingClassifier::process(const FrameInput& in) {
         tracker_.configure(calib_, tracker_params());
         reset();
     }
-    const cv::Matx33d derot = wants_derotation() && have_prev_
+    EgoPrior prior;
+    prior.rotation =
+        wants_derotation() && have_prev_ && prev_attitude_.complete() && in.attitude.complete();
+    const cv::Matx33d derot = prior.rotation
                                   ? rotation_homography(calib_, prev_attitude_, in.attitude)
                                   : cv::Matx33d::eye();
-    const cv::Point2f* foe = prepare(in);
-    tracker_.update(in.image, in.t_ns, in.attitude.roll_deg, derot, foe);
+    prepare(in, prior);
+    tracker_.update(in.image, in.t_ns, in.attitude.roll_deg, derot, prior);
     result_.frame_index = tracker_.frame_index() - 1;
     result_.t_ns = in.t_ns;
     result_.tracks = static_cast<int>(tracker_.tracks().size());

@@ -154,9 +154,10 @@ protected:
     virtual const TrackerParams& tracker_params() const = 0;
     virtual bool wants_derotation() const = 0;
     virtual double centre_band_px() const = 0;
-    // Before tracking: a classifier that derotates may give the focus of expansion, with which the
-    // tracker refines the navdata derotation from the images (nullptr: no refinement).
-    virtual const cv::Point2f* prepare(const FrameInput&) { return nullptr; }
+    // Before tracking: what the classifier knows beforehand of the camera's motion for the ego-
+    // motion estimate (the navdata velocity's direction ...). `prior.rotation` is already set
+    // when the navdata attitude change is known and the classifier derotates.
+    virtual void prepare(const FrameInput&, EgoPrior& /*prior*/) {}
     virtual void classify(const FrameInput& in) = 0;  // fills result_.regions, track_score_
     virtual void on_reset() = 0;
     virtual void add_overlay_points() = 0;

@@ -40,6 +40,28 @@ const ParamTable<FlowParams>& FlowParams::table() {
                  "corridor: lower than this above the floor is the floor (needs altitude)")
             .add("corridor_up_m", &P::corridor_up_m, 0, 20,
                  "corridor: higher than this above the camera is overhead")
+            .add("assumed_speed_mps", &P::assumed_speed_mps, 0, 10,
+                 "without a navdata velocity, place the corridor with this speed (0: no corridor)")
+            .add("velocity_bias_mps", &P::velocity_bias_mps, 0, 2,
+                 "navdata velocity direction trusted to this (m/s across the path)")
+            .add("max_foe_sigma_px", &P::max_foe_sigma_px, 1, 1000,
+                 "use the images' FOE when its standard error is below this")
+            .add("image_foe_floor_px", &P::image_foe_floor_px, 0, 200,
+                 "the images' FOE is never taken as better known than this")
+            .add("foe_gate", &P::foe_gate, 0.5, 100,
+                 "navdata FOE rejected this many standard errors from the images'")
+            .add("max_rotation_dps", &P::max_rotation_dps, 1, 2000,
+                 "regions unknown while the camera turns faster than this")
+            .add("looming", &P::looming, 0, 1,
+                 "judge points that do not move with the scene by their own looming")
+            .add("loom_radius_px", &P::loom_radius_px, 5, 640,
+                 "looming: neighbours within this distance")
+            .add("loom_min_neighbours", &P::loom_min_neighbours, 1, 100,
+                 "looming: fewest neighbours for a rate")
+            .add("loom_min_spread_px", &P::loom_min_spread_px, 1, 300,
+                 "looming: pairs closer than this are left out (tracking noise dominates)")
+            .add("moving_frames", &P::moving_frames, 1, 30,
+                 "a point is moving after this many frames off the camera's motion")
             .add("side_inv_ttc_threshold", &P::side_inv_ttc_threshold, 0, 20,
                  "side unsafe above this expansion rate (1/time-to-contact, 1/s)")
             .add("side_min_support", &P::side_min_support, 1, 100,
@@ -85,6 +107,12 @@ FlowClassifier::FlowClassifier(const CameraCalibration& calib, const FlowParams&
     s_hazards_ = add_series("corridor.points");
     s_residual_yaw_ = add_series("derotation.residual_yaw_deg");
     s_residual_pitch_ = add_series("derotation.residual_pitch_deg");
+    s_foe_sigma_ = add_series("ego.foe_sigma_px");
+    s_prior_rejected_ = add_series("ego.navdata_rejected");
+    s_moving_ = add_series("ego.moving_points");
+    s_foe_img_x_ = add_series("ego.foe_x_px");
+    s_foe_nav_x_ = add_series("foe.navdata_x_px");
+    s_foe_x_ = add_series("foe.x_px");
     reconfigure();
 }
 
@@ -93,6 +121,10 @@ void FlowClassifier::on_reset() {
     class_.clear();
     metric_ = false;
     level_velocity_.clear();
+    image_dirs_.clear();
+    foe_source_ = FoeSource::None;
+    nav_moving_ = false;
+    nav_slow_ = false;
     streak_ = {};
     rejections_ = 0;
     derot_ = cv::Matx33d::eye();
@@ -104,65 +136,200 @@ void FlowClassifier::confirm(Region r, bool raw) {
     result_.regions[i].unsafe = streak_[i] >= p_.confirm_frames;
 }
 
-const cv::Point2f* FlowClassifier::prepare(const FrameInput& in) {
+void FlowClassifier::prepare(const FrameInput& in, EgoPrior& prior) {
     const Attitude& a = in.attitude;
     const bool have_v = p_.use_velocity_for_foe && !std::isnan(in.vx_mps) && !std::isnan(in.vy_mps);
-    cv::Vec3d v(0, 0, 0);
-    if (have_v) {
-        // navdata vz is up; the level frame is (forward, right, down). The velocity is noisy from
-        // sample to sample, and a few centimetres per second across the path move the FOE by tens
-        // of pixels at low speed: average it over the frames the point velocities are fitted
-        // over, which also makes the depth below (speed / rate) use the speed of those frames.
-        level_velocity_.push({in.vx_mps, in.vy_mps, std::isnan(in.vz_mps) ? 0.0 : -in.vz_mps});
-        const std::size_t n = std::min<std::size_t>(
-            level_velocity_.size(), static_cast<std::size_t>(std::max(1, p_.velocity_window)));
-        for (std::size_t k = 0; k < n; ++k) v += level_velocity_[level_velocity_.size() - 1 - k];
-        v *= 1.0 / static_cast<double>(n);
-        // How well that places the FOE: the scatter of the samples across the mean direction,
-        // as a standard error (pixels). Slow flight, manoeuvres and noisy navdata widen it.
-        const double speed_l = cv::norm(v);
-        double across = 0;
-        if (n >= 2 && speed_l > 1e-6) {
-            const cv::Vec3d dir = v * (1.0 / speed_l);
-            for (std::size_t k = 0; k < n; ++k) {
-                const cv::Vec3d e = level_velocity_[level_velocity_.size() - 1 - k] - v;
-                const cv::Vec3d perp = e - e.dot(dir) * dir;
-                across += perp.dot(perp);
-            }
-            across = std::sqrt(across / static_cast<double>(n - 1) / static_cast<double>(n));
-        }
-        foe_sigma_px_ = speed_l > 1e-6 ? calib_.fx * across / speed_l : 0.0;
-    } else {
+    nav_moving_ = false;
+    nav_slow_ = false;
+    nav_speed_ = kUnknown;
+    if (!have_v) {
         level_velocity_.clear();
+        return;
     }
-    cam_velocity_ =
-        have_v ? camera_velocity(a.roll_deg, a.pitch_deg, v[0], v[1], v[2]) : cv::Vec3d(0, 0, 0);
-    const double speed = cv::norm(cam_velocity_);
-    // Hovering, the direction of travel is noise: assume forward flight, the thesis' premise.
-    if (have_v && speed >= p_.min_speed_mps && cam_velocity_[2] > 0.2 * speed) {
-        foe_ = {static_cast<float>(calib_.fx * cam_velocity_[0] / cam_velocity_[2] + calib_.cx),
-                static_cast<float>(calib_.fy * cam_velocity_[1] / cam_velocity_[2] + calib_.cy)};
-        metric_ = p_.corridor;
+    // navdata vz is up; the level frame is (forward, right, down). The velocity is noisy from
+    // sample to sample, and a few centimetres per second across the path move the FOE by tens
+    // of pixels at low speed: average it over the frames the point velocities are fitted over,
+    // which also makes the depth below (speed / rate) use the speed of those frames.
+    level_velocity_.push({in.vx_mps, in.vy_mps, std::isnan(in.vz_mps) ? 0.0 : -in.vz_mps});
+    const std::size_t n = std::min<std::size_t>(
+        level_velocity_.size(), static_cast<std::size_t>(std::max(1, p_.velocity_window)));
+    cv::Vec3d v(0, 0, 0);
+    for (std::size_t k = 0; k < n; ++k) v += level_velocity_[level_velocity_.size() - 1 - k];
+    v *= 1.0 / static_cast<double>(n);
+    // How well that places the FOE: the scatter of the samples across the mean direction, as a
+    // standard error, and a bias floor (an onboard estimator's error is not white).
+    const double speed_l = cv::norm(v);
+    double across = 0;
+    if (n >= 2 && speed_l > 1e-6) {
+        const cv::Vec3d dir = v * (1.0 / speed_l);
+        for (std::size_t k = 0; k < n; ++k) {
+            const cv::Vec3d e = level_velocity_[level_velocity_.size() - 1 - k] - v;
+            const cv::Vec3d perp = e - e.dot(dir) * dir;
+            across += perp.dot(perp);
+        }
+        across = std::sqrt(across / static_cast<double>(n - 1) / static_cast<double>(n));
+    }
+    const cv::Vec3d c = camera_velocity(a.roll_deg, a.pitch_deg, v[0], v[1], v[2]);
+    const double speed = cv::norm(c);
+    nav_speed_ = speed;
+    nav_slow_ = speed < p_.min_speed_mps;
+    // Hovering, the direction of travel is noise; backward or sideways, nothing ahead approaches.
+    if (!(speed >= p_.min_speed_mps && c[2] > 0.2 * speed)) return;
+    nav_moving_ = true;
+    nav_dir_ = c * (1.0 / speed);
+    const double sigma_rad = std::hypot(across, p_.velocity_bias_mps) / speed;
+    nav_sigma_px_ = calib_.fx * sigma_rad / std::max(0.2, nav_dir_[2] * nav_dir_[2]);
+    prior.translation = nav_dir_;
+    prior.translation_sigma_rad = sigma_rad;
+}
+
+bool FlowClassifier::choose_foe(const FrameInput& in, UnknownReason& why) {
+    const EgoMotion& em = tracker_.ego();
+    metric_ = false;
+    foe_source_ = FoeSource::None;
+    cam_velocity_ = {0, 0, 0};
+    const double dt = have_prev_ ? static_cast<double>(in.t_ns - prev_t_ns_) * 1e-9 : 0.0;
+    const double rate_dps = dt > 0 ? cv::norm(tracker_.rotation_rad()) / dt * 180.0 / CV_PI : 0.0;
+    if (rate_dps > p_.max_rotation_dps) {
+        why = UnknownReason::Rotating;
+        image_dirs_.clear();
+        return false;
+    }
+    // The images' FOE over the frames the point rates are fitted over: its mean, and how well
+    // that is known from the frames' own scatter (the per-frame errors are correlated and the
+    // fit's own standard error is optimistic on real footage), never better than a floor.
+    if (p_.ego_motion && em.valid && em.translation == EgoMotion::Translation::Known &&
+        em.direction[2] > 0.2)
+        image_dirs_.push({em.direction, em.foe_sigma_px});
+    else
+        image_dirs_.clear();
+    const std::size_t n = std::min<std::size_t>(
+        image_dirs_.size(), static_cast<std::size_t>(std::max(1, p_.velocity_window)));
+    cv::Point2d img_foe(0, 0);
+    double img_sigma = kUnknown;
+    // Three frames at least: a translation seen in one frame may be a person walking past.
+    if (n >= 3) {
+        // Median and median absolute deviation per axis: one frame whose FOE went astray (a
+        // few points on a moving object) does not move it.
+        for (int axis = 0; axis < 2; ++axis) {
+            scratch_.clear();
+            for (std::size_t k = 0; k < n; ++k) {
+                const cv::Vec3d& d = image_dirs_[image_dirs_.size() - 1 - k].dir;
+                scratch_.push_back(axis == 0 ? calib_.fx * d[0] / d[2] + calib_.cx
+                                             : calib_.fy * d[1] / d[2] + calib_.cy);
+            }
+            const double med = median_inplace(scratch_);
+            for (double& v : scratch_) v = std::abs(v - med);
+            const double mad = median_inplace(scratch_);
+            (axis == 0 ? img_foe.x : img_foe.y) = med;
+            // 1.4826 MAD estimates a standard deviation; the median's error is 1.25 / sqrt(n)
+            // of that.
+            const double se = 1.4826 * mad * 1.25 / std::sqrt(static_cast<double>(n));
+            img_sigma = axis == 0 ? se : std::max(img_sigma, se);
+        }
+        img_sigma = std::max(img_sigma, p_.image_foe_floor_px);
+    }
+    const bool img_ok = !std::isnan(img_sigma) && img_sigma <= p_.max_foe_sigma_px;
+    const cv::Point2d nav_foe(calib_.fx * nav_dir_[0] / nav_dir_[2] + calib_.cx,
+                              calib_.fy * nav_dir_[1] / nav_dir_[2] + calib_.cy);
+    nav_rejected_ = false;
+    if (img_ok && nav_moving_) {
+        // Both: inverse-variance fusion, unless they disagree beyond what their errors allow
+        // (a biased velocity, a stale sample): then the images decide.
+        const double v_img = img_sigma * img_sigma, v_nav = nav_sigma_px_ * nav_sigma_px_;
+        const cv::Point2d d = img_foe - nav_foe;
+        if (d.dot(d) > p_.foe_gate * p_.foe_gate * (v_img + v_nav)) {
+            nav_rejected_ = true;
+            foe_ = cv::Point2f(img_foe);
+            foe_sigma_px_ = img_sigma;
+        } else {
+            foe_ = cv::Point2f((img_foe * v_nav + nav_foe * v_img) * (1.0 / (v_img + v_nav)));
+            foe_sigma_px_ = std::sqrt(v_img * v_nav / (v_img + v_nav));
+        }
+        foe_source_ = FoeSource::Images;
+    } else if (img_ok) {
+        foe_ = cv::Point2f(img_foe);
+        foe_sigma_px_ = img_sigma;
+        foe_source_ = FoeSource::Images;
+    } else if (nav_moving_) {
+        foe_ = cv::Point2f(nav_foe);
+        foe_sigma_px_ = nav_sigma_px_;
+        foe_source_ = FoeSource::Navdata;
+    } else if ((p_.ego_motion && em.valid && em.translation == EgoMotion::Translation::None) ||
+               nav_slow_) {
+        // Nothing static moves in the images (still, or everything too far to matter), or the
+        // navdata says the drone hovers: no static point is approaching.
+        foe_source_ = FoeSource::Still;
+        foe_sigma_px_ = 0;
+        return true;
+    } else if (!p_.ego_motion) {
+        // No ego-motion from the images asked for: the thesis' premise, forward flight (the
+        // FOE where the level forward direction appears), every point judged by its TTC.
+        const cv::Point2f f = vision::focus_of_expansion(
+            calib_, in.attitude.roll_deg, in.attitude.pitch_deg, kUnknown, kUnknown, kUnknown);
+        foe_ = std::isnan(f.x)
+                   ? cv::Point2f(static_cast<float>(calib_.cx), static_cast<float>(calib_.cy))
+                   : f;
+        foe_sigma_px_ = 0;
+        foe_source_ = FoeSource::Navdata;
+        return true;
     } else {
-        foe_ = vision::focus_of_expansion(calib_, a.roll_deg, a.pitch_deg, kUnknown, kUnknown,
-                                          kUnknown);
-        if (std::isnan(foe_.x))
-            foe_ = {static_cast<float>(calib_.cx), static_cast<float>(calib_.cy)};
-        metric_ = false;
+        why = em.points < p_.ego_min_points ? UnknownReason::TooFewPoints
+                                            : UnknownReason::NoEgoMotion;
+        return false;
     }
-    return &foe_;
+    cv::Vec3d use_dir((static_cast<double>(foe_.x) - calib_.cx) / calib_.fx,
+                      (static_cast<double>(foe_.y) - calib_.cy) / calib_.fy, 1.0);
+    use_dir *= 1.0 / cv::norm(use_dir);
+    // The speed for the corridor: the navdata's when it has one, else an assumed one.
+    const double speed = !std::isnan(nav_speed_) ? nav_speed_ : p_.assumed_speed_mps;
+    cam_velocity_ = use_dir * speed;
+    metric_ = p_.corridor && speed >= p_.min_speed_mps;
+    return true;
 }
 
 void FlowClassifier::classify(const FrameInput& in) {
-    derot_ =
-        have_prev_ ? rotation_homography(calib_, prev_attitude_, in.attitude) : cv::Matx33d::eye();
-    // The centre homography uses the refined derotation too.
-    derot_ = small_rotation_homography(calib_, tracker_.residual_rotation_deg() * (CV_PI / 180.0)) *
-             derot_;
-    plot(s_residual_yaw_, -tracker_.residual_rotation_deg()[1]);
-    plot(s_residual_pitch_, -tracker_.residual_rotation_deg()[0]);
+    // The whole rotation (navdata's and the images' correction), for the centre homography.
+    derot_ = small_rotation_homography(calib_, tracker_.rotation_rad());
+    plot(s_residual_yaw_, -tracker_.image_correction_deg()[1]);
+    plot(s_residual_pitch_, -tracker_.image_correction_deg()[0]);
+    const EgoMotion& em = tracker_.ego();
+    UnknownReason why = UnknownReason::None;
+    const bool known = choose_foe(in, why);
+    plot(s_prior_rejected_, em.prior_rotation_rejected || nav_rejected_ ? 1 : 0);
+    plot(s_foe_img_x_, em.translation == EgoMotion::Translation::Known
+                           ? static_cast<double>(em.foe.x)
+                           : kUnknown);
+    plot(s_foe_nav_x_, nav_moving_ ? calib_.fx * nav_dir_[0] / nav_dir_[2] + calib_.cx : kUnknown);
+    plot(s_foe_x_,
+         known && foe_source_ != FoeSource::Still ? static_cast<double>(foe_.x) : kUnknown);
+    plot(s_foe_sigma_, known && foe_source_ != FoeSource::Still ? foe_sigma_px_ : kUnknown);
+    if (!known) {
+        const auto& tracks = tracker_.tracks();
+        class_.assign(tracks.size(), PointClass::Unrated);
+        for (Region r : kRegions) {
+            RegionDecision& d = result_.regions[static_cast<std::size_t>(r)];
+            d.threshold =
+                r == Region::Centre ? p_.centre_inv_ttc_threshold : p_.side_inv_ttc_threshold;
+            d.score = kUnknown;
+            d.valid = false;
+            d.unknown = why;
+            d.support = 0;
+            confirm(r, false);
+            result_.regions[static_cast<std::size_t>(r)].unsafe = false;
+        }
+        // The centre homography still measures its scale (plots), without a decision.
+        plot(s_centre_points_, kUnknown);
+        plot(s_centre_hom_, p_.centre_homography ? homography_rate(in) : kUnknown);
+        plot(s_hazards_, 0);
+        plot(s_moving_, 0);
+        return;
+    }
     rate_points(in);
-    const double hom = p_.centre_homography ? homography_rate(in) : kUnknown;
+    if (p_.looming) rate_moving_points();
+    plot(s_moving_, static_cast<double>(moving_idx_.size()));
+    const double hom =
+        p_.centre_homography && foe_source_ != FoeSource::Still ? homography_rate(in) : kUnknown;
 
     int hazards = 0;
     for (Region r : kRegions) {
@@ -199,12 +366,13 @@ void FlowClassifier::rate_points(const FrameInput& in) {
     class_.assign(tracks.size(), PointClass::Unrated);
     for (auto& v : hazard_) v.clear();
     rated_count_.assign(3, 0);
+    moving_idx_.clear();
     const auto win = static_cast<std::size_t>(p_.velocity_window);
     const auto min_len = static_cast<std::size_t>(std::max(2, p_.min_track_length));
+    const bool still = foe_source_ == FoeSource::Still;
     // Near the FOE a few pixels of error in its place swamp the rate: keep clear of it by the
     // larger of the fixed margin and foe_sigma_k standard errors of where it is.
-    const double min_d =
-        std::max(p_.min_foe_distance_px, metric_ ? p_.foe_sigma_k * foe_sigma_px_ : 0.0);
+    const double min_d = std::max(p_.min_foe_distance_px, p_.foe_sigma_k * foe_sigma_px_);
     const double min_d2 = min_d * min_d;
     const cv::Matx33d level = level_from_camera(in.attitude.roll_deg, in.attitude.pitch_deg);
     const double floor_down = in.altitude_m - p_.floor_clearance_m;  // NaN: no floor test
@@ -212,6 +380,20 @@ void FlowClassifier::rate_points(const FrameInput& in) {
         const Trajectory& t = tracks[i];
         const std::size_t n = std::min(win, t.history_size());
         if (n < min_len) continue;
+        const auto ri = static_cast<std::size_t>(region_of(t.at_back(0).stab.x));
+        // The ego-motion estimate found it off the camera's motion for a few frames: a moving
+        // object, judged by its own looming (rate_moving_points) ...
+        const bool off_motion = p_.ego_motion && t.moving_streak >= p_.moving_frames;
+        if (still) {
+            if (off_motion) {
+                class_[i] = PointClass::Moving;
+                moving_idx_.push_back(i);
+            } else {
+                track_score_[i] = 0;  // the scene is still: a static point is not approaching
+            }
+            ++rated_count_[ri];
+            continue;
+        }
         ts_.resize(n);
         xs_.resize(n);
         ys_.resize(n);
@@ -219,8 +401,8 @@ void FlowClassifier::rate_points(const FrameInput& in) {
         for (std::size_t k = 0; k < n; ++k) {
             const TrackPoint& q = t.at_back(n - 1 - k);
             ts_[k] = q.t_s - t0;
-            xs_[k] = static_cast<double>(q.derot.x);
-            ys_[k] = static_cast<double>(q.derot.y);
+            xs_[k] = q.derot.x;
+            ys_[k] = q.derot.y;
         }
         const LineFit fx = fit_line(ts_, xs_);
         const LineFit fy = fit_line(ts_, ys_);
@@ -245,11 +427,19 @@ void FlowClassifier::rate_points(const FrameInput& in) {
         // Time to contact now is `lag` less than it was then.
         const double ttc_now = 1.0 / rate_then - lag;
         const double rate = !(rate_then > 0) ? rate_then : ttc_now > 0.01 ? 1.0 / ttc_now : 100.0;
-        const auto ri = static_cast<std::size_t>(region_of(t.at_back(0).stab.x));
         ++rated_count_[ri];
         track_score_[i] = rate;
-        if (std::abs(tangential) >
-            p_.max_tangential_ratio * std::abs(radial) + p_.flow_noise_px_s) {
+        const bool across =
+            std::abs(tangential) > p_.max_tangential_ratio * std::abs(radial) + p_.flow_noise_px_s;
+        // ... unless its flow, over the fit window, is radial from the FOE used (which may be
+        // the navdata's where the images' own was off): then it is a static point after all.
+        if (off_motion && (across || radial < -p_.flow_noise_px_s)) {
+            class_[i] = PointClass::Moving;
+            moving_idx_.push_back(i);
+            track_score_[i] = kUnknown;
+            continue;
+        }
+        if (across) {
             class_[i] = PointClass::Inconsistent;
             continue;
         }
@@ -261,7 +451,12 @@ void FlowClassifier::rate_points(const FrameInput& in) {
             const cv::Vec3d pc((mx - calib_.cx) / calib_.fx * z, (my - calib_.cy) / calib_.fy * z,
                                z);
             const cv::Vec3d pl = level * pc;
-            const bool beside = std::abs(pl[1]) > p_.corridor_half_width_m;
+            // Across the path: measured from the flight line (the direction of travel).
+            const cv::Vec3d dir_l = level * cam_velocity_;
+            const double dnorm = cv::norm(dir_l);
+            const double along = dnorm > 0 ? pl.dot(dir_l) / dnorm : 0.0;
+            const cv::Vec3d off = dnorm > 0 ? pl - along * dir_l * (1.0 / dnorm) : pl;
+            const bool beside = std::abs(off[1]) > p_.corridor_half_width_m;
             const bool floor = !std::isnan(floor_down) && pl[2] > floor_down;
             const bool overhead = pl[2] < -p_.corridor_up_m;
             if (beside || floor || overhead) {
@@ -271,6 +466,52 @@ void FlowClassifier::rate_points(const FrameInput& in) {
         }
         class_[i] = PointClass::Hazard;
         hazard_[ri].push_back(rate);
+    }
+}
+
+void FlowClassifier::rate_moving_points() {
+    // A moving object approaching grows in the image: the distances between its points grow at
+    // 1/TTC (for a roughly fronto-parallel patch), whatever the camera does, since the
+    // trajectories' derot positions are free of its rotation. Median over neighbours on the same
+    // object (moving points nearby), so one slipping point cannot decide.
+    const auto& tracks = tracker_.tracks();
+    const auto win = static_cast<std::size_t>(std::max(2, p_.velocity_window));
+    const double r2max = p_.loom_radius_px * p_.loom_radius_px;
+    const double min2 = p_.loom_min_spread_px * p_.loom_min_spread_px;
+    for (std::size_t a : moving_idx_) {
+        const Trajectory& ta = tracks[a];
+        loom_.clear();
+        for (std::size_t b : moving_idx_) {
+            if (a == b) continue;
+            const Trajectory& tb = tracks[b];
+            const cv::Point2f d_now = ta.at_back(0).derot - tb.at_back(0).derot;
+            const double n2 = static_cast<double>(d_now.dot(d_now));
+            if (n2 > r2max || n2 < min2) continue;
+            const std::size_t n = std::min({win, ta.history_size(), tb.history_size()});
+            if (n < 2) continue;
+            const TrackPoint& pa = ta.at_back(n - 1);
+            const TrackPoint& pb = tb.at_back(n - 1);
+            const cv::Point2f d_then = pa.derot - pb.derot;
+            const double t2 = static_cast<double>(d_then.dot(d_then));
+            const double dt = ta.at_back(0).t_s - pa.t_s;
+            if (t2 < min2 || !(dt > 0)) continue;
+            // Two points of one approaching object move apart along the line joining them; a
+            // pair whose separation turns more than it stretches is not on one rigid patch (a
+            // point sliding along an occluding edge, a turning head).
+            const cv::Point2f ds = d_now - d_then;
+            const double along = static_cast<double>(ds.dot(d_then)) / std::sqrt(t2);
+            const double across =
+                std::abs(static_cast<double>(ds.x * d_then.y - ds.y * d_then.x)) / std::sqrt(t2);
+            if (across > std::abs(along) + p_.flow_noise_px_s * dt) continue;
+            loom_.push_back(0.5 * std::log(n2 / t2) / dt);
+        }
+        if (static_cast<int>(loom_.size()) < p_.loom_min_neighbours) continue;
+        const double rate = median_inplace(loom_);
+        track_score_[a] = rate;
+        if (rate > 0) {
+            const auto ri = static_cast<std::size_t>(region_of(ta.at_back(0).stab.x));
+            hazard_[ri].push_back(rate);
+        }
     }
 }
 
@@ -353,6 +594,9 @@ void FlowClassifier::add_overlay_points() {
             case PointClass::Unrated:
                 o.points.push_back({tracks[i].raw, 3, blue_to_red(0), false});
                 break;
+            case PointClass::Moving:
+                o.points.push_back({tracks[i].raw, 4, blue_to_red(s / p_.colour_max), true});
+                break;
             case PointClass::Outside:
             case PointClass::Inconsistent:
                 o.points.push_back({tracks[i].raw, 2, kGrey, false});
@@ -362,7 +606,8 @@ void FlowClassifier::add_overlay_points() {
     for (const Trajectory& t : tracks)
         if (region_of(t.at_back(0).stab.x) == Region::Centre)
             o.points.push_back({t.raw, 1.5f, kYellow, true});
-    o.points.push_back({calib_.distort_point(foe_), 7, kWhite, false});
+    if (foe_source_ == FoeSource::Images || foe_source_ == FoeSource::Navdata)
+        o.points.push_back({calib_.distort_point(foe_), 7, kWhite, false});
 }
 
 }  // namespace gs::vision

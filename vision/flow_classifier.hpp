@@ -1,25 +1,27 @@
 #pragma once
 // A better classifier behind the same interface ("flow"). It answers the thesis' own failures
-// (§6.2.4, §8.2) with what the drone tells us and the geometry:
-//  - the flow an attitude change causes is removed using navdata roll/pitch/yaw;
-//  - each trajectory is judged by its expansion rate about the focus of expansion, an inverse
-//    time-to-contact (1/s) that does not depend on where in the image the point is, instead of a
-//    position-scaled slope;
-//  - with the navdata velocity the rate gives the point's depth (Z = forward speed x TTC), hence
-//    where it is: only points inside the flight corridor (beside the drone by less than
-//    corridor_half_width_m, above the floor, not far overhead) can be obstacles, so the floor,
-//    side walls and the furniture of a hall no longer raise alarms however fast they stream by;
-//  - flow that is not radial from the focus of expansion (a moving object, a tracking slip, an
-//    attitude the navdata got wrong) is not trusted;
+// (§6.2.4, §8.2) with the geometry of the camera's motion:
+//  - the camera's rotation between frames is removed: estimated from the tracked points
+//    themselves (vision/ego_motion.hpp), with the navdata attitude change as a prior the images
+//    refine (and reject when they disagree: a stale or biased sample), so footage without
+//    navdata is derotated too; LK starts each search where the predicted rotation moves the point;
+//  - the focus of expansion (FOE) comes from the derotated flow, fused with the navdata
+//    velocity's direction when there is one, with its standard error;
+//  - each trajectory is judged by its expansion rate about the FOE, an inverse time-to-contact
+//    (1/s) that does not depend on where in the image the point is;
+//  - with a speed (the navdata's, else an assumed one) the rate gives the point's depth
+//    (Z = forward speed x TTC), hence where it is: only points inside the flight corridor
+//    (beside the drone by less than corridor_half_width_m, above the floor, not far overhead) can
+//    be obstacles, so the floor and side walls do not raise alarms however fast they stream by;
+//  - points that do not move with the scene (a hand, a person walking toward the drone) are
+//    judged by their own looming: the rate at which the distances to their neighbours on the same
+//    object grow, a time to contact that needs no FOE;
+//  - a region is unknown, not clear, when there is no evidence: too few points, or neither a
+//    usable velocity nor a reliable FOE (and the camera is not still);
 //  - the centre can also read the expansion of the band's dominant plane from a derotated RANSAC
-//    homography, rejecting implausible scales (thesis fig. 6.15: single-sample spikes); off by
-//    default (see centre_homography);
-//  - the navdata derotation is refined from the tracked points themselves (TrackerParams::
-//    refine_rotation), and LK starts each search where the attitude change moved the point;
-//  - regions are scored with robust statistics (k-th largest rate, so a handful of points on an
-//    obstacle is enough and a single slip is not), and a decision must hold for a few frames.
-// Without a velocity (a dataset that has none) the corridor cannot be placed: every point with a
-// radial flow counts, as a pure time-to-contact classifier.
+//    homography (off by default, see centre_homography);
+//  - regions are scored with robust statistics (k-th largest rate), and a decision must hold for
+//    a few frames.
 
 #include "vision/classifier.hpp"
 
@@ -40,12 +42,34 @@ struct FlowParams : TrackerParams {
     // share of the radial part plus flow_noise_px_s, or the point is not a static one we approach.
     double max_tangential_ratio = 0.5;
     double flow_noise_px_s = 6;
-    // The flight corridor (needs the navdata velocity; the floor also the altitude).
+    // The flight corridor (needs a speed; the floor also the altitude).
     bool corridor = true;
-    double min_speed_mps = 0.2;           // slower: the depth is too uncertain to place points
-    double corridor_half_width_m = 0.6;   // drone half-width (0.26 m with the hull) + margin
-    double floor_clearance_m = 0.3;       // lower than this above the floor: the floor
-    double corridor_up_m = 1.0;           // higher than this above the camera: overhead
+    double min_speed_mps = 0.2;          // slower: the depth is too uncertain to place points
+    double corridor_half_width_m = 0.6;  // drone half-width (0.26 m with the hull) + margin
+    double floor_clearance_m = 0.3;      // lower than this above the floor: the floor
+    double corridor_up_m = 1.0;          // higher than this above the camera: overhead
+    // Without a navdata velocity the corridor can be placed with an assumed speed (footage whose
+    // speed is roughly known; the AR.Drone's indoor flights: 0.5-1.5 m/s). 0, the default: no
+    // corridor, every static point judged by its time to contact alone, which misses nothing
+    // (a wrong speed misplaces every point across the path by the same factor).
+    double assumed_speed_mps = 0;
+    // The navdata velocity's direction is trusted to this (m/s across the path, a bias of a few
+    // cm/s as an onboard estimator has), besides its sample-to-sample scatter.
+    double velocity_bias_mps = 0.05;
+    // The images' FOE is used when its standard error (averaged over velocity_window frames) is
+    // below this; without it and without a velocity, a moving camera's regions are unknown.
+    double max_foe_sigma_px = 40;
+    double image_foe_floor_px = 8;  // the images' FOE is never taken as better known than this
+    double foe_gate = 3;            // navdata FOE this many standard errors off: rejected
+    double max_rotation_dps = 150;  // faster rotation: regions unknown (tracking unreliable)
+    // Moving objects: the looming rate of points that do not follow the camera's motion, from the
+    // growth of their distances to neighbours within loom_radius_px (median over at least
+    // loom_min_neighbours of them).
+    bool looming = true;
+    double loom_radius_px = 90;
+    int loom_min_neighbours = 3;
+    double loom_min_spread_px = 8;
+    int moving_frames = 2;  // a point is moving after this many frames off the camera's motion
     double side_inv_ttc_threshold = 0.3;  // 1/s: unsafe when time to contact < 3.3 s
     int side_min_support = 4;             // region score = k-th largest point rate
     double centre_inv_ttc_threshold = 0.3;
@@ -94,8 +118,13 @@ public:
 
     // Focus of expansion used for the last frame (undistorted pixels).
     cv::Point2f focus_of_expansion() const { return foe_; }
-    // Whether the last frame placed points in metres (velocity known and fast enough).
+    // Whether the last frame placed points in metres (a speed known or assumed, and a FOE).
     bool corridor_active() const { return metric_; }
+    // Where the last frame's FOE came from.
+    enum class FoeSource : std::uint8_t { None, Images, Navdata, Still };
+    FoeSource foe_source() const { return foe_source_; }
+    // The last frame's ego-motion estimate from the tracked points.
+    const EgoMotion& ego() const { return tracker_.ego(); }
 
     // What the last frame concluded about one trajectory (parallel to the tracker's tracks).
     enum class PointClass : std::uint8_t {
@@ -103,6 +132,7 @@ public:
         Inconsistent,  // flow not radial from the FOE
         Outside,       // placed outside the corridor (beside it, floor, overhead)
         Hazard,        // counts toward its region's score
+        Moving,        // does not move with the scene; rated by its looming (may count too)
     };
     const std::vector<PointClass>& point_classes() const { return class_; }
 
@@ -110,11 +140,13 @@ private:
     const TrackerParams& tracker_params() const override { return p_; }
     bool wants_derotation() const override { return true; }
     double centre_band_px() const override { return p_.centre_band_px; }
-    const cv::Point2f* prepare(const FrameInput& in) override;
+    void prepare(const FrameInput& in, EgoPrior& prior) override;
     void classify(const FrameInput& in) override;
     void on_reset() override;
     void add_overlay_points() override;
+    bool choose_foe(const FrameInput& in, UnknownReason& why);
     void rate_points(const FrameInput& in);
+    void rate_moving_points();
     double homography_rate(const FrameInput& in);
     void confirm(Region r, bool raw);
     double recent_median(double now_s);
@@ -125,11 +157,23 @@ private:
     };
 
     FlowParams p_;
+    struct DirectionSample {
+        cv::Vec3d dir;    // unit translation direction, camera axes
+        double sigma_px;  // standard error of its FOE
+    };
     cv::Point2f foe_{0, 0};
+    FoeSource foe_source_ = FoeSource::None;
     cv::Vec3d cam_velocity_{0, 0, 0};  // camera frame (x right, y down, z forward), m/s
     RingBuffer<cv::Vec3d> level_velocity_{Trajectory::kHistory};  // navdata (forward, right, down)
+    RingBuffer<DirectionSample> image_dirs_{Trajectory::kHistory};
     bool metric_ = false;
-    double foe_sigma_px_ = 0;  // standard error of the FOE's place from the velocity samples
+    bool nav_moving_ = false;      // the navdata velocity is known, forward and fast enough
+    bool nav_slow_ = false;        // the navdata velocity is known and below min_speed_mps
+    bool nav_rejected_ = false;    // the images contradicted the navdata FOE this frame
+    double nav_speed_ = kUnknown;  // its magnitude (m/s), NaN without one
+    cv::Vec3d nav_dir_{0, 0, 1};
+    double nav_sigma_px_ = 0;  // standard error of its FOE
+    double foe_sigma_px_ = 0;  // standard error of the FOE used
     cv::Matx33d derot_ = cv::Matx33d::eye();
     std::vector<double> ts_, xs_, ys_, hazard_[3];
     std::vector<int> rated_count_;
@@ -141,7 +185,10 @@ private:
     std::array<int, 3> streak_{};
     int rejections_ = 0;
     std::size_t s_centre_points_, s_centre_hom_, s_scale_raw_, s_rate_raw_, s_rejected_, s_hazards_;
-    std::size_t s_residual_yaw_, s_residual_pitch_;
+    std::size_t s_residual_yaw_, s_residual_pitch_, s_foe_sigma_, s_prior_rejected_, s_moving_;
+    std::size_t s_foe_img_x_, s_foe_nav_x_, s_foe_x_;
+    std::vector<std::size_t> moving_idx_;
+    std::vector<double> loom_;
 };
 
 }  // namespace gs::vision

@@ -76,64 +76,6 @@ cv::Matx33d small_rotation_homography(const CameraCalibration& calib, const cv::
     return h * (1.0 / h(2, 2));
 }
 
-bool estimate_residual_rotation(const CameraCalibration& calib, std::span<const cv::Point2f> pred,
-                                std::span<const cv::Point2f> cur, cv::Point2f foe,
-                                double min_foe_px, double huber_px, int min_points,
-                                RotationFitScratch& sc, cv::Vec3d& omega_rad) {
-    omega_rad = {0, 0, 0};
-    // Linearised: moving pred by the small rotation w adds J w, J from the exact flow of a
-    // rotation about each camera axis (finite differences of K R K^-1, so no sign convention to
-    // get wrong). Each point gives one equation: its flow across the FOE ray, n . (cur - pred) =
-    // (n^T J) w, with n the unit normal of the ray.
-    constexpr double kEps = 1e-4;
-    cv::Matx33d hj[3];
-    for (int j = 0; j < 3; ++j) {
-        cv::Vec3d e(0, 0, 0);
-        e[j] = kEps;
-        hj[j] = small_rotation_homography(calib, e);
-    }
-    sc.a.clear();
-    sc.b.clear();
-    const double min_d2 = min_foe_px * min_foe_px;
-    for (std::size_t i = 0; i < pred.size() && i < cur.size(); ++i) {
-        const cv::Point2f d = cur[i] - foe;
-        const double d2 = static_cast<double>(d.dot(d));
-        if (d2 < min_d2) continue;
-        const double dn = std::sqrt(d2);
-        const double nx = -static_cast<double>(d.y) / dn, ny = static_cast<double>(d.x) / dn;
-        for (int j = 0; j < 3; ++j) {
-            const cv::Point2f m = apply_homography(hj[j], pred[i]) - pred[i];
-            sc.a.push_back((nx * static_cast<double>(m.x) + ny * static_cast<double>(m.y)) / kEps);
-        }
-        const cv::Point2f f = cur[i] - pred[i];
-        sc.b.push_back(nx * static_cast<double>(f.x) + ny * static_cast<double>(f.y));
-    }
-    const std::size_t n = sc.b.size();
-    if (static_cast<int>(n) < std::max(3, min_points)) return false;
-    sc.w.assign(n, 1.0);
-    cv::Vec3d w(0, 0, 0);
-    for (int iter = 0; iter < 5; ++iter) {  // IRLS with Huber weights
-        cv::Matx33d ata = cv::Matx33d::zeros();
-        cv::Vec3d atb(0, 0, 0);
-        for (std::size_t i = 0; i < n; ++i) {
-            const cv::Vec3d ai(sc.a[3 * i], sc.a[3 * i + 1], sc.a[3 * i + 2]);
-            ata += sc.w[i] * (ai * ai.t());
-            atb += sc.w[i] * sc.b[i] * ai;
-        }
-        cv::Vec3d ev;
-        cv::eigen(ata, ev);
-        if (!(ev[2] > 1e-6 * std::max(1.0, ev[0]))) return false;
-        if (!cv::solve(ata, atb, w, cv::DECOMP_CHOLESKY)) return false;
-        for (std::size_t i = 0; i < n; ++i) {
-            const double r = std::abs(
-                sc.b[i] - (sc.a[3 * i] * w[0] + sc.a[3 * i + 1] * w[1] + sc.a[3 * i + 2] * w[2]));
-            sc.w[i] = r <= huber_px ? 1.0 : huber_px / r;
-        }
-    }
-    omega_rad = w;
-    return true;
-}
-
 void detection_mask(const CameraCalibration& calib, const RollStabiliser& stab, double margin_px,
                     double scale, cv::Mat& mask) {
     const int w = static_cast<int>(std::lround(calib.width * scale));

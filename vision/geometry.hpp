@@ -14,7 +14,6 @@
 
 #include <cmath>
 #include <limits>
-#include <span>
 #include <vector>
 
 namespace gs::vision {
@@ -59,21 +58,6 @@ cv::Matx33d level_from_camera(double roll_deg, double pitch_deg);
 // NaN coordinates when the drone is not moving forward relative to the camera.
 cv::Point2f focus_of_expansion(const CameraCalibration& calib, double roll_deg, double pitch_deg,
                                double v_forward, double v_right, double v_down);
-
-// The small camera rotation (radians, camera axes) that best explains, in the robust least-squares
-// sense, the flow of `cur` relative to `pred` across the rays from `foe`: pred are last frame's
-// points already moved by the navdata attitude change, cur where they were tracked to. A static
-// scene under pure translation flows along those rays only, so whatever crosses them is rotation
-// the attitude samples missed. Points nearer the FOE than min_foe_px are ignored. Returns false
-// (and zero) when fewer than min_points constrain it or the system is ill-conditioned.
-// `scratch` is reused between calls.
-struct RotationFitScratch {
-    std::vector<double> a, b, w;
-};
-bool estimate_residual_rotation(const CameraCalibration& calib, std::span<const cv::Point2f> pred,
-                                std::span<const cv::Point2f> cur, cv::Point2f foe,
-                                double min_foe_px, double huber_px, int min_points,
-                                RotationFitScratch& scratch, cv::Vec3d& omega_rad);
 
 // K R K^-1 for a small rotation vector (radians, camera axes), normalised to h(2,2) = 1.
 cv::Matx33d small_rotation_homography(const CameraCalibration& calib, const cv::Vec3d& omega_rad);

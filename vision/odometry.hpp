@@ -152,6 +152,14 @@ struct OdometryParams : OdometryFilterParams {
     // Derotate the points by the navdata roll and pitch when known (not the thesis': its rig was
     // carried level; on a flying drone a 1° pitch change is 2 cm of false motion at 1.2 m).
     bool tilt_compensation = true;
+    // Tilt from the images: the homography's projective part (over a floor, the tilt change the
+    // levelling missed), fused with the navdata's change by their standard errors per sample.
+    // Not the thesis' (`--thesis` turns it off with the centring it needs). Off by default: it
+    // cuts the per-sample error under IMU noise but adds a steady drift (see correct_tilt).
+    bool image_tilt = false;
+    double image_tilt_sigma_deg = 0.02;
+    double nav_tilt_sigma_deg = 0.1;
+    double image_tilt_max_deg = 3.0;
     // Rotation source, and the navdata weight in Fused (complementary filter per sample).
     YawSource yaw_source = YawSource::Visual;
     double yaw_fusion_weight = 0.5;
@@ -183,6 +191,7 @@ struct CameraEstimate {
     CameraStatus status = CameraStatus::First;
     int corners = 0, tracked = 0, inliers = 0;
     cv::Matx33d h_px = cv::Matx33d::eye();  // previous -> current, (centred) pixels
+    cv::Vec2d tilt_correction_deg{0, 0};    // what the image tilt took off (camera x, y)
     BodyMotion motion;
     double track_ms = 0, homography_ms = 0;
     bool ok() const { return status == CameraStatus::Ok; }

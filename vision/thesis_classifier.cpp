@@ -133,10 +133,15 @@ void ThesisClassifier::classify_sides() {
         RegionDecision& d = result_.regions[static_cast<std::size_t>(side)];
         d.threshold = p_.cluster_min_size;
         d.support = support[side];
-        d.valid = true;  // no steep cluster is itself the evidence of "safe"
-        d.unknown = UnknownReason::None;
         d.score = best[side];
         d.unsafe = best[side] > p_.cluster_min_size;
+        // With no more than cluster_min_size full-length trajectories the side cannot be flagged
+        // whatever is there (the thesis' own misses, §6.2.4): no evidence, so unknown, not clear.
+        d.valid = d.unsafe || support[side] > p_.cluster_min_size;
+        d.unknown = d.valid                                     ? UnknownReason::None
+                    : result_.frame_index + 1 < p_.slope_window ? UnknownReason::WarmingUp
+                                                                : UnknownReason::TooFewPoints;
+        if (!d.valid) d.score = kUnknown;
     }
 }
 

@@ -19,6 +19,7 @@ struct ThesisParams : TrackerParams {
         lk_iterations = 20;
         track_scale = 1.0;
         detect_interval = 1;
+        predict_rotation = false;  // LK searches from where the point was, as the thesis did
     }
 
     double centre_band_px = 80;  // centre region: |x - width/2| <= this (§3.2.4)

@@ -1,6 +1,7 @@
 #include "vision/tracker.hpp"
 #include "vision/common.hpp"
 
+#include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
 
@@ -42,6 +43,18 @@ void TrajectoryTracker::reset() {
     next_id_ = 1;
     ended_ = added_ = 0;
     mask_roll_deg_ = kUnknown;
+    last_rotation_rad_ = {0, 0, 0};
+    have_rotation_ = false;
+    bias_ = {0, 0, 0};
+    bias_var_ = cv::Vec3d::all(std::pow(p_.ego_image_floor_deg * kRadPerDeg, 2));
+    image_roll_deg_ = 0;
+    roll_used_deg_ = 0;
+    correction_deg_ = {0, 0, 0};
+}
+
+void TrajectoryTracker::set_roll(double roll_deg) {
+    roll_used_deg_ = !std::isnan(roll_deg) ? roll_deg : p_.image_roll ? image_roll_deg_ : 0.0;
+    stab_.set(centre_, p_.roll_sign * roll_used_deg_);
 }
 
 cv::Point2f TrajectoryTracker::to_full(cv::Point2f p) const {
@@ -55,17 +68,50 @@ cv::Point2f TrajectoryTracker::to_track(cv::Point2f p) const {
     return {(p.x + 0.5f) * s - 0.5f, (p.y + 0.5f) * s - 0.5f};
 }
 
+EgoMotionParams TrajectoryTracker::ego_params() const {
+    EgoMotionParams e;
+    e.noise_px = p_.ego_noise_px;
+    e.huber_k = p_.ego_huber_k;
+    e.outlier_k = p_.ego_outlier_k;
+    e.min_points = p_.ego_min_points;
+    e.translation_k = p_.ego_translation_k;
+    e.prior_gate = p_.ego_prior_gate;
+    e.image_floor_deg = p_.ego_image_floor_deg;
+    e.max_rotation_deg = p_.ego_max_rotation_deg;
+    e.reliable_foe_sigma_px = p_.ego_reliable_foe_sigma_px;
+    return e;
+}
+
 void TrajectoryTracker::update(const cv::Mat& image, std::int64_t t_ns, double roll_deg,
-                               const cv::Matx33d& derot_h, const cv::Point2f* foe) {
+                               const cv::Matx33d& base_h_in, const EgoPrior& prior_in) {
     timings_ = {};
     ended_ = added_ = 0;
-    const double roll = std::isnan(roll_deg) ? 0.0 : roll_deg;
-    stab_.set(centre_, p_.roll_sign * roll);
     const double t_s = static_cast<double>(t_ns) * 1e-9;
+    const double dt = have_prev_ ? std::max(0.0, t_s - now_s_) : 0.0;
     now_s_ = t_s;
     const auto w = static_cast<float>(calib_.width);
     const auto h = static_cast<float>(calib_.height);
-
+    correction_deg_ = {0, 0, 0};
+    // Without a navdata rotation, the last frame's rotation predicts this one's (a turning
+    // camera keeps turning): a better start for the search and for the estimate.
+    EgoPrior prior = prior_in;
+    prior.rotation_sigma_deg = p_.ego_prior_sigma_deg;
+    cv::Matx33d base_h = base_h_in;
+    cv::Vec3d base_rot(0, 0, 0);
+    if (prior.rotation) {
+        const cv::Matx33d k = calib_.camera_matrix();
+        cv::Matx33d r = k.inv() * base_h * k;
+        cv::Rodrigues(r * (1.0 / std::cbrt(cv::determinant(r))), base_rot);
+    } else if (p_.ego_motion && p_.predict_rotation && have_rotation_) {
+        // The camera's inertia: its rotation changes little from one frame to the next, so the
+        // last one predicts this one, a prior as the navdata's would be (looser).
+        base_rot = last_rotation_rad_;
+        base_h = small_rotation_homography(calib_, base_rot);
+        prior.rotation = true;
+        prior.rotation_sigma_deg = p_.ego_prediction_sigma_deg;
+    }
+    const bool navdata_rotation = prior_in.rotation;
+    set_roll(roll_deg);
     auto t0 = StageClock::now();
     const cv::Mat* grey = &image;
     if (image.channels() != 1) {
@@ -93,18 +139,19 @@ void TrajectoryTracker::update(const cv::Mat& image, std::int64_t t_ns, double r
         // Start each search where the attitude change alone moves the point: a fast pitch or yaw
         // (tens of pixels a frame) is then no harder to track than hover.
         int flags = 0;
-        if (derot_h != cv::Matx33d::eye()) {
+        if (base_h != cv::Matx33d::eye()) {
             cur_pts_.resize(tracks_.size());
             for (std::size_t i = 0; i < tracks_.size(); ++i)
                 cur_pts_[i] =
-                    to_track(calib_.distort_point(apply_homography(derot_h, tracks_[i].undist)));
+                    to_track(calib_.distort_point(apply_homography(base_h, tracks_[i].undist)));
             flags = cv::OPTFLOW_USE_INITIAL_FLOW;
         }
+        // err_ gets each point's smaller gradient-matrix eigenvalue: how well it is determined.
         cv::calcOpticalFlowPyrLK(pyr_prev_, pyr_cur_, prev_pts_, cur_pts_, status_, err_, win,
                                  p_.lk_levels,
                                  cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS,
                                                   p_.lk_iterations, p_.lk_epsilon),
-                                 flags, p_.lk_min_eig);
+                                 flags | cv::OPTFLOW_LK_GET_MIN_EIGENVALS, p_.lk_min_eig);
         timings_.lk_ms = ms_since(t0);
 
         t0 = StageClock::now();
@@ -115,25 +162,59 @@ void TrajectoryTracker::update(const cv::Mat& image, std::int64_t t_ns, double r
             if (!inside(full, w, h, 0)) continue;
             if (n != i) tracks_[n] = tracks_[i];
             raw_[n] = full;
+            err_[n] = err_[i];
             ++n;
         }
         raw_.resize(n);
         und_.resize(n);
         calib_.undistort_points(raw_, und_);
-        // Where the attitude change alone would have moved each point.
+        // Where the known rotation alone would have moved each point; then what the images say.
         pred_.resize(n);
-        for (std::size_t i = 0; i < n; ++i) pred_[i] = apply_homography(derot_h, tracks_[i].undist);
-        residual_deg_ = {0, 0, 0};
-        if (foe && p_.refine_rotation) {
-            cv::Vec3d omega;
-            if (estimate_residual_rotation(calib_, pred_, und_, *foe, 30.0, p_.refine_huber_px,
-                                           p_.refine_min_points, rot_scratch_, omega) &&
-                cv::norm(omega) * 180.0 / CV_PI <= p_.refine_max_deg) {
-                const cv::Matx33d hr = small_rotation_homography(calib_, omega);
+        for (std::size_t i = 0; i < n; ++i) pred_[i] = apply_homography(base_h, tracks_[i].undist);
+        cv::Vec3d total = base_rot;
+        have_rotation_ = prior.rotation;
+        if (p_.ego_motion) {
+            const EgoMotion& em = ego_.estimate(calib_, pred_, und_, prior, ego_params(),
+                                                std::span<const float>(err_.data(), n));
+            if (em.valid) {
+                // On top of the navdata, what the images find is an error of the attitude
+                // samples: mostly slow (latency against the video, a bias, a scale), so it is
+                // followed over frames by a Kalman filter per axis (a random walk seen through
+                // each frame's image estimate, never taken as better than image_floor_deg): one
+                // frame where the images trade a rotation for a shift of the FOE (a wall seen
+                // head-on makes the two look alike) barely moves it, a persistent error is
+                // learnt in about a second. A sample the images reject outright (stale, from
+                // the wrong instant) is replaced by the images' own rotation. Without navdata
+                // the images' rotation is the rotation itself.
+                cv::Vec3d corr = em.correction_rad;
+                if (navdata_rotation && em.prior_rotation_used) {
+                    const double q = p_.ego_bias_walk_deg * kRadPerDeg;
+                    for (int k = 0; k < 3; ++k) {
+                        bias_var_[k] += q * q;
+                        const double gain = bias_var_[k] / (bias_var_[k] + em.image_var[k]);
+                        bias_[k] += gain * (em.image_rad[k] - bias_[k]);
+                        bias_var_[k] *= 1 - gain;
+                    }
+                    corr = bias_;
+                } else if (navdata_rotation) {
+                    corr = em.image_rad;
+                }
+                if (corr != em.correction_rad) ego_.refine(calib_, corr);
+                const cv::Matx33d hr = small_rotation_homography(calib_, corr);
                 for (cv::Point2f& q : pred_) q = apply_homography(hr, q);
-                residual_deg_ = omega * (180.0 / CV_PI);
+                correction_deg_ = corr * (180.0 / CV_PI);
+                total += corr;
+                have_rotation_ = true;
             }
         }
+        last_rotation_rad_ = total;
+        // Roll about the optical axis: the drone's roll (camera z = body x; a right-side-down
+        // roll turns the camera by -roll about its z axis).
+        if (std::isnan(roll_deg) && p_.image_roll && have_rotation_) {
+            const double leak = p_.image_roll_tau_s > 0 ? std::exp(-dt / p_.image_roll_tau_s) : 0.0;
+            image_roll_deg_ = leak * (image_roll_deg_ - total[2] * 180.0 / CV_PI);
+        }
+        set_roll(roll_deg);
         std::size_t m = 0;
         for (std::size_t i = 0; i < n; ++i) {
             const cv::Point2f s = stab_.apply(und_[i]);
@@ -143,6 +224,7 @@ void TrajectoryTracker::update(const cv::Mat& image, std::int64_t t_ns, double r
             if (m != i) tr = tracks_[i];
             const cv::Point2f derot = tr.at_back(0).derot + (und_[i] - pred_[i]);
             tr.raw = raw_[i];
+            tr.moving_streak = p_.ego_motion && ego_.outlier(i) ? tr.moving_streak + 1 : 0;
             tr.undist_prev = tr.undist;
             tr.undist = und_[i];
             tr.push({s, derot, t_s});
@@ -154,12 +236,14 @@ void TrajectoryTracker::update(const cv::Mat& image, std::int64_t t_ns, double r
     } else {
         ended_ = static_cast<int>(tracks_.size());
         tracks_.clear();
+        last_rotation_rad_ = {0, 0, 0};
+        have_rotation_ = false;
     }
 
     if (frame_ % std::max(1, p_.detect_interval) == 0) {
         t0 = StageClock::now();
         if (grid_on()) balance_grid();
-        if (static_cast<int>(tracks_.size()) < p_.max_tracks) detect(roll);
+        if (static_cast<int>(tracks_.size()) < p_.max_tracks) detect(roll_used_deg_);
         timings_.detect_ms = ms_since(t0);
     }
 

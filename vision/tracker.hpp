@@ -6,6 +6,7 @@
 
 #include "drone/core/camera_calibration.hpp"
 #include "drone/core/unknown.hpp"
+#include "vision/ego_motion.hpp"
 #include "vision/geometry.hpp"
 #include "vision/params.hpp"
 
@@ -18,14 +19,35 @@
 namespace gs::vision {
 
 struct TrackerParams {
-    // Refinement of the navdata derotation from the tracked points (only with a focus of
-    // expansion, i.e. for classifiers that derotate): what the attitude samples got wrong (noise,
-    // latency against the video) shows as flow across the rays from the FOE, which a static scene
-    // seen under pure translation never has.
-    bool refine_rotation = true;
-    double refine_huber_px = 1.0;  // robust weight: residuals above this count less
-    double refine_max_deg = 3.0;   // a larger correction is not believed (left at 0)
-    int refine_min_points = 12;
+    // Ego-motion from the tracked points (vision/ego_motion.hpp): the rotation between frames is
+    // estimated from the images, on top of the navdata attitude change when there is one (which
+    // then acts as a prior the images refine, and is rejected when they disagree), together with
+    // the direction of translation (the focus of expansion). Off: the navdata rotation alone.
+    bool ego_motion = true;
+    double ego_noise_px = 0.35;         // tracking noise per point and frame (full-size px)
+    double ego_huber_k = 2.0;           // robust weights (noise units)
+    double ego_outlier_k = 4.0;         // a point this many noise units off the motion: moving
+    int ego_min_points = 12;            // fewer points: no estimate
+    double ego_translation_k = 2.5;     // a rotation alone within this many noise units: no
+                                        // translation seen
+    double ego_prior_sigma_deg = 0.15;  // navdata attitude change uncertainty per frame
+    double ego_prior_gate = 4.0;        // reject a navdata prior this many sigmas off the images
+    double ego_image_floor_deg = 0.3;   // one frame's image rotation never better known than this
+    double ego_max_rotation_deg = 10;   // a larger image correction per frame is not believed
+    double ego_reliable_foe_sigma_px = 80;
+    double ego_prediction_sigma_deg = 0.5;  // without navdata: the last frame's rotation predicts
+                                            // this one's to this (per axis)
+    double ego_bias_walk_deg =
+        0.01;  // the navdata rotation's error drifts by this per frame  // without navdata: a
+               // translation needs its FOE this well placed (else: still camera, moving objects)
+    // Without navdata roll, roll-stabilise with the roll the images measure (their rotation about
+    // the optical axis, integrated and leaking back to level with this time constant: the drone
+    // flies level on average, and an integrated rate drifts).
+    bool image_roll = true;
+    double image_roll_tau_s = 2.0;
+    // Without a navdata rotation, start each LK search where the last frame's rotation (from the
+    // images) moves the point: a camera that turns keeps turning.
+    bool predict_rotation = true;
     int max_tracks = 150;               // speed: ~1 ms per frame with the settings below (bench)
     double quality_level = 0.01;        // goodFeaturesToTrack qualityLevel
     double min_corner_distance_px = 8;  // goodFeaturesToTrack minDistance (full-size px)
@@ -55,14 +77,37 @@ struct TrackerParams {
 // TrackerParams.
 template <class P>
 void describe_tracker_params(ParamTable<P>& t) {
-    t.add("track.refine_rotation", &P::refine_rotation, 0, 1,
-          "refine the navdata derotation from the tracked points (derotating classifiers)")
-        .add("track.refine_huber_px", &P::refine_huber_px, 0.05, 20,
-             "rotation refinement: robust weight threshold")
-        .add("track.refine_max_deg", &P::refine_max_deg, 0, 30,
-             "rotation refinement: largest correction believed per frame")
-        .add("track.refine_min_points", &P::refine_min_points, 3, 1000,
-             "rotation refinement: fewest points")
+    t.add("track.ego_motion", &P::ego_motion, 0, 1,
+          "estimate the rotation and translation direction from the tracked points")
+        .add("ego.noise_px", &P::ego_noise_px, 0.01, 10,
+             "ego-motion: tracking noise per frame (px)")
+        .add("ego.huber_k", &P::ego_huber_k, 0.5, 20,
+             "ego-motion: robust weight threshold (noise units)")
+        .add("ego.outlier_k", &P::ego_outlier_k, 1, 50,
+             "ego-motion: a point this far off the motion is moving (noise units)")
+        .add("ego.min_points", &P::ego_min_points, 4, 1000, "ego-motion: fewest points")
+        .add("ego.translation_k", &P::ego_translation_k, 0.5, 50,
+             "ego-motion: no translation seen while a rotation leaves less (noise units)")
+        .add("ego.prior_sigma_deg", &P::ego_prior_sigma_deg, 0.001, 10,
+             "ego-motion: navdata attitude change uncertainty per frame")
+        .add("ego.prior_gate", &P::ego_prior_gate, 0.5, 100,
+             "ego-motion: reject a navdata sample this many sigmas from the images")
+        .add("ego.image_floor_deg", &P::ego_image_floor_deg, 0, 10,
+             "ego-motion: one frame's image rotation is never taken as better known than this")
+        .add("ego.max_rotation_deg", &P::ego_max_rotation_deg, 0.1, 90,
+             "ego-motion: a larger image correction per frame is not believed")
+        .add("ego.reliable_foe_sigma_px", &P::ego_reliable_foe_sigma_px, 1, 10000,
+             "ego-motion without navdata: a translation needs its FOE placed this well")
+        .add("ego.prediction_sigma_deg", &P::ego_prediction_sigma_deg, 0.01, 30,
+             "ego-motion without navdata: the last rotation predicts this one's to this")
+        .add("ego.bias_walk_deg", &P::ego_bias_walk_deg, 0, 10,
+             "ego-motion: the navdata rotation's error drifts by this per frame (filter)")
+        .add("track.image_roll", &P::image_roll, 0, 1,
+             "without navdata roll, stabilise with the roll the images measure")
+        .add("track.image_roll_tau_s", &P::image_roll_tau_s, 0.1, 60,
+             "image roll: time constant of the leak back to level")
+        .add("track.predict_rotation", &P::predict_rotation, 0, 1,
+             "without navdata rotation, start LK where the last frame's rotation moves points")
         .add("track.max_tracks", &P::max_tracks, 10, 2000, "most trajectories alive at once", true)
         .add("track.quality_level", &P::quality_level, 1e-4, 0.5,
              "Shi-Tomasi: corner strength relative to the strongest corner")
@@ -110,6 +155,7 @@ struct Trajectory {
     cv::Point2f raw;          // newest position, raw image pixels (full size)
     cv::Point2f undist;       // newest position, undistorted pixels
     cv::Point2f undist_prev;  // the one before (== undist on the first frame)
+    int moving_streak = 0;    // consecutive frames it did not follow the camera's motion
     std::array<TrackPoint, kHistory> hist{};
 
     std::size_t history_size() const {
@@ -139,15 +185,23 @@ public:
     void set_params(const TrackerParams& p) { p_ = p; }
     void reset();
 
-    // image: grey or BGR at the calibration's size. derot_h maps the previous frame's undistorted
-    // pixels to this frame's for the attitude change alone (identity if unknown). With `foe` (the
-    // focus of expansion, undistorted pixels) the attitude change is refined from the images:
-    // see estimate_residual_rotation().
-    void update(const cv::Mat& image, std::int64_t t_ns, double roll_deg,
-                const cv::Matx33d& derot_h, const cv::Point2f* foe = nullptr);
-    // The rotation the last update() added to derot_h (camera axes, degrees; 0 without refinement
-    // or when too few points constrained it).
-    const cv::Vec3d& residual_rotation_deg() const { return residual_deg_; }
+    // image: grey or BGR at the calibration's size. base_h maps the previous frame's undistorted
+    // pixels to this frame's for the rotation known beforehand: the navdata attitude change when
+    // prior.rotation says so, else identity (the images then predict it from the last frame's
+    // rotation). With ego_motion on, the rotation is then estimated from the points (see
+    // ego_motion.hpp) and trajectories' `derot` positions integrate what is left.
+    void update(const cv::Mat& image, std::int64_t t_ns, double roll_deg, const cv::Matx33d& base_h,
+                const EgoPrior& prior = {});
+    // The rotation the images added to the known one in the last update() (camera axes, degrees;
+    // 0 without an estimate) and the whole estimate.
+    const cv::Vec3d& image_correction_deg() const { return correction_deg_; }
+    const EgoMotion& ego() const { return ego_.last(); }
+    // The camera's whole rotation from the last frame to this one (camera axes, radians): the
+    // known one plus the images' correction.
+    const cv::Vec3d& rotation_rad() const { return last_rotation_rad_; }
+    // Roll used to stabilise the last frame (navdata's, or the images' when it had none).
+    double roll_deg() const { return roll_used_deg_; }
+    EgoMotionParams ego_params() const;
 
     const std::vector<Trajectory>& tracks() const { return tracks_; }
     const CameraCalibration& calibration() const { return calib_; }
@@ -159,6 +213,7 @@ public:
     const TrackerTimings& timings() const { return timings_; }
 
 private:
+    void set_roll(double roll_deg);
     cv::Point2f to_full(cv::Point2f p) const;
     cv::Point2f to_track(cv::Point2f p) const;
     void detect(double roll_deg);
@@ -188,9 +243,14 @@ private:
     std::vector<int> cell_count_;
     std::vector<std::size_t> order_;
     std::vector<std::uint8_t> drop_;
-    RotationFitScratch rot_scratch_;
+    EgoMotionEstimator ego_;
+    cv::Vec3d last_rotation_rad_{0, 0, 0};         // whole camera rotation of the last frame
+    cv::Vec3d bias_{0, 0, 0}, bias_var_{0, 0, 0};  // the navdata rotation's error (filter)
+    bool have_rotation_ = false;
+    double image_roll_deg_ = 0;
+    double roll_used_deg_ = 0;
     cv::Mat mask_base_, mask_;
-    cv::Vec3d residual_deg_{0, 0, 0};
+    cv::Vec3d correction_deg_{0, 0, 0};
     double mask_roll_deg_ = kUnknown;
     TrackerTimings timings_;
 };

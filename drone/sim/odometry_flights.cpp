@@ -214,6 +214,11 @@ std::vector<OdometryFlightSample> odometry_flight_samples(const OdometryFlightPa
     std::vector<OdometryFlightSample> out;
     out.reserve(std::size_t(n));
     Rng nav_rng(mix_seed(seed, 0xA5));
+    // The attitude bias: its own generator, so the noise above is the same with or without it.
+    Rng bias_rng(mix_seed(seed, 0xB1A5));
+    double bias_roll = p.nav_attitude_bias_deg * (bias_rng.uniform() < 0.5 ? -1 : 1);
+    double bias_pitch = p.nav_attitude_bias_deg * (bias_rng.uniform() < 0.5 ? -1 : 1);
+    const double walk = p.nav_attitude_bias_walk_dps * std::sqrt(1.0 / p.fps);
     for (int i = 0; i < n; ++i) {
         OdometryFlightSample s;
         s.t_s = i / p.fps;
@@ -230,8 +235,13 @@ std::vector<OdometryFlightSample> odometry_flight_samples(const OdometryFlightPa
                      sn = std::sin(s.bottom.yaw_deg * kRadPerDeg);
         NavState& nav = s.nav;
         nav.t_ns = static_cast<TimeNs>(std::llround(s.t_s * 1e9));
-        nav.roll_deg = s.bottom.roll_deg + p.nav_attitude_noise_deg * gaussian(nav_rng);
-        nav.pitch_deg = s.bottom.pitch_deg + p.nav_attitude_noise_deg * gaussian(nav_rng);
+        if (i > 0) {
+            bias_roll += walk * gaussian(bias_rng);
+            bias_pitch += walk * gaussian(bias_rng);
+        }
+        nav.roll_deg = s.bottom.roll_deg + bias_roll + p.nav_attitude_noise_deg * gaussian(nav_rng);
+        nav.pitch_deg =
+            s.bottom.pitch_deg + bias_pitch + p.nav_attitude_noise_deg * gaussian(nav_rng);
         nav.yaw_deg = s.bottom.yaw_deg + p.nav_yaw_drift_dps * s.t_s +
                       p.nav_attitude_noise_deg * gaussian(nav_rng);
         nav.vx_mps = c * vxw + sn * vyw + p.nav_velocity_noise_mps * gaussian(nav_rng);
@@ -332,8 +342,13 @@ Expected<OdometryFlightSummary, std::string> write_odometry_flight(const fs::pat
     info.frames = sum.frames;
     info.images = "frames";
     info.calibration = calib;
+    std::ostringstream imu;
+    imu << ", navdata attitude noise " << p.nav_attitude_noise_deg << " deg";
+    if (p.nav_attitude_bias_deg > 0 || p.nav_attitude_bias_walk_dps > 0)
+        imu << ", bias " << p.nav_attitude_bias_deg << " deg walking "
+            << p.nav_attitude_bias_walk_dps << " deg/sqrt(s)";
     info.source = "simulated: odometry test " + to_string(p.test) + ", seed " +
-                  std::to_string(seed) + (p.top_camera ? ", two cameras" : "");
+                  std::to_string(seed) + (p.top_camera ? ", two cameras" : "") + imu.str();
     std::ostringstream top_json;
     top_json.precision(10);
     top_json << "{\n  \"camera\": \"top\",\n  \"width\": " << calib.width

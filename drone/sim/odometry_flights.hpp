@@ -48,8 +48,12 @@ struct OdometryFlightParams {
     // The top frame is captured this much later than the bottom one (the thesis' webcams were
     // not synchronised); 0 = synchronised.
     double top_delay_s = 0;
-    // Navdata model.
+    // Navdata model. Roll and pitch as an onboard estimator reports them: white noise plus a
+    // bias per axis that starts at nav_attitude_bias_deg (its sign from the seed) and drifts as
+    // a random walk of nav_attitude_bias_walk_dps per square-root second.
     double nav_attitude_noise_deg = 0.05;
+    double nav_attitude_bias_deg = 0;
+    double nav_attitude_bias_walk_dps = 0;
     double nav_yaw_drift_dps = 0.02;
     double nav_velocity_noise_mps = 0.02;
     int jpeg_quality = 95;  // frames are stored as JPEG (the size of PNGs at 15 fps x 60 s)

@@ -20,13 +20,14 @@ const std::string kDir = std::string(GS_FIXTURES_DIR) + "/real/semi_synthetic_tt
 
 struct ApproachRun {
     std::vector<double> scale;  // per frame, NaN when none
-    std::vector<bool> centre_unsafe;
+    std::vector<bool> centre_unsafe, centre_valid;
     std::vector<double> centre_score;
 };
 
-ApproachRun run(const char* name) {
+ApproachRun run(const char* name, bool ego_motion = true) {
     ApproachRun r;
     auto c = make_classifier(name, CameraCalibration::ideal(256, 256, 60));
+    EXPECT_EQ(c->set_param("track.ego_motion", ego_motion ? 1 : 0), ParamStatus::Ok);
     // Flow reads the centre scale only with its homography channel on.
     if (std::string(name) == "flow") {
         EXPECT_EQ(c->set_param("centre_homography", 1), ParamStatus::Ok);
@@ -44,6 +45,7 @@ ApproachRun run(const char* name) {
         EXPECT_NE(s, nullptr);
         r.scale.push_back(s && !s->points.empty() ? s->points.back().y : kUnknown);
         r.centre_unsafe.push_back(res.region(Region::Centre).unsafe);
+        r.centre_valid.push_back(res.region(Region::Centre).valid);
         r.centre_score.push_back(res.region(Region::Centre).score);
     }
     return r;
@@ -73,20 +75,27 @@ TEST_P(TtiApproach, CentreScaleMatchesKnownScaleAndFlagsWhenClose) {
     }
     EXPECT_EQ(compared, 94);
     EXPECT_LT(worst, 0.01) << GetParam();
-    // Not flagged while time to impact is above 4 s, flagged at the end (TTI 0.2 s).
+    // Not flagged while time to impact is above 4 s, flagged at TTI 0.2 s; at the last step (a
+    // 2x zoom that LK cannot follow) either still flagged or unknown, never clear.
     for (int k = 1; k <= 60; ++k) EXPECT_FALSE(r.centre_unsafe[static_cast<std::size_t>(k - 1)]);
-    EXPECT_TRUE(r.centre_unsafe.back()) << GetParam();
+    EXPECT_TRUE(r.centre_unsafe[97]) << GetParam();
+    EXPECT_TRUE(r.centre_unsafe.back() || !r.centre_valid.back()) << GetParam();
 }
 
 INSTANTIATE_TEST_SUITE_P(Classifiers, TtiApproach, ::testing::Values("thesis", "flow"));
 
 TEST(TtiApproachFlow, ScoreIsInverseTimeToImpact) {
     if (!std::filesystem::exists(kDir + "/image_1.jpg")) GTEST_SKIP() << "fixture missing";
-    const ApproachRun r = run("flow");
     // The score is the points' 1/TTC extrapolated to the current frame (frame k-1 shows image k,
-    // whose time to impact is 10 - 0.1 k s), or the homography's rate where that is larger.
+    // whose time to impact is 10 - 0.1 k s). With the focus of expansion assumed at the image
+    // centre (no ego-motion from the images: exactly right for this digital zoom) within 15 %;
+    // with it and the rotation measured from the images (the FOE a few pixels off) within 20 %.
+    const ApproachRun assumed = run("flow", false);
+    const ApproachRun measured = run("flow", true);
     for (int k : {30, 50, 70, 85}) {
         const double tti = 10 - 0.1 * k;
-        EXPECT_NEAR(r.centre_score[static_cast<std::size_t>(k - 1)], 1 / tti, 0.15 / tti) << k;
+        const auto i = static_cast<std::size_t>(k - 1);
+        EXPECT_NEAR(assumed.centre_score[i], 1 / tti, 0.15 / tti) << k;
+        EXPECT_NEAR(measured.centre_score[i], 1 / tti, 0.2 / tti) << k;
     }
 }

@@ -1,0 +1,233 @@
+// Ego-motion from tracked points (vision/ego_motion.hpp): rotation and focus of expansion under
+// known synthetic flow, moving objects as outliers, navdata priors used or rejected.
+
+#include "vision/ego_motion.hpp"
+
+#include "vision/common.hpp"
+#include "vision/geometry.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+using namespace gs::vision;
+
+namespace {
+
+// Points scattered over the image, each moved by a translation toward the camera (expansion
+// about `foe` at a rate per frame that differs per point as depths differ) and then by the small
+// rotation omega, with Gaussian pixel noise.
+void flow_field(const CameraCalibration& c, cv::Point2f foe, const cv::Vec3d& omega,
+                double noise_px, std::uint32_t seed, std::vector<cv::Point2f>& pred,
+                std::vector<cv::Point2f>& cur, double max_rate = 0.03, int count = 200) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> ux(10, c.width - 10), uy(10, c.height - 10),
+        ur(0.0, max_rate);
+    std::normal_distribution<double> n(0, noise_px);
+    const cv::Matx33d h = small_rotation_homography(c, omega);
+    pred.clear();
+    cur.clear();
+    for (int i = 0; i < count; ++i) {
+        const cv::Point2f p(static_cast<float>(ux(rng)), static_cast<float>(uy(rng)));
+        const double r = ur(rng);  // 0 (far) .. max_rate a frame (near)
+        const cv::Point2f moved = p + (p - foe) * static_cast<float>(r);
+        const cv::Point2f q = apply_homography(h, moved);
+        pred.push_back(p);
+        cur.push_back({q.x + static_cast<float>(n(rng)), q.y + static_cast<float>(n(rng))});
+    }
+}
+
+const CameraCalibration kCam = CameraCalibration::ideal(640, 360, 80);
+
+}  // namespace
+
+TEST(EgoMotion, RecoversRotationAndFocusOfExpansionWithoutNavdata) {
+    EgoMotionEstimator est;
+    for (const cv::Point2f foe : {cv::Point2f(320, 180), cv::Point2f(400, 150)}) {
+        for (const cv::Vec3d& w_deg : {cv::Vec3d(0.4, -0.3, 0.2), cv::Vec3d(-1.0, 0, 0),
+                                       cv::Vec3d(0, 0.8, 0), cv::Vec3d(0, 0, -0.6)}) {
+            std::vector<cv::Point2f> pred, cur;
+            flow_field(kCam, foe, w_deg * kRadPerDeg, 0.2, 7, pred, cur);
+            const EgoMotion& m = est.estimate(kCam, pred, cur, {}, {});
+            ASSERT_TRUE(m.valid);
+            ASSERT_EQ(m.translation, EgoMotion::Translation::Known);
+            for (int k = 0; k < 3; ++k)
+                EXPECT_NEAR(m.correction_rad[k] / kRadPerDeg, w_deg[k], 0.03)
+                    << "axis " << k << " of " << w_deg;
+            // Within three of its own standard errors (a few pixels at 0.2 px of noise).
+            EXPECT_LT(m.foe_sigma_px, 8);
+            EXPECT_LT(cv::norm(m.foe - foe), std::max(4.0, 3 * m.foe_sigma_px)) << w_deg;
+            EXPECT_GT(m.direction[2], 0.9);  // forward
+        }
+    }
+}
+
+TEST(EgoMotion, SlippedPointsAreOutliersAndDoNotPullTheEstimate) {
+    std::vector<cv::Point2f> pred, cur;
+    flow_field(kCam, {320, 180}, {0, 0, 0}, 0.2, 11, pred, cur);
+    // One point in ten slipped by 15 px across its ray (a tracking error).
+    for (std::size_t i = 0; i < cur.size(); i += 10) cur[i] += cv::Point2f(0, 15);
+    EgoMotionEstimator est;
+    const EgoMotion& m = est.estimate(kCam, pred, cur, {}, {});
+    ASSERT_TRUE(m.valid);
+    EXPECT_LT(cv::norm(m.correction_rad) / kRadPerDeg, 0.1);
+    for (std::size_t i = 0; i < cur.size(); ++i) {
+        if (i % 10 == 0 && std::abs(pred[i].x - 320) > 40) {
+            EXPECT_TRUE(est.outlier(i)) << i;
+        }
+    }
+    EXPECT_LE(m.outliers, 25);
+}
+
+TEST(EgoMotion, AStillCameraSeesNoTranslationAndALoomingHandStandsOut) {
+    // Background still (tracking noise only); 30 % of the points on an object in the right half
+    // expanding about its own centre, as a hand coming toward a camera on a table.
+    std::mt19937 rng(3);
+    std::normal_distribution<double> n(0, 0.25);
+    std::uniform_real_distribution<double> ux(10, 630), uy(10, 350), hx(380, 560), hy(80, 280);
+    std::vector<cv::Point2f> pred, cur;
+    std::vector<bool> on_hand;
+    for (int i = 0; i < 200; ++i) {
+        const bool hand = i % 10 < 3;
+        const cv::Point2f p(static_cast<float>(hand ? hx(rng) : ux(rng)),
+                            static_cast<float>(hand ? hy(rng) : uy(rng)));
+        cv::Point2f q = p;
+        if (hand) q = p + (p - cv::Point2f(470, 180)) * 0.06f;  // TTC ~ 17 frames
+        pred.push_back(p);
+        cur.push_back({q.x + static_cast<float>(n(rng)), q.y + static_cast<float>(n(rng))});
+        on_hand.push_back(hand);
+    }
+    EgoMotionEstimator est;
+    const EgoMotion& m = est.estimate(kCam, pred, cur, {}, {});
+    ASSERT_TRUE(m.valid);
+    // The hand does not turn the camera: no rotation is read into its expansion.
+    EXPECT_LT(cv::norm(m.correction_rad) / kRadPerDeg, 0.05);
+    // Two readings explain these images equally: a still camera and a moving hand (its points
+    // stand out), or a camera moving toward the hand with the background far away (the FOE on
+    // the hand). Either way the hand's expansion is what approaches.
+    if (m.translation == EgoMotion::Translation::None) {
+        int hand_out = 0, bg_out = 0, hand_far = 0;
+        for (std::size_t i = 0; i < pred.size(); ++i) {
+            const bool far_from_centre = cv::norm(pred[i] - cv::Point2f(470, 180)) > 30;
+            if (on_hand[i] && far_from_centre) {
+                ++hand_far;
+                hand_out += est.outlier(i);
+            }
+            if (!on_hand[i]) bg_out += est.outlier(i);
+        }
+        EXPECT_GE(hand_out, hand_far * 9 / 10);
+        EXPECT_LE(bg_out, 2);
+    } else {
+        ASSERT_EQ(m.translation, EgoMotion::Translation::Known);
+        EXPECT_LT(cv::norm(m.foe - cv::Point2f(470, 180)), 10);
+    }
+}
+
+TEST(EgoMotion, AStillCameraWithNothingMovingSeesNoTranslation) {
+    std::mt19937 rng(4);
+    std::normal_distribution<double> n(0, 0.25);
+    std::uniform_real_distribution<double> ux(10, 630), uy(10, 350);
+    std::vector<cv::Point2f> pred, cur;
+    for (int i = 0; i < 150; ++i) {
+        const cv::Point2f p(static_cast<float>(ux(rng)), static_cast<float>(uy(rng)));
+        pred.push_back(p);
+        cur.push_back({p.x + static_cast<float>(n(rng)), p.y + static_cast<float>(n(rng))});
+    }
+    EgoMotionEstimator est;
+    const EgoMotion& m = est.estimate(kCam, pred, cur, {}, {});
+    ASSERT_TRUE(m.valid);
+    EXPECT_EQ(m.translation, EgoMotion::Translation::None);
+    EXPECT_LE(m.outliers, 2);
+    EXPECT_LT(m.translation_px, 0.5);
+}
+
+TEST(EgoMotion, AConsistentNavdataRotationIsUsedAWrongOneRejected) {
+    // The points were already moved by the navdata rotation (pred); what is left is either small
+    // (the navdata was right) or 2 degrees of yaw it missed (a stale sample).
+    EgoMotionEstimator est;
+    EgoPrior prior;
+    prior.rotation = true;
+    prior.rotation_sigma_deg = 0.15;
+    std::vector<cv::Point2f> pred, cur;
+    flow_field(kCam, {320, 180}, cv::Vec3d(0, 0.05, 0) * kRadPerDeg, 0.2, 5, pred, cur);
+    const EgoMotion& ok = est.estimate(kCam, pred, cur, prior, {});
+    ASSERT_TRUE(ok.valid);
+    EXPECT_TRUE(ok.prior_rotation_used);
+    EXPECT_FALSE(ok.prior_rotation_rejected);
+    // The images alone see the 0.05 degrees; fused with the prior, one frame moves it less.
+    EXPECT_NEAR(ok.image_rad[1] / kRadPerDeg, 0.05, 0.03);
+    EXPECT_GE(ok.image_var[1], std::pow(0.3 * kRadPerDeg, 2));
+    EXPECT_LT(std::abs(ok.correction_rad[1]), std::abs(ok.image_rad[1]));
+
+    flow_field(kCam, {320, 180}, cv::Vec3d(0, 2.0, 0) * kRadPerDeg, 0.2, 5, pred, cur);
+    const EgoMotion& bad = est.estimate(kCam, pred, cur, prior, {});
+    ASSERT_TRUE(bad.valid);
+    EXPECT_TRUE(bad.prior_rotation_rejected);
+    EXPECT_NEAR(bad.correction_rad[1] / kRadPerDeg, 2.0, 0.05);
+}
+
+TEST(EgoMotion, AVelocityDirectionTheImagesContradictIsRejected) {
+    std::vector<cv::Point2f> pred, cur;
+    const cv::Point2f foe(320, 180);
+    flow_field(kCam, foe, {0, 0, 0}, 0.2, 9, pred, cur);
+    EgoMotionEstimator est;
+    EgoPrior prior;
+    prior.translation_sigma_rad = 0.02;
+    // Agreeing: straight ahead.
+    prior.translation = {0, 0, 1};
+    const EgoMotion& ok = est.estimate(kCam, pred, cur, prior, {});
+    ASSERT_EQ(ok.translation, EgoMotion::Translation::Known);
+    EXPECT_FALSE(ok.prior_translation_rejected);
+    EXPECT_NEAR(ok.foe.x, foe.x, 3);
+    // A biased velocity: 12 degrees to the right of the true direction.
+    const double a = 12 * kRadPerDeg;
+    prior.translation = {std::sin(a), 0, std::cos(a)};
+    const EgoMotion& bad = est.estimate(kCam, pred, cur, prior, {});
+    ASSERT_EQ(bad.translation, EgoMotion::Translation::Known);
+    EXPECT_TRUE(bad.prior_translation_rejected);
+    EXPECT_NEAR(bad.foe.x, foe.x, 4);
+}
+
+TEST(EgoMotion, SidewaysMotionHasNoReliableFocusOfExpansionInTheImage) {
+    // Translation to the right: parallel flow to the left, FOE at infinity.
+    std::mt19937 rng(1);
+    std::uniform_real_distribution<double> ux(10, 630), uy(10, 350), ud(2.0, 8.0);
+    std::normal_distribution<double> n(0, 0.2);
+    std::vector<cv::Point2f> pred, cur;
+    for (int i = 0; i < 150; ++i) {
+        const cv::Point2f p(static_cast<float>(ux(rng)), static_cast<float>(uy(rng)));
+        pred.push_back(p);
+        cur.push_back({p.x - static_cast<float>(ud(rng)) + static_cast<float>(n(rng)),
+                       p.y + static_cast<float>(n(rng))});
+    }
+    EgoMotionEstimator est;
+    // Without navdata this is not taken as a translation (its FOE cannot be placed): a still
+    // camera, everything moving by itself, none of it approaching.
+    const EgoMotion& blind = est.estimate(kCam, pred, cur, {}, {});
+    ASSERT_TRUE(blind.valid);
+    EXPECT_EQ(blind.translation, EgoMotion::Translation::None);
+    // With a navdata velocity to the right it is one, whose FOE lies far outside the image.
+    EgoPrior prior;
+    prior.translation = {1, 0, 0};
+    prior.translation_sigma_rad = 0.05;
+    const EgoMotion& m = est.estimate(kCam, pred, cur, prior, {});
+    ASSERT_TRUE(m.valid);
+    ASSERT_EQ(m.translation, EgoMotion::Translation::Known);
+    EXPECT_FALSE(m.prior_translation_rejected);
+    EXPECT_GT(std::abs(m.direction[0]), 0.95);
+    EXPECT_TRUE(std::isnan(m.foe.x) || m.foe_sigma_px > 40);
+}
+
+TEST(EgoMotion, TooFewPointsGiveNoEstimate) {
+    std::vector<cv::Point2f> pred, cur;
+    flow_field(kCam, {320, 180}, {0.01, 0, 0}, 0.0, 3, pred, cur);
+    pred.resize(5);
+    cur.resize(5);
+    EgoMotionEstimator est;
+    const EgoMotion& m = est.estimate(kCam, pred, cur, {}, {});
+    EXPECT_FALSE(m.valid);
+    EXPECT_EQ(m.translation, EgoMotion::Translation::Unknown);
+    EXPECT_EQ(m.correction_rad, cv::Vec3d(0, 0, 0));
+}
