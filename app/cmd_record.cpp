@@ -147,7 +147,7 @@ int run(const Opts& o) {
         auto c = load_calibration_for(o.calibration, ro.writer.width, ro.writer.height);
         if (!c) throw fail(c.error(), 2);
         ro.writer.calibration = *c;
-    } else if (auto c = default_calibration(CameraId::Front, GS_ASSETS_DIR)) {
+    } else if (auto c = default_calibration(CameraId::Front, assets_dir())) {
         ro.writer.calibration = c->scaled_to(ro.writer.width, ro.writer.height);
     }
     std::unique_ptr<sim::VirtualDrone> drone;

@@ -36,7 +36,7 @@ constexpr std::size_t kImagePool = 6;
 constexpr std::size_t kOutputPool = 3;  // the slot's, the window's copy, one being filled
 
 CameraCalibration front_calibration() {
-    auto c = default_calibration(CameraId::Front, GS_ASSETS_DIR);
+    auto c = default_calibration(CameraId::Front, assets_dir());
     if (c) return *c;
     CameraCalibration d;  // PROTOCOL.md §6 nominal values if the asset is missing
     d.width = 640;
@@ -50,7 +50,7 @@ CameraCalibration front_calibration() {
 // The bottom camera's default (assets/calibration/ardrone2_bottom.json, else the same numbers
 // compiled in).
 CameraCalibration bottom_calibration() {
-    auto c = default_calibration(CameraId::Bottom, GS_ASSETS_DIR);
+    auto c = default_calibration(CameraId::Bottom, assets_dir());
     return c ? *c : builtin_calibration(CameraId::Bottom);
 }
 

@@ -8,11 +8,13 @@ cd "$(dirname "$0")/.."
 pkgs=(cmake ninja-build g++ pkg-config
       libopencv-dev libavcodec-dev libavformat-dev libavutil-dev libswscale-dev libx264-dev
       libimgui-dev libstb-dev libglfw3-dev libgl-dev libeigen3-dev
-      libcli11-dev nlohmann-json3-dev)
+      libcli11-dev nlohmann-json3-dev help2man)
 if [[ $mode == test ]]; then
   pkgs+=(libgtest-dev libgmock-dev xvfb xauth libgl1-mesa-dri)
   # The sanitizer and fuzzing tree: clang 14 with its runtimes (libFuzzer, ASan, UBSan).
   pkgs+=(clang-14 libclang-rt-14-dev)
+  # The install test builds a Debian package: cpack needs dpkg-shlibdeps and file.
+  pkgs+=(dpkg-dev file)
   # node and npm run the independent-client interop test; a node installed outside apt is fine.
   if ! command -v node >/dev/null || ! command -v npm >/dev/null; then pkgs+=(nodejs npm); fi
 fi

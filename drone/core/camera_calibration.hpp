@@ -13,6 +13,7 @@
 // with the camera matrix itself as the "new" camera matrix (what cv::undistort does for an image,
 // as the thesis used it).
 
+#include "drone/core/assets.hpp"
 #include "drone/core/expected.hpp"
 #include "drone/core/file_error.hpp"
 #include "drone/core/unknown.hpp"
@@ -119,9 +120,9 @@ nlohmann::json calibration_to_json(const CameraCalibration& c, bool with_extras 
                                                               const CameraCalibration& c,
                                                               const CalibrationInfo& info = {});
 
-// The camera's default: `assets_dir`/calibration/ardrone2_{front,bottom}.json.
+// The camera's default: `assets`/calibration/ardrone2_{front,bottom}.json.
 [[nodiscard]] Expected<CameraCalibration, FileError> default_calibration(
-    CameraId camera, const std::filesystem::path& assets_dir = GS_ASSETS_DIR);
+    CameraId camera, const std::filesystem::path& assets = assets_dir());
 // The same numbers compiled in (ardrone_autonomy's camera files, PROTOCOL.md §6), for code that
 // must not fail on a missing asset (the virtual drone); a test checks they equal the files.
 CameraCalibration builtin_calibration(CameraId camera);

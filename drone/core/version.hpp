@@ -1,4 +1,5 @@
 #pragma once
 namespace gs::inline core {
-inline constexpr const char* kVersion = "0.1.0";
+// The project's version, from CMake's project(VERSION ...).
+inline constexpr const char* kVersion = GS_VERSION;
 }

@@ -6,6 +6,7 @@
 // in flight.json nor the fixed names (navdata.csv, labels.*, raw/ ...) may lead out of it through
 // ".." or symlinks. Pixels are not read here: see frame_store.hpp.
 
+#include "drone/core/assets.hpp"
 #include "drone/core/camera_calibration.hpp"
 #include "drone/core/expected.hpp"
 #include "drone/core/file_error.hpp"
@@ -73,7 +74,7 @@ struct DatasetLimits {
 };
 
 struct DatasetOpenOptions {
-    std::filesystem::path assets_dir = GS_ASSETS_DIR;  // for the default calibration
+    std::filesystem::path assets_dir = core::assets_dir();  // for the default calibration
     DatasetLimits limits;
 };
 

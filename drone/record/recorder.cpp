@@ -157,7 +157,7 @@ Expected<void, StartError> Recorder::start(const std::filesystem::path& dir, Rec
         opts.writer.camera = camera;
     }
     if (!opts.writer.calibration) {
-        auto c = default_calibration(opts.writer.camera, GS_ASSETS_DIR);
+        auto c = default_calibration(opts.writer.camera, assets_dir());
         if (c) opts.writer.calibration = c->scaled_to(opts.writer.width, opts.writer.height);
     }
     if (opts.frame_tap > 0) {

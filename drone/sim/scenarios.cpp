@@ -1,12 +1,14 @@
 #include "drone/sim/scenarios.hpp"
 
+#include "drone/core/assets.hpp"
+
 #include <algorithm>
 #include <filesystem>
 
 namespace gs::sim {
 
 std::string scenes_dir() {
-    return std::string(GS_ASSETS_DIR) + "/scenes";
+    return (assets_dir() / "scenes").string();
 }
 
 std::vector<std::string> list_scenes() {
