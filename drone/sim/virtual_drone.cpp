@@ -408,7 +408,7 @@ void VirtualDrone::video_loop() {
 bool VirtualDrone::wait_for_boot(transport::TcpListener& listener, int which,
                                  const BootState& boot) {
     listener.close();  // connecting is refused while the drone boots
-    while (running_ && mono_now() < boot.up_at_ns)
+    while (running_ && clock().now_ns() < boot.up_at_ns)
         std::this_thread::sleep_for(std::chrono::milliseconds(10));
     if (!running_) return false;
     auto ep =
