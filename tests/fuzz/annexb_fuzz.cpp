@@ -14,7 +14,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         end = u.offset + u.size;
     }
     for (std::span<const std::uint8_t> rest = bytes; !rest.empty();) {
-        const std::size_t n = gs::dataset::access_unit_size(rest);
+        const std::size_t n = gs::video::access_unit_size(rest);
         GS_FUZZ_CHECK(n > 0 && n <= rest.size());
         rest = rest.subspan(n);
     }

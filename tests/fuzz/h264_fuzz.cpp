@@ -27,7 +27,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     decoder.reset();
     std::uint32_t n = 0;
     for (std::span<const std::uint8_t> rest = bytes; !rest.empty() && n < 64; ++n) {
-        const std::size_t k = gs::dataset::access_unit_size(rest);
+        const std::size_t k = gs::video::access_unit_size(rest);
         auto r = decoder.decode(gs::video::AccessUnit{rest.first(k), n, 0, 0, std::nullopt}, out);
         if (r && *r == gs::video::DecodeStatus::Frame)
             GS_FUZZ_CHECK(!out.empty() && out.type() == CV_8UC3);

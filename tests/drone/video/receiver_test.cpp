@@ -15,6 +15,7 @@ namespace {
 using test::fixture_path;
 using test::read_bytes;
 using namespace gs::protocol;
+using namespace gs::video;
 
 struct Unit {
     std::int64_t unit;
