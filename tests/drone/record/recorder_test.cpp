@@ -131,11 +131,13 @@ TEST_F(RecorderFlight, WritesADatasetTheReaderOpensWithGroundTruth) {
     ASSERT_TRUE(d->label_rows());
     ASSERT_EQ(d->label_rows()->size(), static_cast<std::size_t>(d->frame_count()));
     const auto& labels = *d->label_rows();
-    // The pillar's centre is 0.5 m left of the flight line; the drone flies towards it (still
-    // before it: the recording ends after 60 frames, about 2.5 s, more on a slow machine).
+    // The pillar's centre is 0.5 m left of the flight line; the drone flies towards it. The
+    // recording starts before it; where it ends depends on how fast frames came (60 frames are
+    // about 2.5 s here, but under ThreadSanitizer the renderer is so slow that the drone, which
+    // flies in real time, may have passed the pillar by then).
+    EXPECT_GT(labels.front().distance_m, 0.0);
     for (const auto& l : labels) {
         EXPECT_NEAR(l.lateral_m, -0.5, 0.1) << l.frame;
-        EXPECT_GT(l.distance_m, 0.0) << l.frame;
         EXPECT_LT(l.distance_m, 7.1) << l.frame;
     }
     for (std::size_t i = 1; i < labels.size(); ++i)
