@@ -28,7 +28,7 @@ namespace gs::app {
 CLI::Option* add_calibration_option(CLI::App& sub, std::string& file,
                                     const std::string& instead_of);
 
-// --fps N: the frame rate of a thesis-style image folder (DATASET.md says 25 unless told).
+// --fps N: the frame rate of a thesis-style image folder (docs/dataset.md says 25 unless told).
 // Checked as a number in (0, 1000]; 0 in `fps` means not given.
 CLI::Option* add_thesis_fps_option(CLI::App& sub, double& fps);
 // The value to pass on: nullopt when --fps was not given.

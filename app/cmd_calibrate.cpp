@@ -41,7 +41,7 @@ struct Opts {
     bool fix_k3 = false;
 };
 
-// A dataset's frames, read through the dataset reader (the path rules of DATASET.md apply) and
+// A dataset's frames, read through the dataset reader (the path rules of docs/dataset.md apply) and
 // its FrameStore: video.h264 decoded, else the frames/ images.
 struct DatasetFrames {
     dataset::Dataset dataset;
@@ -105,7 +105,7 @@ std::vector<Input> folder_images(const fs::path& dir, int step) {
     return out;
 }
 
-// A recorded dataset (DATASET.md), opened by the dataset reader: every `step`-th frame, from
+// A recorded dataset (docs/dataset.md), opened by the dataset reader: every `step`-th frame, from
 // video.h264 when it has one (the source of truth), else from its image folder.
 std::vector<Input> dataset_frames(const fs::path& dir, int step, std::string& camera) {
     auto d = dataset::Dataset::open(dir);

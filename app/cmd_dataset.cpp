@@ -1,4 +1,4 @@
-// `ardrone-gs dataset ...`: looking at and converting flight datasets (DATASET.md).
+// `ardrone-gs dataset ...`: looking at and converting flight datasets (docs/dataset.md).
 //   dataset info DATASET                 what is in it (frames, rate, camera, labels, warnings)
 //   dataset export-thesis DATASET OUT    the thesis' layout: one image per frame + imu.txt
 //   dataset import-thesis FOLDER OUT     a thesis-style folder into a dataset directory
@@ -168,7 +168,7 @@ int import_video_cmd(const Opts& o) {
 }
 
 CommandRegistration reg_info(
-    70, "dataset", "Look at and convert flight datasets (DATASET.md)", [](CLI::App& parent) {
+    70, "dataset", "Look at and convert flight datasets (docs/dataset.md)", [](CLI::App& parent) {
         auto o = std::make_shared<Opts>();
         auto* c = parent.add_subcommand("info", "What a dataset holds");
         c->add_option("DATASET", o->in, "Dataset or thesis-style folder")->required();
@@ -177,7 +177,7 @@ CommandRegistration reg_info(
     });
 
 CommandRegistration reg_export(
-    71, "dataset", "Look at and convert flight datasets (DATASET.md)", [](CLI::App& parent) {
+    71, "dataset", "Look at and convert flight datasets (docs/dataset.md)", [](CLI::App& parent) {
         auto o = std::make_shared<Opts>();
         auto* c = parent.add_subcommand(
             "export-thesis",
@@ -194,7 +194,7 @@ CommandRegistration reg_export(
     });
 
 CommandRegistration reg_import(
-    72, "dataset", "Look at and convert flight datasets (DATASET.md)", [](CLI::App& parent) {
+    72, "dataset", "Look at and convert flight datasets (docs/dataset.md)", [](CLI::App& parent) {
         auto o = std::make_shared<Opts>();
         auto* c = parent.add_subcommand(
             "import-thesis", "Turn a thesis-style image folder into a dataset directory");
@@ -205,7 +205,7 @@ CommandRegistration reg_import(
     });
 
 CommandRegistration reg_frames(
-    73, "dataset", "Look at and convert flight datasets (DATASET.md)", [](CLI::App& parent) {
+    73, "dataset", "Look at and convert flight datasets (docs/dataset.md)", [](CLI::App& parent) {
         auto o = std::make_shared<Opts>();
         auto* c = parent.add_subcommand("frames", "Write frames as PNG files (NNNNNN.png)");
         c->add_option("DATASET", o->in, "Dataset or thesis-style folder")->required();
@@ -219,7 +219,7 @@ CommandRegistration reg_frames(
     });
 
 CommandRegistration reg_import_video(
-    74, "dataset", "Look at and convert flight datasets (DATASET.md)", [](CLI::App& parent) {
+    74, "dataset", "Look at and convert flight datasets (docs/dataset.md)", [](CLI::App& parent) {
         auto o = std::make_shared<Opts>();
         auto* c = parent.add_subcommand(
             "import-video", "Turn any video file (MP4, AVI, MKV, raw H.264 ...) into a dataset");
@@ -228,7 +228,7 @@ CommandRegistration reg_import_video(
             "attitude, velocity and altitude, which the classifiers treat as such. An H.264 "
             "stream without B-frames (the AR.Drone's) is copied bit for bit; other video is "
             "decoded and encoded again as H.264 (Baseline, IDR every 15 frames). Frame times are "
-            "the container's unless --fps is given. Add labels.json / labels.csv (DATASET.md) by "
+            "the container's unless --fps is given. Add labels.json / labels.csv (docs/dataset.md) by "
             "hand to evaluate it.");
         c->add_option("FILE", o->in, "Video file")->required()->check(CLI::ExistingFile);
         c->add_option("--out,-o", o->out, "Dataset directory to create (new or empty)")->required();

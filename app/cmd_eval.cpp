@@ -1,5 +1,5 @@
 // `ardrone-gs eval DATASET... --out DIR`: replays each labelled flight through the classifier,
-// writes DIR/<flight>/decisions.csv and summary.json, scores every flight as DATASET.md's
+// writes DIR/<flight>/decisions.csv and summary.json, scores every flight as docs/dataset.md's
 // "Scoring a flight" says and writes DIR/report.md (thesis-style tables: per flight TP/FP/FN/TN
 // and detection distance, per group and overall) and DIR/report.json with the same figures.
 // A directory that is not itself a dataset is searched (one level) for flights. A flight with
@@ -117,7 +117,7 @@ FlightResult evaluate(const fs::path& path, const Opts& o, const fs::path& out,
         return r;
     }
     if (!ds->labels()) {
-        r.error = path.string() + ": no labels.json: eval needs labelled flights (DATASET.md)";
+        r.error = path.string() + ": no labels.json: eval needs labelled flights (docs/dataset.md)";
         return r;
     }
     r.labels = nlohmann::json::parse(ds->labels()->json, nullptr, false);
@@ -369,7 +369,7 @@ int run(const Opts& o) {
     md << evaluated << " flights";
     if (!o.split.empty()) md << " (split '" << o.split << "')";
     md << ", " << frames
-       << " frames, scored as DATASET.md \"Scoring a flight\" (thesis ch. 6; "
+       << " frames, scored as docs/dataset.md \"Scoring a flight\" (thesis ch. 6; "
           "detection counts from 0.7 m).\n";
     if (!o.set.empty()) {
         md << "Parameter overrides:";
@@ -436,7 +436,7 @@ CommandRegistration reg(31, [](CLI::App& root) {
     auto o = std::make_shared<Opts>();
     auto* sub = root.add_subcommand(
         "eval",
-        "Replay labelled flights, score them (DATASET.md) and write report.md / report.json");
+        "Replay labelled flights, score them (docs/dataset.md) and write report.md / report.json");
     sub->add_option("DATASET", o->datasets, "Flight datasets, or folders holding them")->required();
     sub->add_option("--out,-o", o->out, "Output directory (created)")->required();
     add_classifier_options(*sub, o->classifier, o->set);

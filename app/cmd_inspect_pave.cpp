@@ -156,7 +156,7 @@ void run(const Opts& o) {
     const auto no_video = [&] {
         if (stats.frames > 0) return;
         throw fail(o.file + ": no PaVE frame in " + std::to_string(stats.bytes_in) +
-                   " bytes: not a video capture (PROTOCOL.md §4.1)");
+                   " bytes: not a video capture (docs/protocol.md §4.1)");
     };
     if (o.json) {
         nlohmann::json j = {{"file", o.file},       {"file_size", stats.bytes_in},
@@ -203,7 +203,7 @@ const CommandRegistration reg(
         cmd->add_option("file", opts->file, "File holding the raw TCP byte stream")
             ->required()
             ->check(regular_file());
-        cmd->add_flag("--json", opts->json, "Print JSON (PROTOCOL.md field names) instead of text");
+        cmd->add_flag("--json", opts->json, "Print JSON (docs/protocol.md field names) instead of text");
         cmd->add_option("--decode", opts->decode_dir,
                         "Decode the H.264 and write DIR/NNNNNN.png (0-based, decode order)")
             ->check(output_directory());

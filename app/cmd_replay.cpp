@@ -124,7 +124,7 @@ CommandRegistration reg(30, [](CLI::App& root) {
         "replay",
         "Run the obstacle classifier over a dataset headless: decisions.csv, summary.json");
     sub->add_option("DATASET", o->dataset,
-                    "Dataset directory (DATASET.md), or a thesis-style image folder with its IMU "
+                    "Dataset directory (docs/dataset.md), or a thesis-style image folder with its IMU "
                     "text file")
         ->required();
     sub->add_option("--out,-o", o->out,

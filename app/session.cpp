@@ -37,14 +37,8 @@ constexpr std::size_t kOutputPool = 3;  // the slot's, the window's copy, one be
 
 CameraCalibration front_calibration() {
     auto c = default_calibration(CameraId::Front, assets_dir());
-    if (c) return *c;
-    CameraCalibration d;  // PROTOCOL.md §6 nominal values if the asset is missing
-    d.width = 640;
-    d.height = 360;
-    d.fx = d.fy = 560.0;
-    d.cx = 320.0;
-    d.cy = 180.0;
-    return d;
+    // The same numbers compiled in if the asset is missing (docs/protocol.md §6.2).
+    return c ? *c : builtin_calibration(CameraId::Front);
 }
 
 // The bottom camera's default (assets/calibration/ardrone2_bottom.json, else the same numbers

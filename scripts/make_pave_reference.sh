@@ -15,7 +15,7 @@ trap 'rm -rf "$tmp"' EXIT
 gst-inspect-1.0 openh264dec >/dev/null  # fails loudly when the decoder is missing
 
 # 1. PaVE -> Annex-B elementary stream, from the first IDR (frame_type 1) on. Every size is
-#    read from the header as PROTOCOL.md §4.1 describes; the capture has no corruption.
+#    read from the header as docs/protocol.md §4.1 describes; the capture has no corruption.
 python3 - "$capture" "$tmp/stream.h264" <<'PY'
 import struct, sys
 data = open(sys.argv[1], 'rb').read()

@@ -11,7 +11,7 @@
 
 namespace gs::ui {
 
-// Progressive command fractions in [-1, 1] (AT*PCMD convention, PROTOCOL.md §2.6):
+// Progressive command fractions in [-1, 1] (AT*PCMD convention, docs/protocol.md §2.6):
 // roll < 0 = move left, pitch < 0 = move forward, gaz > 0 = climb, yaw > 0 = turn clockwise.
 struct PilotInput {
     float roll = 0, pitch = 0, gaz = 0, yaw = 0;

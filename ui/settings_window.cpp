@@ -38,7 +38,7 @@ constexpr double kDeg = 57.29577951308232;
 constexpr Choice kCodecs[] = {{"129", "H.264 360p (640x360)"}, {"131", "H.264 720p (1280x720)"}};
 constexpr Choice kNavdata[] = {{"TRUE", "demo, 15 Hz"}, {"FALSE", "full, 200 Hz"}};
 
-// PROTOCOL.md section 5.4: keys, units and the firmware's ranges.
+// docs/protocol.md section 5.4: keys, units and the firmware's ranges.
 const Spec kSpecs[] = {
     {"Max altitude", "control:altitude_max", Kind::Number, 0.5, 5.0, 0.001, true, 1, "m",
      "control:altitude_max (mm). The drone will not climb above it. Firmware range 0.5-5 m."},

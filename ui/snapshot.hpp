@@ -75,7 +75,7 @@ inline constexpr double kStaleAfterMs = 500.0;
 
 // ---- Telemetry ------------------------------------------------------------------------------
 
-// drone_state bits by name (PROTOCOL.md §3.2).
+// drone_state bits by name (docs/protocol.md §3.2).
 struct DroneStateBits {
     bool flying = false, video_enabled = false, vision_enabled = false,
          angular_speed_control = false, altitude_control = false, user_feedback_start = false,

@@ -1,5 +1,5 @@
 #pragma once
-// ViewState: everything the window owns itself (lesson 6): which windows are open, overlay
+// ViewState: everything the window owns itself (docs/style.md rule 21): which windows are open, overlay
 // toggles, text fields, the telemetry history behind the scrolling plots, the persisted settings,
 // and the laid-out rectangles of the last frame (LayoutReport) for tests and offscreen checks.
 

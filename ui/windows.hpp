@@ -1,5 +1,5 @@
 #pragma once
-// The ground-station windows: one struct per window, one .cpp each (lesson 9). Each draws the
+// The ground-station windows: one struct per window, one .cpp each (docs/style.md rule 22). Each draws the
 // snapshot, keeps its state in ViewState, and writes requests into Actions. Always Begin/End
 // paired; default position/size from the default layout (FirstUseEver, then imgui.ini).
 

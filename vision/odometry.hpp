@@ -7,7 +7,7 @@
 // filters (eq. 3.20 and the rotation gate) and 4-sample smoothing (eq. 3.19); the trajectory by
 // eq. 6.2. One camera alone (the AR.Drone's bottom camera with the altimeter) works the same way.
 //
-// Frames: body forward/right (x, y), yaw clockwise seen from above (DATASET.md). A sample's
+// Frames: body forward/right (x, y), yaw clockwise seen from above (docs/dataset.md). A sample's
 // translation is the camera's displacement expressed in the body frame at the current frame, so
 // eq. 6.2 with the yaw summed up to and including the sample puts it in the world frame.
 //

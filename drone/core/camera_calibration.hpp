@@ -3,7 +3,7 @@
 // the images it describes, and its one file codec. Datasets, the virtual drone's renderer, the
 // classifiers, the odometry and the calibration tools all use this struct and these functions.
 //
-// JSON shape: DATASET.md's flight.json "calibration" object ({"fx","fy","cx","cy","dist"}) plus
+// JSON shape: docs/dataset.md's flight.json "calibration" object ({"fx","fy","cx","cy","dist"}) plus
 // optional "width" and "height" (together) and notes ("camera", "rms_px", "std_dev", "views",
 // "source"): the shape of assets/calibration/ardrone2_{front,bottom}.json and of what
 // `calibrate` writes. Readers ignore keys they do not know, so the same file works for
@@ -123,7 +123,7 @@ nlohmann::json calibration_to_json(const CameraCalibration& c, bool with_extras 
 // The camera's default: `assets`/calibration/ardrone2_{front,bottom}.json.
 [[nodiscard]] Expected<CameraCalibration, FileError> default_calibration(
     CameraId camera, const std::filesystem::path& assets = assets_dir());
-// The same numbers compiled in (ardrone_autonomy's camera files, PROTOCOL.md §6), for code that
+// The same numbers compiled in (ardrone_autonomy's camera files, docs/protocol.md §6), for code that
 // must not fail on a missing asset (the virtual drone); a test checks they equal the files.
 CameraCalibration builtin_calibration(CameraId camera);
 

@@ -1,5 +1,5 @@
 #pragma once
-// The drone state at any instant of a navdata stream, by the one rule of DATASET.md (docs/): the
+// The drone state at any instant of a navdata stream, by the one rule of docs/dataset.md (docs/): the
 // samples around it interpolated, the nearest sample when there is none on one side. Pure: times
 // are stream times (ns from the start of the flight), no clock.
 
@@ -11,7 +11,7 @@
 namespace gs::inline core {
 
 // The recent navdata samples in time order, in a fixed ring (no allocation after construction),
-// and the drone state at any instant by the one rule of DATASET.md: interpolated between the two
+// and the drone state at any instant by the one rule of docs/dataset.md: interpolated between the two
 // samples around it, the nearest sample when there is none on one side. Used live (the link's
 // frames) and when recording or replaying (NavAligner), so a flight gets the same attitude at a
 // frame's capture time on every path.

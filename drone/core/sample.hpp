@@ -15,7 +15,7 @@
 
 namespace gs::inline core {
 
-// Drone state at one instant, in the units of DATASET.md. NaN = unknown (never 0).
+// Drone state at one instant, in the units of docs/dataset.md. NaN = unknown (never 0).
 struct NavState {
     TimeNs t_ns = 0;              // time from the start of the flight, monotonic
     double roll_deg = kUnknown;   // navdata phi; positive = right side down

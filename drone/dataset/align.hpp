@@ -1,6 +1,6 @@
 #pragma once
 // Gives each video frame the drone state at its capture time: interpolated between the two
-// navdata samples around it (DATASET.md: recordings interpolate), or the nearest sample when the
+// navdata samples around it (docs/dataset.md: recordings interpolate), or the nearest sample when the
 // stream has nothing on one side. Frames come out in the order they went in. Pure: times are
 // stream times (ns from the start of the flight), no clock.
 

@@ -159,7 +159,7 @@ Expected<double, FileError> Table::number(std::size_t row, std::size_t col) cons
     if (ec != std::errc() || p != g.data() + g.size()) {
         return Unexpected(error_at(row, col, "expected a number, got '" + shown(f) + "'"));
     }
-    // DATASET.md 1.1: nan and inf are malformed (an empty cell is how unknown is written).
+    // docs/dataset.md 1.1: nan and inf are malformed (an empty cell is how unknown is written).
     if (!std::isfinite(v))
         return Unexpected(error_at(
             row, col,

@@ -23,7 +23,7 @@ public:
     // (skipped) and double-quoted fields. A row with a different field count than the header is
     // an error naming its line.
     //
-    // With `tolerate_cut_tail` (files a recording cut short may end mid-line: DATASET.md 1.1's
+    // With `tolerate_cut_tail` (files a recording cut short may end mid-line: docs/dataset.md 1.1's
     // navdata.csv), a last line that has no newline and the wrong number of fields is left out
     // and described by cut_tail_warning() instead of refusing the file.
     static Expected<Table, FileError> parse(std::string text, std::string file,
@@ -44,7 +44,7 @@ public:
     const std::string& file() const { return file_; }
 
     // Field as a double: empty = NaN (unknown); otherwise the whole field must be a finite
-    // decimal number within the column's physical bounds (DATASET.md 1.1, value_rules.hpp):
+    // decimal number within the column's physical bounds (docs/dataset.md 1.1, value_rules.hpp):
     // "nan", "inf" and numbers overflowing a double are refused. Errors carry file:line:column.
     Expected<double, FileError> number(std::size_t row, std::size_t col) const;
     // Field as a signed integer (required, no fraction).

@@ -363,7 +363,7 @@ Expected<std::vector<NavState>, FileError> parse_navdata_csv(std::string text,
     rows.reserve(t.rows());
     TimeNs prev = 0;
     // A recording cut short may end inside its last line; when that line is refused it is
-    // left out with a warning rather than failing the whole file (DATASET.md 1.1).
+    // left out with a warning rather than failing the whole file (docs/dataset.md 1.1).
     auto cut_tail = [&](std::size_t r, const FileError& e) {
         if (r + 1 != t.rows() || !t.last_row_unterminated()) return false;
         if (warnings)

@@ -1,5 +1,5 @@
 #pragma once
-// Reading a flight dataset (the format of DATASET.md, version 1): flight.json, frames.csv,
+// Reading a flight dataset (the format of docs/dataset.md, version 1): flight.json, frames.csv,
 // navdata.csv, labels.*, and where the frames are (video.h264 and/or frames/). Opening validates
 // everything that is cheap to validate and reports the first problem as a FileError naming the
 // file, line and column. No file is read outside the dataset directory: neither the paths named
@@ -36,7 +36,7 @@ struct DatasetInfo {
     std::string source;
 };
 
-// Ground-truth camera pose (DATASET.md frames.csv gt_* columns); NaN = not measured.
+// Ground-truth camera pose (docs/dataset.md frames.csv gt_* columns); NaN = not measured.
 struct GroundTruthPose {
     double x_m = kUnknown, y_m = kUnknown, z_m = kUnknown, yaw_deg = kUnknown;
 };
@@ -159,7 +159,7 @@ Expected<std::filesystem::path, FileError> resolve_inside(const std::filesystem:
 Expected<std::filesystem::path, FileError> resolve_fixed(const std::filesystem::path& dir,
                                                          const std::string& name);
 
-// labels.json and labels.csv of a dataset directory (DATASET.md), each unset when its file is
+// labels.json and labels.csv of a dataset directory (docs/dataset.md), each unset when its file is
 // absent; a file that is there but unsafe, too large or malformed is an error.
 struct DatasetLabels {
     std::optional<FlightLabels> flight;

@@ -1,5 +1,5 @@
 #pragma once
-// The raw/ captures of a recording (DATASET.md "raw/"), for bit-exact replay:
+// The raw/ captures of a recording (docs/dataset.md "raw/"), for bit-exact replay:
 //   raw/navdata.bin   records {u64 t_us LE, u32 length LE, payload[length]}, one per UDP datagram
 //   raw/at.log        one line per AT datagram sent: "<t_us> <datagram>", the datagram escaped
 //                     (\\ \r \n and \xHH for other control bytes) so each stays on one line

@@ -73,7 +73,7 @@ Expected<std::vector<FrameRow>, FileError> replay_raw(const std::filesystem::pat
             return Unexpected(
                 FileError{FileErrorCode::Missing, "raw/video.pave", 0, 0, "file not found"});
     }
-    // Connection boundaries and recorded capture times (DATASET.md 1.1; both optional).
+    // Connection boundaries and recorded capture times (docs/dataset.md 1.1; both optional).
     std::vector<VideoConnection> connections;
     if (std::filesystem::exists(raw_dir / "video_connections.csv", ec)) {
         auto p = raw_file_path(raw_dir, "video_connections.csv");

@@ -1,5 +1,5 @@
 #pragma once
-// Scoring a labelled flight exactly as DATASET.md's "Scoring a flight" (the thesis' chapter 6)
+// Scoring a labelled flight exactly as docs/dataset.md's "Scoring a flight" (the thesis' chapter 6)
 // says, and summing flights into the thesis-style tables. Pure: decisions and labels in, counts
 // out. A region is flagged at a frame when the classifier reported it unsafe at that frame.
 //

@@ -1,19 +1,19 @@
 #pragma once
-// The thesis' own capture layout (DATASET.md "Thesis-style image folders"): one image file per
+// The thesis' own capture layout (docs/dataset.md "Thesis-style image folders"): one image file per
 // frame plus a text file with one line per image, "roll pitch yaw vx vy" (degrees, m/s,
 // whitespace separated). Import reads it as a dataset (fps 25 unless told), export writes one.
 //
 // That line format is fixed (other tools write it), so what it cannot hold travels in side files
-// beside it. Both are optional: a folder without them reads exactly as DATASET.md says.
+// beside it. Both are optional: a folder without them reads exactly as docs/dataset.md says.
 //   imu_extra.csv   header row, then one row per image, in the order of the IMU lines, with
-//                   frames.csv's columns and meaning (DATASET.md): `frame` (0, 1, 2 ...) is
+//                   frames.csv's columns and meaning (docs/dataset.md): `frame` (0, 1, 2 ...) is
 //                   required; t_ms, vz_mps, altitude_m, gt_x_m, gt_y_m, gt_z_m and gt_yaw_deg
 //                   are read when present (empty = unknown); roll pitch yaw vx vy come from the
 //                   IMU text file only, other columns are ignored. With t_ms the frames keep
 //                   their capture times instead of frame / fps.
 //   imu_meta.json   {"fps": 30, "camera": "front", "calibration": {...}}: flight.json's keys and
 //                   meaning, each optional; unknown keys are ignored (with a warning).
-// labels.json and labels.csv (DATASET.md) beside the images are read as a dataset's. Export
+// labels.json and labels.csv (docs/dataset.md) beside the images are read as a dataset's. Export
 // writes all of these, so export then import gives back the frames' times, attitude, velocities,
 // altitude, ground truth, frame rate, calibration and labels: a replay decides the same.
 

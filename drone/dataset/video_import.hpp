@@ -1,6 +1,6 @@
 #pragma once
 // Any video file libavformat opens (MP4, AVI, MKV, raw H.264 ...) turned into a dataset
-// (DATASET.md) with no navdata: flight.json, video.h264 and a frames.csv whose attitude,
+// (docs/dataset.md) with no navdata: flight.json, video.h264 and a frames.csv whose attitude,
 // velocity and altitude cells are empty (unknown). Footage filmed with something other than this
 // ground station (a phone, an old recording, another tool's capture) can then be replayed,
 // evaluated once labelled, and looked at frame by frame like any flight.

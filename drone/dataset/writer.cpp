@@ -303,7 +303,7 @@ Expected<std::unique_ptr<DatasetWriter>, FileError> DatasetWriter::create(
         if (auto e = f->raw_connections.open_new(dir / "raw/video_connections.csv",
                                                  "raw/video_connections.csv"))
             return Unexpected(*e);
-        // The connection open when the recording began starts at offset 0 (DATASET.md 1.1).
+        // The connection open when the recording began starts at offset 0 (docs/dataset.md 1.1).
         f->raw_connections.buf = "offset,t_us\n0,0\n";
         f->raw_connections.flush(f->st);
         f->st.video_connections = 1;
@@ -517,7 +517,7 @@ void DatasetWriter::run() {
 
     auto on_frame = [&](FrameIn& in) {
         TimeNs t = to_stream(in.capture_ns);
-        // frames.csv t_ms strictly increases (DATASET.md 1.1): a capture time equal to or before
+        // frames.csv t_ms strictly increases (docs/dataset.md 1.1): a capture time equal to or before
         // the previous frame's moves 1 us past it (counted; the capture clock should not do it).
         if (f.next_index > 0 && t <= f.last_frame_t) {
             t = f.last_frame_t + 1000;

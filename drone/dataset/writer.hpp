@@ -1,5 +1,5 @@
 #pragma once
-// Recording a flight as a dataset (DATASET.md) while flying. The link threads hand over what they
+// Recording a flight as a dataset (docs/dataset.md) while flying. The link threads hand over what they
 // receive and send through add_*(), which never block: records go through a bounded queue to a
 // worker thread that does all file I/O. A full queue drops records and counts them; it never
 // stalls flight control. Files are flushed at least every flush_interval (<= 1 s) in an order
@@ -107,7 +107,7 @@ public:
     // A chunk of the video TCP stream as received (raw/video.pave).
     bool add_video_bytes(TimeNs recv_ns, std::span<const std::uint8_t> bytes);
     bool take_video_bytes(TimeNs recv_ns, std::vector<std::uint8_t>&& bytes);
-    // A new video TCP connection begins with the next video bytes (DATASET.md 1.1
+    // A new video TCP connection begins with the next video bytes (docs/dataset.md 1.1
     // raw/video_connections.csv). The bytes before the first call are the connection that was
     // open when the recording began (offset 0).
     bool add_video_connection(TimeNs opened_ns);

@@ -1,6 +1,6 @@
 #pragma once
 // What a pilot, the GUI or a script asks of the drone: typed commands with typed results
-// (STYLE.md lesson 7). The link turns them into AT commands; nothing here touches a socket.
+// (docs/style.md rule 11). The link turns them into AT commands; nothing here touches a socket.
 
 #include <cstdint>
 #include <string>

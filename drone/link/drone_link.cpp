@@ -17,10 +17,10 @@
 
 namespace gs::link {
 namespace {
-constexpr std::size_t kNavdataMax = 4096;  // NAVDATA_MAX_SIZE (PROTOCOL.md §1.4)
+constexpr std::size_t kNavdataMax = 4096;  // NAVDATA_MAX_SIZE (docs/protocol.md §1.4)
 constexpr std::array<std::uint8_t, 4> kWakeUp = {1, 0, 0, 0};
 constexpr std::size_t kFramePool = 6;
-constexpr int kMaxFlightAnim = 19;  // FLIP_RIGHT (PROTOCOL.md §2.9)
+constexpr int kMaxFlightAnim = 19;  // FLIP_RIGHT (docs/protocol.md §2.9)
 
 std::future<CommandResult> ready(ResultCode code, std::string reason = {}) {
     std::promise<CommandResult> p;
@@ -330,7 +330,7 @@ std::future<CommandResult> DroneLink::submit(Command c) {
             o.b = l.duration_s;
             return push(std::move(o));
         }
-        // Firmware 2 takes flight animations as CONFIG control:flight_anim (PROTOCOL.md §2.4,
+        // Firmware 2 takes flight animations as CONFIG control:flight_anim (docs/protocol.md §2.4,
         // §2.9: SDK 2.0 no longer sends AT*ANIM); the result comes with the drone's ACK.
         std::future<CommandResult> operator()(const Anim& a) {
             if (a.anim_id < 0 || a.anim_id > kMaxFlightAnim) {
@@ -745,7 +745,7 @@ void DroneLink::video_loop() {
                     stats.last_error = rx.stats().last_error;
                 const bool picture = video::has_picture(u->fate);
                 if (picture) stats.decode_ms_last = ns_to_ms(clock_.now_ns() - t0);
-                // Capture time (DATASET.md's t_ms): the drone's frame clock mapped onto ours,
+                // Capture time (docs/dataset.md's t_ms): the drone's frame clock mapped onto ours,
                 // free of the network's and this thread's jitter (drone/capture_clock.hpp).
                 const TimeNs t_ns = u->capture_ns - start_ns_;
                 if (!subs.access_units.empty()) {

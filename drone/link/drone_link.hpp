@@ -52,11 +52,11 @@ struct NavSample {
     TimeNs recv_ns = 0;  // monotonic receive time
     std::uint32_t seq = 0;
     double drone_time_s = kUnknown;   // from the time option, when sent
-    NavState state;                   // units of DATASET.md, t_ns from the link's start
+    NavState state;                   // units of docs/dataset.md, t_ns from the link's start
     protocol::navdata::Navdata data;  // every decoded option
 };
 
-// Raw bytes as they crossed the wire, for recording (DATASET.md raw/). VideoConnect (no bytes)
+// Raw bytes as they crossed the wire, for recording (docs/dataset.md raw/). VideoConnect (no bytes)
 // marks where a new video TCP connection begins: the Video bytes after it are the new one's.
 struct RawEvent {
     enum class Kind : std::uint8_t { Navdata, Video, At, VideoConnect };

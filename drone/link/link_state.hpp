@@ -1,6 +1,6 @@
 #pragma once
 // The link's connection state machine, as pure logic: navdata headers and time go in, the
-// actions the link must perform come out (PROTOCOL.md §1.3, §5.1, §9). No sockets, threads or
+// actions the link must perform come out (docs/protocol.md §1.3, §5.1, §9). No sockets, threads or
 // clocks inside: the link's navdata thread drives it; tests drive it with made-up packets.
 //
 //   Disconnected → Bootstrapping (wake-up to 5554, re-sent on silence)
@@ -31,14 +31,14 @@ struct LinkTiming {
     int config_attempts = 3;            // CONFIG sends before giving up (Timeout)
 };
 
-struct NavdataIds {  // multi-configuration ids (PROTOCOL.md §2.8), 8 hex digits each
+struct NavdataIds {  // multi-configuration ids (docs/protocol.md §2.8), 8 hex digits each
     std::string session = "00000000", profile = "00000000", application = "00000000";
     bool is_default() const {
         return session == "00000000" && profile == "00000000" && application == "00000000";
     }
 };
 
-// The navdata options the ground station reads (PROTOCOL.md §3.4): demo (attitude, velocities,
+// The navdata options the ground station reads (docs/protocol.md §3.4): demo (attitude, velocities,
 // altitude, battery: what the classifier and the odometry use) and time (the drone's clock).
 inline constexpr std::uint32_t kNavdataOptionsUsed = (1u << 0) | (1u << 1);
 

@@ -1,5 +1,5 @@
 #pragma once
-// AT command encoder (PROTOCOL.md §2): pure functions that return the exact, CR-terminated command
+// AT command encoder (docs/protocol.md §2): pure functions that return the exact, CR-terminated command
 // strings the drone parses on UDP 5556, a sequence counter and a datagram packer. No sockets here;
 // the link owns a SeqCounter and sends what pack() returns.
 

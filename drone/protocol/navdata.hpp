@@ -1,9 +1,9 @@
 #pragma once
 // Navdata (UDP 5554, drone -> client) decoder: one datagram in, a typed Navdata or a typed error
-// out (PROTOCOL.md §3). Pure function over bytes, no allocation: every option is a fixed-size
+// out (docs/protocol.md §3). Pure function over bytes, no allocation: every option is a fixed-size
 // struct held in a std::optional, and the option/skip lists have a fixed capacity with an overflow
 // count. Field names are the SDK identifiers with the unit appended where the unit is established
-// (PROTOCOL.md §3.8/§3.9/§10); fields whose unit is disputed keep the bare SDK name.
+// (docs/protocol.md §3.8/§3.9/§10); fields whose unit is disputed keep the bare SDK name.
 
 #include "drone/core/expected.hpp"
 #include "drone/core/sample.hpp"

@@ -1,5 +1,5 @@
 #pragma once
-// Navdata -> JSON with PROTOCOL.md §3 field names (the SDK identifiers, no unit suffixes): one
+// Navdata -> JSON with docs/protocol.md §3 field names (the SDK identifiers, no unit suffixes): one
 // object per present option, plus the header, the drone_state bits by name, the option list,
 // the skipped options and the checksum. For `inspect navdata --json` and dataset metadata.
 

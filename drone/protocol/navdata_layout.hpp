@@ -1,5 +1,5 @@
 #pragma once
-// The navdata field table (PROTOCOL.md §3.5): for every option its tag, layout size, name and, per
+// The navdata field table (docs/protocol.md §3.5): for every option its tag, layout size, name and, per
 // field, the byte offset (from the option's tag), the PROTOCOL/SDK name and the unit. The decoder,
 // the encoder, the JSON export and `inspect navdata` all walk this one table, so the four cannot
 // disagree; tests check that each option's fields tile bytes [4, size) exactly.

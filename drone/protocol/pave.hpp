@@ -1,6 +1,6 @@
 #pragma once
 // PaVE (Parrot Video Encapsulation): the header the AR.Drone 2 puts before every video frame on
-// TCP 5555/5553 (PROTOCOL.md §4), a parser/writer for it, and a streaming framer that cuts an
+// TCP 5555/5553 (docs/protocol.md §4), a parser/writer for it, and a streaming framer that cuts an
 // arbitrarily chunked TCP byte stream into frames and resynchronises on corruption (§4.4).
 // Pure code over bytes: no sockets, clocks or logging.
 
@@ -20,7 +20,7 @@ namespace gs::protocol {
 inline constexpr std::array<std::uint8_t, 4> kPaveSignature = {'P', 'a', 'V', 'E'};
 inline constexpr std::uint8_t kPaveCurrentVersion = 2;  // PAVE_CURRENT_VERSION
 inline constexpr std::size_t kPaveBaseHeaderSize = 64;  // sizeof(parrot_video_encapsulation_t)
-// Firmware sends 64 or 68; anything up to this is accepted (PROTOCOL.md §4.4 step 5).
+// Firmware sends 64 or 68; anything up to this is accepted (docs/protocol.md §4.4 step 5).
 inline constexpr std::size_t kPaveMaxHeaderSize = 128;
 // Bytes needed to validate signature, version, codec, header_size and payload_size.
 inline constexpr std::size_t kPavePrefixSize = 12;
@@ -39,7 +39,7 @@ std::string to_string(PaveCodec c);      // "H264", ..., "unknown(7)"
 std::string to_string(PaveFrameType t);  // "IDR", "I", "P", "headers", ..., "unknown(9)"
 
 // One header, field names as in the SDK's parrot_video_encapsulation_t (typos included), so the
-// JSON output and PROTOCOL.md use the same words. All integers little-endian on the wire.
+// JSON output and docs/protocol.md use the same words. All integers little-endian on the wire.
 struct PaveHeader {
     std::array<std::uint8_t, 4> signature = kPaveSignature;
     std::uint8_t version = kPaveCurrentVersion;
@@ -72,7 +72,7 @@ struct PaveHeader {
     std::uint64_t stream_byte_position() const {
         return (std::uint64_t{stream_byte_position_uw} << 32) | stream_byte_position_lw;
     }
-    bool is_key_frame() const {  // PROTOCOL.md §10 item 18: IDR or I
+    bool is_key_frame() const {  // docs/protocol.md §10 item 18: IDR or I
         return frame_type == PaveFrameType::Idr || frame_type == PaveFrameType::I;
     }
     bool operator==(const PaveHeader&) const = default;

@@ -1,5 +1,5 @@
 #pragma once
-// JSON views of PaVE headers and framer events, with PROTOCOL.md §4.1 field names
+// JSON views of PaVE headers and framer events, with docs/protocol.md §4.1 field names
 // (used by `inspect pave`, and by anything that records or reports video frames).
 
 #include "drone/protocol/pave.hpp"

@@ -10,7 +10,7 @@
 
 namespace gs::record {
 
-// The drone body's pose in the world frame of DATASET.md.
+// The drone body's pose in the world frame of docs/dataset.md.
 struct TruthPose {
     double x_m = 0, y_m = 0, z_m = 0;
     double roll_deg = 0, pitch_deg = 0, yaw_deg = 0;

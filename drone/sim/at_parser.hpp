@@ -1,5 +1,5 @@
 #pragma once
-// The drone side of the AT channel (PROTOCOL.md §2), for the virtual drone: parses one UDP
+// The drone side of the AT channel (docs/protocol.md §2), for the virtual drone: parses one UDP
 // datagram into typed commands and applies the drone's sequence-number rules. Pure: bytes in,
 // values out. Malformed commands are skipped like the real drone does, but never silently: each
 // one is reported with a reason.

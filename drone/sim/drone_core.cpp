@@ -235,7 +235,7 @@ void DroneCore::apply_config(const std::string& key, const std::string& value) {
     const bool is_number = protocol::config_float(*current).has_value();
     if (is_bool && !protocol::config_bool(value)) return;
     if (!is_bool && is_number && !protocol::config_float(value)) return;
-    // What the firmware bounds (PROTOCOL.md section 5.4) is kept inside its range, and a video
+    // What the firmware bounds (docs/protocol.md section 5.4) is kept inside its range, and a video
     // codec this drone cannot stream is refused: the read-back shows what it took.
     struct Range {
         const char* key;
@@ -261,7 +261,7 @@ void DroneCore::apply_config(const std::string& key, const std::string& value) {
     if (key == "video:video_codec") {
         const auto codec = protocol::config_int(value);
         if (!codec || (*codec != 129 && *codec != 131)) {
-            ++counters_.configs_refused;  // H.264 360p and 720p only (PROTOCOL.md section 4.5)
+            ++counters_.configs_refused;  // H.264 360p and 720p only (docs/protocol.md section 4.5)
             return;
         }
         video_codec_ = *codec;

@@ -1,6 +1,6 @@
 #pragma once
 // The virtual AR.Drone's brain, as pure logic: AT datagrams and navdata wake-ups go in with their
-// time and sender, navdata datagrams come out, and the drone behaves as PROTOCOL.md describes a
+// time and sender, navdata datagrams come out, and the drone behaves as docs/protocol.md describes a
 // real one: bootstrap navdata until configured; demo (15 Hz) or full (200 Hz) navdata with valid
 // checksums; every drone_state bit maintained; navdata sent to the address and port the wake-up
 // came from; AT sequence rules; a configuration store with the ACK bit; the communication
@@ -99,7 +99,7 @@ public:
     void reboot(TimeNs now, TimeNs boot_ns = 0);
 
     const FlightState& flight() const { return model_.state(); }
-    Pose pose() const;  // the drone body pose in the world (DATASET.md frame)
+    Pose pose() const;  // the drone body pose in the world (docs/dataset.md frame)
     std::uint32_t drone_state() const { return state_bits_; }
     bool navdata_demo() const { return demo_; }
     bool bootstrap() const { return bootstrap_; }
@@ -174,7 +174,7 @@ private:
     protocol::navdata::Navdata nav_;  // reused packet contents
 };
 
-// The configuration a factory-fresh AR.Drone 2 reports (PROTOCOL.md §5.4 defaults).
+// The configuration a factory-fresh AR.Drone 2 reports (docs/protocol.md §5.4 defaults).
 protocol::ConfigMap default_drone_config();
 
 }  // namespace gs::sim

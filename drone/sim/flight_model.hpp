@@ -4,13 +4,13 @@
 // vertical speed and yaw rate follow gaz and yaw, all within the drone's configured limits
 // (control:euler_angle_max, control:control_vz_max, control:control_yaw, control:altitude_max).
 // Take-off, landing and emergency go through the ctrl_state majors a real drone reports
-// (PROTOCOL.md §3.7). Deterministic: the same inputs and steps give the same trajectory.
+// (docs/protocol.md §3.7). Deterministic: the same inputs and steps give the same trajectory.
 
 #include <cstdint>
 
 namespace gs::sim {
 
-// ctrl_state majors (PROTOCOL.md §3.7).
+// ctrl_state majors (docs/protocol.md §3.7).
 enum class CtrlMajor : std::uint16_t {
     Default = 0,
     Init = 1,
@@ -66,7 +66,7 @@ struct FlightState {
     double t_s = 0;
     double x_m = 0, y_m = 0, z_m = 0;  // world: x forward (start heading), y right, z up
     double vx_world_mps = 0, vy_world_mps = 0, vz_mps = 0;
-    double roll_deg = 0, pitch_deg = 0, yaw_deg = 0;  // DATASET.md conventions
+    double roll_deg = 0, pitch_deg = 0, yaw_deg = 0;  // docs/dataset.md conventions
     double yaw_rate_deg_s = 0;
     double battery_pct = 100.0;
     CtrlMajor major = CtrlMajor::Landed;

@@ -3,7 +3,7 @@
 // (§5.2) flown by the virtual drone's own brain and flight model (DroneCore's autopilot: take off,
 // climb to the flight height, hover facing the obstacle, then fly at a set speed), each frame
 // rendered through the AR.Drone 2 front camera model, encoded as the drone does (H.264 Baseline,
-// an IDR every 15 frames) and written as a DATASET.md dataset with ground truth: flight.json,
+// an IDR every 15 frames) and written as a docs/dataset.md dataset with ground truth: flight.json,
 // video.h264, frames.csv (attitude and velocities as navdata reports them, gt_* pose),
 // labels.json and labels.csv. Deterministic for (scene, params).
 //

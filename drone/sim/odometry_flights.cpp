@@ -429,7 +429,7 @@ Expected<TwoCameraExtras, std::string> read_two_camera_extras(const fs::path& di
                     std::size_t used = 0;
                     const double v = std::stod(cells[std::size_t(c)], &used);
                     if (used != cells[std::size_t(c)].size() || !std::isfinite(v) || v < 0)
-                        return std::nullopt;  // DATASET.md 1.1: finite; a distance is >= 0
+                        return std::nullopt;  // docs/dataset.md 1.1: finite; a distance is >= 0
                     return v;
                 } catch (...) {
                     return std::nullopt;

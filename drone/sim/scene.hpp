@@ -3,7 +3,7 @@
 // pillars, clutter), lighting, a start pose and an optional autopilot script. Loaded from JSON in
 // assets/scenes/ or generated from a seed for evaluation; ground-truth queries for labels.csv.
 //
-// World frame (DATASET.md): x forward along the initial heading, y right, z up, metres; yaw
+// World frame (docs/dataset.md): x forward along the initial heading, y right, z up, metres; yaw
 // clockwise seen from above, roll positive = right side down, pitch positive = nose up.
 
 #include "drone/core/expected.hpp"
@@ -66,7 +66,7 @@ struct Scene {
     std::vector<Obstacle> obstacles;
     Lighting lighting;
     Pose start;                     // drone start pose (camera position)
-    std::string scenario = "none";  // DATASET.md labels.json: left, right, center, none
+    std::string scenario = "none";  // docs/dataset.md labels.json: left, right, center, none
     std::string target_id;          // obstacle the flight approaches (labels.csv), empty for none
     std::vector<AutopilotStep> autopilot;
 };

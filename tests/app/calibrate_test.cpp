@@ -70,7 +70,7 @@ TEST(CalibrateCli, RealFramesWriteACalibration) {
 }
 
 TEST(CalibrateCli, DatasetFramesWithStep) {
-    // A recorded dataset: flight.json + frames/ (DATASET.md); every 2nd frame -> 6 of 11.
+    // A recorded dataset: flight.json + frames/ (docs/dataset.md); every 2nd frame -> 6 of 11.
     const fs::path ds = scratch("dataset");
     fs::create_directories(ds / "frames");
     for (int i = 0; i < 11; ++i) {
@@ -134,7 +134,7 @@ TEST(CalibrateCli, VideoOnlyDatasetIsDecodedThroughTheDatasetReader) {
 }
 
 TEST(CalibrateCli, DatasetOutsideTheRulesIsRefused) {
-    // The dataset reader's rules apply: without frames.csv (DATASET.md requires it) the dataset
+    // The dataset reader's rules apply: without frames.csv (docs/dataset.md requires it) the dataset
     // is refused, naming the file.
     const fs::path ds = scratch("bad_dataset");
     std::ofstream(ds / "flight.json") << R"({"format":"ardrone-dataset","version":1,

@@ -173,7 +173,7 @@ TEST_F(ThesisCli, ExportThenImportReplaysToTheSameDecisions) {
 TEST_F(ThesisCli, FpsTimesAFolderWithoutTimestamps) {
     const fs::path folder = short_folder("fps");
     const fs::path out = scratch_dir("thesis_cli", "fps_out");
-    // DATASET.md: 25 fps unless told.
+    // docs/dataset.md: 25 fps unless told.
     ASSERT_EQ(run_cli("replay " + folder.string() + " -q --out " + (out / "a").string()).exit_code,
               0);
     EXPECT_EQ(t_ms_of(out / "a/decisions.csv", 10), "400");

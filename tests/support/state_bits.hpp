@@ -1,6 +1,6 @@
 #pragma once
 // drone_state masks the link and virtual-drone tests build packets and expectations from, named
-// after drone/navdata.hpp's DroneStateBit (PROTOCOL.md §3.2).
+// after drone/navdata.hpp's DroneStateBit (docs/protocol.md §3.2).
 
 #include "drone/protocol/navdata.hpp"
 

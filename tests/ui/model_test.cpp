@@ -17,7 +17,7 @@ namespace gs::ui {
 namespace {
 
 TEST(DroneStateBits, DecodesProtocolExamples) {
-    // In-flight demo example from PROTOCOL.md §3.2: bits 0,2,4,5,6,7,10,23-27.
+    // In-flight demo example from docs/protocol.md §3.2: bits 0,2,4,5,6,7,10,23-27.
     const DroneStateBits b = DroneStateBits::from_raw(0x0F8004F5u);
     EXPECT_TRUE(b.flying && b.vision_enabled && b.altitude_control && b.user_feedback_start);
     EXPECT_TRUE(b.command_ack && b.camera_ready && b.navdata_demo && b.pic_version_ok);

@@ -169,7 +169,7 @@ TEST(Undistorter, RebuildsMapsOnlyWhenSomethingChanges) {
     EXPECT_EQ(u.map_builds(), 3);
     // Barrel distortion: the undistorted frame is larger than the raw one, so showing every valid
     // pixel zooms out. ROS's rectified P matrices for AR.Drone 2 front calibrations (alpha 0,
-    // PROTOCOL.md §6.2) have fx 459-474.
+    // docs/protocol.md §6.2) have fx 459-474.
     const double valid_fx = u.output_camera_matrix()(0, 0);
     EXPECT_GT(valid_fx, 430.0);
     EXPECT_LT(valid_fx, 500.0);

@@ -116,7 +116,7 @@ TEST(Calibration, NotesRoundTripAndUnknownNotesStayUnknown) {
 }
 
 TEST(Calibration, ReadsAWholeFlightJson) {
-    // DATASET.md's example flight.json: the size is at the top level.
+    // docs/dataset.md's example flight.json: the size is at the top level.
     const char* flight = R"({ "format": "ardrone-dataset", "version": 1, "camera": "front",
       "width": 640, "height": 360, "fps": 30, "frames": 190,
       "calibration": { "fx": 571.37, "fy": 569.36, "cx": 329.85, "cy": 177.76,

@@ -280,7 +280,7 @@ TEST(DatasetWriter, KilledRecordingIsReadableToWithinOneSecond) {
         const std::vector<std::uint8_t> chunk(4000, 0x22);
         for (int i = 0;; ++i) {  // 200 Hz navdata, 25 fps frames, until killed
             const TimeNs now = clock.now_ns();
-            // roll grows with the sample index (within the ±90° DATASET.md allows)
+            // roll grows with the sample index (within the ±90° docs/dataset.md allows)
             (*w)->add_navdata(now, dgram, nav_at(std::min(i * 0.1, 89.0), 0, 0));
             if (i % 8 == 0) {
                 (*w)->add_video_bytes(now, chunk);

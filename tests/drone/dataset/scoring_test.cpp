@@ -1,4 +1,4 @@
-// Scoring a flight as DATASET.md "Scoring a flight" says, on hand-made label/decision sequences.
+// Scoring a flight as docs/dataset.md "Scoring a flight" says, on hand-made label/decision sequences.
 #include "drone/dataset/scoring.hpp"
 
 #include <gtest/gtest.h>

@@ -207,7 +207,7 @@ TEST(AtScheduler, TheComWatchdogBitIsAnsweredEveryCycleWhileTheDroneReportsIt) {
     }
     EXPECT_EQ(s.counters().comwdg_sent, 5u);
     EXPECT_FALSE(has(cycle(s, ms_to_ns(150), kLanded), "AT*COMWDG="));
-    // Not in bootstrap mode (PROTOCOL.md §1.3 step 8), not from a stale state while lost.
+    // Not in bootstrap mode (docs/protocol.md §1.3 step 8), not from a stale state while lost.
     EXPECT_FALSE(has(cycle(s, ms_to_ns(180), kBootstrapBit | kWatchdogBit), "AT*COMWDG="));
     s.on_link_lost();
     EXPECT_FALSE(has(cycle(s, ms_to_ns(210), kLanded | kWatchdogBit), "AT*COMWDG="));

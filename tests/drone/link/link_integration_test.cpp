@@ -276,7 +276,7 @@ TEST(LinkIntegration, VideoFramesCarryThePaveFrameNumberAndTimestampTheDroneSent
 
 TEST(LinkIntegration, PaveFramesInAnotherCodecAreCountedNotDecoded) {
     // A crafted stream on a loopback video port: MPEG-4 frames (what 5555 carries in the record
-    // codec modes, PROTOCOL.md §4.5) between two ends of nothing else.
+    // codec modes, docs/protocol.md §4.5) between two ends of nothing else.
     auto listener = transport::TcpListener::listen(transport::Endpoint::loopback(0));
     ASSERT_TRUE(listener);
     auto quiet = transport::UdpSocket::bind(transport::Endpoint::loopback(0));  // a navdata/AT sink
@@ -393,7 +393,7 @@ TEST(LinkIntegration, TheLinkAdoptsAnAutopilotedFlightAndLandLandsIt) {
 }
 
 TEST(LinkIntegration, FlightAnimationsGoAsConfigAndLedAnimationsAsAtLed) {
-    // PROTOCOL.md §2.4/§2.9: firmware 2 takes flight animations as CONFIG control:flight_anim
+    // docs/protocol.md §2.4/§2.9: firmware 2 takes flight animations as CONFIG control:flight_anim
     // (SDK 2.0 no longer sends AT*ANIM); AT*LED is what SDK 2.0 still emits for the LEDs.
     Rig rig(100.0, false);
     ASSERT_TRUE(wait_until([&] { return rig.connected(); }, 5s));

@@ -10,7 +10,7 @@ using namespace gs::link;
 
 namespace {
 using namespace gs::test;
-constexpr std::uint32_t kBootstrapState = 0x4F800C10;  // PROTOCOL.md §7.4, a real bootstrap packet
+constexpr std::uint32_t kBootstrapState = 0x4F800C10;  // docs/protocol.md §7.4, a real bootstrap packet
 
 // Drives a state machine with a fake time line and a scripted drone.
 struct Harness {

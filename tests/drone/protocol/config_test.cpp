@@ -8,7 +8,7 @@ using namespace gs;
 using namespace gs::protocol;
 
 namespace {
-// Lines quoted in PROTOCOL.md §5.2 from a real AR.Drone dump.
+// Lines quoted in docs/protocol.md §5.2 from a real AR.Drone dump.
 constexpr std::string_view kDump =
     "general:num_version_config = 1\n"
     "general:ardrone_name = My Drone\n"

@@ -1,4 +1,4 @@
-// parse_navdata against the four real captures (expected values from PROTOCOL.md §7.2/§7.3 and
+// parse_navdata against the four real captures (expected values from docs/protocol.md §7.2/§7.3 and
 // fixtures SOURCES.md), the §7.4 bootstrap bytes, and malformed input.
 #include "drone/protocol/navdata.hpp"
 

@@ -1,5 +1,5 @@
 // PaVE header parsing/writing and the streaming framer, against the four real captures
-// (PROTOCOL.md §7.5, fixtures/ardrone/SOURCES.md) and HEIDI's pave_test.py behaviours.
+// (docs/protocol.md §7.5, fixtures/ardrone/SOURCES.md) and HEIDI's pave_test.py behaviours.
 #include "drone/protocol/pave.hpp"
 
 #include "support/video_fixtures.hpp"
@@ -120,7 +120,7 @@ TEST(PaveHeader, Parses68ByteHeaderWithExtension) {
     EXPECT_EQ(h->header1_size, 14);
     EXPECT_EQ(h->header2_size, 10);
     EXPECT_EQ(h->advertised_size, 10180u);
-    // PROTOCOL.md §4.1: a u32 2 at byte 52, then non-zero words up to byte 67.
+    // docs/protocol.md §4.1: a u32 2 at byte 52, then non-zero words up to byte 67.
     EXPECT_EQ(h->reserved3[0], 2);
     EXPECT_NE(h->extension, (std::array<std::uint8_t, 4>{}));
     EXPECT_TRUE(h->is_key_frame());
@@ -245,7 +245,7 @@ TEST(PaveFramer, NodeCaptureGivesTwentyFramesAndNothingLeft) {
         EXPECT_EQ(f.header.header1_size, idr ? 14 : 0);
         EXPECT_EQ(f.header.header2_size, idr ? 10 : 0);
         if (i >= 2) {
-            // stream_byte_position advances by the previous payload (PROTOCOL.md §4.1), minus the
+            // stream_byte_position advances by the previous payload (docs/protocol.md §4.1), minus the
             // SPS/PPS the firmware prepends to an IDR (seen in this capture: 14 + 10 bytes).
             const auto& prev = run.frames[i - 1].header;
             EXPECT_EQ(f.header.stream_byte_position(), prev.stream_byte_position() +
@@ -362,7 +362,7 @@ TEST(PaveFramer, EveryChunkingGivesIdenticalResults) {
     }
 }
 
-// ---- HEIDI pave_test.py behaviours (PROTOCOL.md §7.5) ------------------------------------------
+// ---- HEIDI pave_test.py behaviours (docs/protocol.md §7.5) ------------------------------------------
 
 TEST(PaveFramer, EmptyInputGivesNothing) {
     PaveFramer framer;
