@@ -368,6 +368,9 @@ void GuiAdapter::on_source_change() {
     shown_camera_ = CameraId::Front;
     start_camera_sent_ = false;
     at_rate_.reset();
+    nav_bytes_rate_.reset();
+    video_bytes_rate_.reset();
+    at_bytes_rate_.reset();
     nav_rate_.reset();
     video_rate_.reset();
     replay_rate_.reset();
@@ -405,7 +408,9 @@ void GuiAdapter::fill_link(ui::GuiSnapshot& s, TimeNs now) {
     n.drops = st.machine.out_of_order + st.navdata.foreign_dropped + st.navdata.oversize;
     n.checksum_failures = st.navdata.checksum_failures;
     n.decode_errors = st.navdata.parse_errors;
-    n.bytes_per_s = st.navdata.bytes_per_s;  // counted by the link, per datagram received
+    // Bytes counted by the link, as a rate over the same sliding window as the packets (the
+    // link's own per-second figure reads 0 until its first full second).
+    n.bytes_per_s = nav_bytes_rate_.update(st.navdata.bytes, now);
 
     ui::StreamHealth& v = s.link.video;
     v = ui::StreamHealth{};
@@ -414,7 +419,7 @@ void GuiAdapter::fill_link(ui::GuiSnapshot& s, TimeNs now) {
     v.age_ms = age_ms(st.now_ns, st.video.last_frame_ns);
     last_video_frame_ns_ = st.video.last_frame_ns;
     video_connected_ = st.video.connected;
-    v.bytes_per_s = st.video.bytes_per_s;  // counted by the link
+    v.bytes_per_s = video_bytes_rate_.update(st.video.bytes, now);
     v.packets = st.video.decoded;
     v.gaps = st.video.frame_gaps;
     v.drops = out_ ? out_->frames_dropped : 0;  // frames the classifier could not keep up with
@@ -428,7 +433,7 @@ void GuiAdapter::fill_link(ui::GuiSnapshot& s, TimeNs now) {
     a.rate_hz = at_rate_.update(st.at.counters.datagrams, now);
     a.age_ms = st.at.period_ms_last;
     a.packets = st.at.counters.datagrams;
-    a.bytes_per_s = st.at.bytes_per_s;  // counted by the link, per datagram sent
+    a.bytes_per_s = at_bytes_rate_.update(st.at.bytes_sent, now);
     a.drops = st.at.counters.stale_moves_dropped;
     a.decode_errors = st.at.send_errors + st.at.counters.encode_errors;
 }

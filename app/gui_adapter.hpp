@@ -87,6 +87,7 @@ private:
     ReplayInfo replay_;
     NavState replay_nav_;
     bool replay_nav_valid_ = false;
+    SlidingRate nav_bytes_rate_, video_bytes_rate_, at_bytes_rate_;
     SlidingRate at_rate_, nav_rate_, video_rate_, replay_rate_;
     TimeNs last_video_frame_ns_ = 0;  // the link's newest frame (live)
     bool video_connected_ = false;

@@ -136,6 +136,7 @@ bool write_screenshot(const std::filesystem::path& png, int w, int h, const Layo
         j["region_bars"].push_back({{"name", b.name},
                                     {"rect", rect_json(b.rect)},
                                     {"flagged", b.flagged},
+                                    {"confirming", b.confirming},
                                     {"known", b.known},
                                     {"reason", b.reason},
                                     {"label", b.label}});

@@ -111,13 +111,18 @@ void ClassifierWindow::draw(const GuiSnapshot& s, ViewState& v, Actions& a) {
     for (const auto& d : c.decisions) {
         const bool stale = s.video.stale;
         const bool measured = d.known && !stale;
-        const std::uint32_t col = !measured   ? colors::kDim
-                                  : d.flagged ? colors::kBad
-                                              : colors::kGood;
+        // Over the threshold, not yet confirmed: "confirming" (amber), as on the region bar.
+        const bool confirming =
+            measured && !d.flagged && known(d.score) && known(d.threshold) && d.score > d.threshold;
+        const std::uint32_t col = !measured    ? colors::kDim
+                                  : d.flagged  ? colors::kBad
+                                  : confirming ? colors::kWarn
+                                               : colors::kGood;
         ImGui::TextColored(colors::v4(col), "%-7s %-7s", d.name.c_str(),
-                           !measured   ? "no data"
-                           : d.flagged ? "UNSAFE"
-                                       : "clear");
+                           !measured    ? "no data"
+                           : d.flagged  ? "UNSAFE"
+                           : confirming ? "confirming"
+                                        : "clear");
         ImGui::SameLine();
         if (!measured)
             ImGui::TextColored(colors::v4(colors::kDim), "%s",

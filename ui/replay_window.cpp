@@ -68,13 +68,17 @@ void ReplayWindow::draw(const GuiSnapshot& s, ViewState& v, Actions& a) {
     if (ImGui::Checkbox("Loop", &loop)) a.replay_loop = loop;
     long long frame = r.frame;
     const long long last = std::max<long long>(0, r.frame_count - 1);
+    // The frame number is written on the line below, not inside the slider, where the handle
+    // covered it on a narrow window.
     ImGui::SetNextItemWidth(-FLT_MIN);
-    char fmt[64];
-    std::snprintf(fmt, sizeof fmt, "frame %%lld / %lld", last);
     static const long long zero = 0;
-    if (ImGui::SliderScalar("##seek", ImGuiDataType_S64, &frame, &zero, &last, fmt))
+    if (ImGui::SliderScalar("##seek", ImGuiDataType_S64, &frame, &zero, &last, ""))
         a.replay_seek = frame;
     record_button(v, "replay.seek");
+    char position[64];
+    std::snprintf(position, sizeof position, "frame %lld / %lld", static_cast<long long>(r.frame),
+                  last);
+    v.layout.replay_position = position;
     // Speed: a numeric field (any speed from 0.25x to 8x, typed and applied with Enter) and a
     // slider over the presets (powers of two); on the same line when both have room, else on a
     // line of their own.
@@ -105,10 +109,12 @@ void ReplayWindow::draw(const GuiSnapshot& s, ViewState& v, Actions& a) {
     if (ImGui::SliderInt("##speed", &si, 0, 5, "")) a.replay_speed = speeds[si];
 
     if (known(r.fps) && r.fps > 0)
-        ImGui::TextColored(colors::v4(colors::kDim), "%s / %s  %.0f fps",
+        ImGui::TextColored(colors::v4(colors::kDim), "%s   %s / %s  %.0f fps", position,
                            format_duration(static_cast<double>(r.frame) / r.fps).c_str(),
                            format_duration(static_cast<double>(r.frame_count) / r.fps).c_str(),
                            r.fps);
+    else
+        ImGui::TextColored(colors::v4(colors::kDim), "%s", position);
     recent_datasets();
     v.layout.replay_scroll_max = ImGui::GetScrollMaxY();
     ImGui::End();

@@ -150,12 +150,21 @@ void VideoWindow::draw(const GuiSnapshot& s, ViewState& v, Actions& a, TextureSo
             const std::string reason = !r.known ? r.unknown_reason
                                        : stale  ? std::string("video stale")
                                                 : std::string();
-            const std::uint32_t col = !known_now  ? IM_COL32(110, 114, 122, 225)
-                                      : r.flagged ? IM_COL32(225, 45, 40, 235)
-                                                  : IM_COL32(40, 185, 80, 215);
+            // Over the threshold but not (yet) flagged: the classifier waits for its confirmation
+            // frames. Neither clear nor unsafe: amber "confirming", never a green bar with a score
+            // above its threshold.
+            const bool confirming = known_now && !r.flagged && known(r.score) &&
+                                    known(r.threshold) && r.score > r.threshold;
+            const std::uint32_t col = !known_now   ? IM_COL32(110, 114, 122, 225)
+                                      : r.flagged  ? IM_COL32(225, 45, 40, 235)
+                                      : confirming ? IM_COL32(225, 150, 30, 235)
+                                                   : IM_COL32(40, 185, 80, 215);
             dl->AddRectFilled(b0, b1, col, 2.0f);
             // The longest label that fits: "left UNSAFE 0.45 / 0.30", "left 0.45/0.30", "0.45".
-            const char* word = !known_now ? "no data" : r.flagged ? "UNSAFE" : "clear";
+            const char* word = !known_now   ? "no data"
+                               : r.flagged  ? "UNSAFE"
+                               : confirming ? "confirming"
+                                            : "clear";
             const std::string sc = format_score(r.score, r.threshold);
             const std::string th = format_score(r.threshold, r.threshold);
             std::string options[4];
@@ -192,6 +201,7 @@ void VideoWindow::draw(const GuiSnapshot& s, ViewState& v, Actions& a, TextureSo
             bar.rect = {b0.x, b0.y, b1.x, b1.y};
             bar.flagged = known_now && r.flagged;
             bar.known = known_now;
+            bar.confirming = confirming;
             bar.reason = reason;
             bar.label = shown;
             v.layout.region_bars.push_back(std::move(bar));

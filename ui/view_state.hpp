@@ -1,7 +1,8 @@
 #pragma once
-// ViewState: everything the window owns itself (docs/style.md rule 21): which windows are open, overlay
-// toggles, text fields, the telemetry history behind the scrolling plots, the persisted settings,
-// and the laid-out rectangles of the last frame (LayoutReport) for tests and offscreen checks.
+// ViewState: everything the window owns itself (docs/style.md rule 21): which windows are open,
+// overlay toggles, text fields, the telemetry history behind the scrolling plots, the persisted
+// settings, and the laid-out rectangles of the last frame (LayoutReport) for tests and offscreen
+// checks.
 
 #include "ui/actions.hpp"
 #include "ui/history.hpp"
@@ -49,9 +50,10 @@ struct LayoutReport {
         std::string name;
         Rect rect;
         bool flagged = false;
-        bool known = true;   // false: grey "no data"
-        std::string reason;  // why unknown (its tooltip)
-        std::string label;   // the text drawn in the bar ("" if none fitted)
+        bool known = true;        // false: grey "no data"
+        bool confirming = false;  // amber: over the threshold, not yet confirmed unsafe
+        std::string reason;       // why unknown (its tooltip)
+        std::string label;        // the text drawn in the bar ("" if none fitted)
     };
     Rect video_image;              // the image (aspect-correct) inside the video window
     std::vector<Bar> region_bars;  // classifier region bar, one per region
@@ -80,6 +82,7 @@ struct LayoutReport {
     } status;
     bool messages_at_end = false;  // the Messages window shows the newest line
     float replay_scroll_max = 0;   // > 0: the Replay window's content is taller than the window
+    std::string replay_position;   // "frame N / LAST", written beside the seek slider
     bool keys_clipped = false;     // the key help does not fit its window
     int messages_shown = -1;       // lines in the Messages window (-1: not drawn)
     // Buttons a test may click: "quit.land", "calibration.capture", "calibration.save" ...

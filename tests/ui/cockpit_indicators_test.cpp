@@ -16,20 +16,6 @@ namespace {
 
 class CockpitIndicators : public ImGuiFixture {
 protected:
-    Actions click(Gui& gui, const GuiSnapshot& s, const char* button) {
-        const Rect* r = gui.view().layout.button(button);
-        EXPECT_NE(r, nullptr) << button;
-        if (!r) return {};
-        ImGuiIO& io = ImGui::GetIO();
-        io.MousePos = {0.5f * (r->x0 + r->x1), 0.5f * (r->y0 + r->y1)};
-        frame(gui, s);
-        io.MouseDown[0] = true;
-        frame(gui, s);
-        io.MouseDown[0] = false;
-        const Actions a = frame(gui, s);
-        io.MousePos = {-FLT_MAX, -FLT_MAX};
-        return a;
-    }
     static GuiSnapshot sim_flying() {
         GuiSnapshot s;
         make_demo_snapshot(s, 1);
@@ -73,6 +59,38 @@ TEST_F(CockpitIndicators, UnknownRegionIsGreyNoDataWithTheReasonAsTooltip) {
     ImGui::GetIO().MousePos = {-FLT_MAX, -FLT_MAX};
     EXPECT_NE(gui.view().layout.tooltip.find("too few tracked points"), std::string::npos)
         << gui.view().layout.tooltip;
+}
+
+// Point 5: a score over its threshold that the classifier has not confirmed yet (it waits a few
+// frames) is neither clear nor unsafe: an amber "confirming" bar, never green.
+TEST_F(CockpitIndicators, AScoreOverItsThresholdNotYetConfirmedIsNeverClear) {
+    Gui gui;
+    GuiSnapshot s = sim_flying();
+    RegionBar& centre = s.classifier.overlay.regions[1];
+    centre.known = true;
+    centre.flagged = false;
+    centre.score = 0.47;
+    centre.threshold = 0.30;
+    s.classifier.decisions[1].known = true;
+    s.classifier.decisions[1].flagged = false;
+    s.classifier.decisions[1].score = 0.47;
+    s.classifier.decisions[1].threshold = 0.30;
+    frame(gui, s);
+    const auto& bars = gui.view().layout.region_bars;
+    ASSERT_EQ(bars.size(), 3u);
+    EXPECT_TRUE(bars[1].known);
+    EXPECT_FALSE(bars[1].flagged);
+    EXPECT_TRUE(bars[1].confirming);
+    EXPECT_EQ(bars[1].label.find("clear"), std::string::npos) << bars[1].label;
+    // Under the threshold it is clear again; flagged it is unsafe, not "confirming".
+    centre.score = 0.12;
+    frame(gui, s);
+    EXPECT_FALSE(gui.view().layout.region_bars[1].confirming);
+    centre.score = 0.47;
+    centre.flagged = true;
+    frame(gui, s);
+    EXPECT_FALSE(gui.view().layout.region_bars[1].confirming);
+    EXPECT_TRUE(gui.view().layout.region_bars[1].flagged);
 }
 
 // Point 6: stale video says so over the picture and no region stays "clear".

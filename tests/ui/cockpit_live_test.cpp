@@ -253,8 +253,9 @@ TEST_F(CockpitLive, VideoAndNavdataSettingsReachTheStream) {
         },
         20s));
     EXPECT_EQ(snap.video.bgr.cols, 640);
-    EXPECT_NEAR(snap.link.expected_navdata_hz, 15.0, 0.1);
-    // 720p, then full navdata at 200 Hz.
+    // The link asks for full navdata at 200 Hz from the start (docs/protocol.md §1.3).
+    EXPECT_NEAR(snap.link.expected_navdata_hz, 200.0, 0.1);
+    // 720p; full navdata written again is confirmed and keeps the stream at 200 Hz.
     write("video:video_codec", "131");
     write("general:navdata_demo", "FALSE");
     ASSERT_TRUE(run_until([&] { return settled("video:video_codec"); }, 10s));

@@ -9,25 +9,7 @@
 namespace gs::ui::test {
 namespace {
 
-class GuiHeadless : public ImGuiFixture {
-protected:
-    // A left click at the centre of a button the window reported in its layout: hover, press,
-    // release (ImGui buttons fire on release). Returns the actions of the release frame.
-    Actions click(Gui& gui, const GuiSnapshot& s, const char* button) {
-        const Rect* r = gui.view().layout.button(button);
-        EXPECT_NE(r, nullptr) << button;
-        if (!r) return {};
-        ImGuiIO& io = ImGui::GetIO();
-        io.MousePos = {0.5f * (r->x0 + r->x1), 0.5f * (r->y0 + r->y1)};
-        frame(gui, s);
-        io.MouseDown[0] = true;
-        frame(gui, s);
-        io.MouseDown[0] = false;
-        const Actions a = frame(gui, s);
-        io.MousePos = {-FLT_MAX, -FLT_MAX};
-        return a;
-    }
-};
+class GuiHeadless : public ImGuiFixture {};
 
 TEST_F(GuiHeadless, DrawsDemoNoLinkAndNoVideoSnapshots) {
     Gui gui;

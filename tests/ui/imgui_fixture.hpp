@@ -14,6 +14,9 @@ protected:
     void TearDown() override;
     // Draws one frame of `gui` and returns its actions.
     Actions frame(Gui& gui, const GuiSnapshot& s, InputState in = {}, TextureSource* tex = nullptr);
+    // A left click at the centre of a button the window reported in its layout: hover, press,
+    // release (ImGui buttons fire on release). Returns the actions of the release frame.
+    Actions click(Gui& gui, const GuiSnapshot& s, const char* button);
     int last_vertices = 0;
 };
 

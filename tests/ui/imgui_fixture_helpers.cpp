@@ -1,5 +1,7 @@
 #include "imgui_fixture.hpp"
 
+#include <cfloat>
+
 namespace gs::ui::test {
 
 void ImGuiFixture::SetUp() {
@@ -17,6 +19,21 @@ void ImGuiFixture::SetUp() {
 
 void ImGuiFixture::TearDown() {
     ImGui::DestroyContext();
+}
+
+Actions ImGuiFixture::click(Gui& gui, const GuiSnapshot& s, const char* button) {
+    const Rect* r = gui.view().layout.button(button);
+    EXPECT_NE(r, nullptr) << button;
+    if (!r) return {};
+    ImGuiIO& io = ImGui::GetIO();
+    io.MousePos = {0.5f * (r->x0 + r->x1), 0.5f * (r->y0 + r->y1)};
+    frame(gui, s);
+    io.MouseDown[0] = true;
+    frame(gui, s);
+    io.MouseDown[0] = false;
+    const Actions a = frame(gui, s);
+    io.MousePos = {-FLT_MAX, -FLT_MAX};
+    return a;
 }
 
 Actions ImGuiFixture::frame(Gui& gui, const GuiSnapshot& s, InputState in, TextureSource* tex) {
