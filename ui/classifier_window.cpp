@@ -112,8 +112,7 @@ void ClassifierWindow::draw(const GuiSnapshot& s, ViewState& v, Actions& a) {
         const bool stale = s.video.stale;
         const bool measured = d.known && !stale;
         // Over the threshold, not yet confirmed: "confirming" (amber), as on the region bar.
-        const bool confirming =
-            measured && !d.flagged && known(d.score) && known(d.threshold) && d.score > d.threshold;
+        const bool confirming = ui::confirming(measured, d.flagged, d.score, d.threshold);
         const std::uint32_t col = !measured    ? colors::kDim
                                   : d.flagged  ? colors::kBad
                                   : confirming ? colors::kWarn

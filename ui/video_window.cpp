@@ -153,8 +153,7 @@ void VideoWindow::draw(const GuiSnapshot& s, ViewState& v, Actions& a, TextureSo
             // Over the threshold but not (yet) flagged: the classifier waits for its confirmation
             // frames. Neither clear nor unsafe: amber "confirming", never a green bar with a score
             // above its threshold.
-            const bool confirming = known_now && !r.flagged && known(r.score) &&
-                                    known(r.threshold) && r.score > r.threshold;
+            const bool confirming = ui::confirming(known_now, r.flagged, r.score, r.threshold);
             const std::uint32_t col = !known_now   ? IM_COL32(110, 114, 122, 225)
                                       : r.flagged  ? IM_COL32(225, 45, 40, 235)
                                       : confirming ? IM_COL32(225, 150, 30, 235)

@@ -1,7 +1,7 @@
 #pragma once
-// The ground-station windows: one struct per window, one .cpp each (docs/style.md rule 22). Each draws the
-// snapshot, keeps its state in ViewState, and writes requests into Actions. Always Begin/End
-// paired; default position/size from the default layout (FirstUseEver, then imgui.ini).
+// The ground-station windows: one struct per window, one .cpp each (docs/style.md rule 22). Each
+// draws the snapshot, keeps its state in ViewState, and writes requests into Actions. Always
+// Begin/End paired; default position/size from the default layout (FirstUseEver, then imgui.ini).
 
 #include "ui/actions.hpp"
 #include "ui/layout.hpp"
@@ -33,6 +33,12 @@ inline constexpr std::uint32_t kDim = IM_COL32(150, 155, 162, 255);
 inline constexpr std::uint32_t kText = IM_COL32(225, 228, 232, 255);
 ImVec4 v4(std::uint32_t c);
 }  // namespace colors
+
+// A measured region whose score is over its threshold but which the classifier has not flagged
+// (it waits for its confirmation frames): shown amber "confirming", never green "clear".
+inline bool confirming(bool known_now, bool flagged, double score, double threshold) {
+    return known_now && !flagged && known(score) && known(threshold) && score > threshold;
+}
 
 struct Hud {
     // Draws the head-up display over [p0, p1] (the video image area), records the battery gauge.
