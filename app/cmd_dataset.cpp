@@ -228,8 +228,8 @@ CommandRegistration reg_import_video(
             "attitude, velocity and altitude, which the classifiers treat as such. An H.264 "
             "stream without B-frames (the AR.Drone's) is copied bit for bit; other video is "
             "decoded and encoded again as H.264 (Baseline, IDR every 15 frames). Frame times are "
-            "the container's unless --fps is given. Add labels.json / labels.csv (docs/dataset.md) by "
-            "hand to evaluate it.");
+            "the container's unless --fps is given. Add labels.json / labels.csv "
+            "(docs/dataset.md) by hand to evaluate it.");
         c->add_option("FILE", o->in, "Video file")->required()->check(CLI::ExistingFile);
         c->add_option("--out,-o", o->out, "Dataset directory to create (new or empty)")->required();
         c->add_option("--fps", o->fps,

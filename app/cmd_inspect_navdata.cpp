@@ -176,7 +176,8 @@ const CommandRegistration reg(
         cmd->add_option("file", opts->file, "File holding exactly one datagram")
             ->required()
             ->check(regular_file());
-        cmd->add_flag("--json", opts->json, "Print JSON (docs/protocol.md field names) instead of text");
+        cmd->add_flag("--json", opts->json,
+                      "Print JSON (docs/protocol.md field names) instead of text");
         set_action(*cmd, [opts] { run(*opts); });
     });
 

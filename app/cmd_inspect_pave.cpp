@@ -203,7 +203,8 @@ const CommandRegistration reg(
         cmd->add_option("file", opts->file, "File holding the raw TCP byte stream")
             ->required()
             ->check(regular_file());
-        cmd->add_flag("--json", opts->json, "Print JSON (docs/protocol.md field names) instead of text");
+        cmd->add_flag("--json", opts->json,
+                      "Print JSON (docs/protocol.md field names) instead of text");
         cmd->add_option("--decode", opts->decode_dir,
                         "Decode the H.264 and write DIR/NNNNNN.png (0-based, decode order)")
             ->check(output_directory());

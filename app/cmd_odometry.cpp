@@ -1,8 +1,8 @@
 // `ardrone-gs odometry DATASET`: the thesis' visual odometry (§3.1) over a recorded or generated
 // flight: per-sample estimates, and with ground truth the per-sample absolute errors, their
 // min / max / mean (eq. 6.1, tables 6.1-6.4) and the trajectory error (eq. 6.2).
-// A bottom-camera dataset (docs/dataset.md) runs single-camera with altitude_m as the distance; with
-// top/ and distances.csv beside it, both cameras are combined (eq. 3.16-3.18).
+// A bottom-camera dataset (docs/dataset.md) runs single-camera with altitude_m as the distance;
+// with top/ and distances.csv beside it, both cameras are combined (eq. 3.16-3.18).
 // `--generate TEST` first renders one of the thesis' four test flights into DATASET.
 #include "app/cli_options.hpp"
 #include "app/command.hpp"

@@ -123,9 +123,10 @@ CommandRegistration reg(30, [](CLI::App& root) {
     auto* sub = root.add_subcommand(
         "replay",
         "Run the obstacle classifier over a dataset headless: decisions.csv, summary.json");
-    sub->add_option("DATASET", o->dataset,
-                    "Dataset directory (docs/dataset.md), or a thesis-style image folder with its IMU "
-                    "text file")
+    sub->add_option(
+           "DATASET", o->dataset,
+           "Dataset directory (docs/dataset.md), or a thesis-style image folder with its IMU "
+           "text file")
         ->required();
     sub->add_option("--out,-o", o->out,
                     "Output directory (created; a folder holding other files than a replay's "

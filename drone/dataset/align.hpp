@@ -1,7 +1,7 @@
 #pragma once
 // Gives each video frame the drone state at its capture time: interpolated between the two
-// navdata samples around it (docs/dataset.md: recordings interpolate), or the nearest sample when the
-// stream has nothing on one side. Frames come out in the order they went in. Pure: times are
+// navdata samples around it (docs/dataset.md: recordings interpolate), or the nearest sample when
+// the stream has nothing on one side. Frames come out in the order they went in. Pure: times are
 // stream times (ns from the start of the flight), no clock.
 
 #include "drone/core/nav_timeline.hpp"

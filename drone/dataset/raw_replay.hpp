@@ -1,6 +1,6 @@
 #pragma once
-// Rebuilding frames.csv from raw/ (docs/dataset.md: "Replaying raw/ through the protocol parsers must
-// reproduce frames.csv"): navdata datagrams and video chunks are fed in receive-time order to
+// Rebuilding frames.csv from raw/ (docs/dataset.md: "Replaying raw/ through the protocol parsers
+// must reproduce frames.csv"): navdata datagrams and video chunks are fed in receive-time order to
 // the parsers, and each frame gets its attitude by the same NavAligner the recorder uses.
 //
 // The parsers are passed in (tests use stand-ins); make_protocol_replay_decoders() binds the real
@@ -46,7 +46,8 @@ RawReplayDecoders make_protocol_replay_decoders();
 std::optional<NavState> navdata_state(std::span<const std::uint8_t> datagram);
 
 // raw/video_connections.csv: the byte offsets in raw/video.pave where each connection begins and
-// when it opened (docs/dataset.md 1.1). Absent: one connection (offset 0). A cut last line is ignored.
+// when it opened (docs/dataset.md 1.1). Absent: one connection (offset 0). A cut last line is
+// ignored.
 struct VideoConnection {
     std::uint64_t offset = 0;
     std::int64_t t_us = 0;

@@ -91,7 +91,8 @@ Expected<std::vector<ImuLine>, FileError> parse_imu(const std::string& text,
                 return Unexpected(derr(FileErrorCode::Malformed, name,
                                        "expected a finite number or nan, got '" + shown + "'",
                                        line_no, col));
-            // The value rules of frames.csv (docs/dataset.md 1.1) hold for the same quantities here.
+            // The value rules of frames.csv (docs/dataset.md 1.1) hold for the same quantities
+            // here.
             static constexpr std::string_view kColumns[5] = {"roll_deg", "pitch_deg", "yaw_deg",
                                                              "vx_mps", "vy_mps"};
             if (auto b = value_bounds(kColumns[n]); b && (v[n] < b->lo || v[n] > b->hi))

@@ -1,7 +1,7 @@
 #pragma once
-// docs/dataset.md 1.1 value rules for frames.csv and navdata.csv, in one table that the readers check
-// and the writer obeys: an empty cell is unknown; every other cell is a finite number (nan, inf
-// and numbers that overflow a double are malformed, csv::Table::number refuses them); roll and
+// docs/dataset.md 1.1 value rules for frames.csv and navdata.csv, in one table that the readers
+// check and the writer obeys: an empty cell is unknown; every other cell is a finite number (nan,
+// inf and numbers that overflow a double are malformed, csv::Table::number refuses them); roll and
 // pitch within ±90 degrees, each velocity within ±20 m/s, altitude within 0-20 m; yaw and the
 // ground-truth columns any finite value.
 

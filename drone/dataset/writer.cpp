@@ -517,8 +517,9 @@ void DatasetWriter::run() {
 
     auto on_frame = [&](FrameIn& in) {
         TimeNs t = to_stream(in.capture_ns);
-        // frames.csv t_ms strictly increases (docs/dataset.md 1.1): a capture time equal to or before
-        // the previous frame's moves 1 us past it (counted; the capture clock should not do it).
+        // frames.csv t_ms strictly increases (docs/dataset.md 1.1): a capture time equal to or
+        // before the previous frame's moves 1 us past it (counted; the capture clock should not do
+        // it).
         if (f.next_index > 0 && t <= f.last_frame_t) {
             t = f.last_frame_t + 1000;
             ++f.st.frame_time_adjusted;

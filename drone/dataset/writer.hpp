@@ -1,6 +1,6 @@
 #pragma once
-// Recording a flight as a dataset (docs/dataset.md) while flying. The link threads hand over what they
-// receive and send through add_*(), which never block: records go through a bounded queue to a
+// Recording a flight as a dataset (docs/dataset.md) while flying. The link threads hand over what
+// they receive and send through add_*(), which never block: records go through a bounded queue to a
 // worker thread that does all file I/O. A full queue drops records and counts them; it never
 // stalls flight control. Files are flushed at least every flush_interval (<= 1 s) in an order
 // that keeps the dataset readable if the process is killed: video bytes before the frames.csv

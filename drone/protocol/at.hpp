@@ -1,7 +1,7 @@
 #pragma once
-// AT command encoder (docs/protocol.md §2): pure functions that return the exact, CR-terminated command
-// strings the drone parses on UDP 5556, a sequence counter and a datagram packer. No sockets here;
-// the link owns a SeqCounter and sends what pack() returns.
+// AT command encoder (docs/protocol.md §2): pure functions that return the exact, CR-terminated
+// command strings the drone parses on UDP 5556, a sequence counter and a datagram packer. No
+// sockets here; the link owns a SeqCounter and sends what pack() returns.
 
 #include "drone/core/expected.hpp"
 

@@ -1,6 +1,6 @@
 #pragma once
-// The drone's configuration as text (docs/protocol.md §5): the dump the drone writes on TCP 5559 after
-// `AT*CTRL=…,4,0` (`section:key = value` lines, ended by a NUL byte), parsed into ordered
+// The drone's configuration as text (docs/protocol.md §5): the dump the drone writes on TCP 5559
+// after `AT*CTRL=…,4,0` (`section:key = value` lines, ended by a NUL byte), parsed into ordered
 // key/values, and the value formats (TRUE/FALSE, integers, %e floats, `{ a b c }` vectors).
 
 #include "drone/core/expected.hpp"

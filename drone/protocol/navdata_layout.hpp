@@ -1,8 +1,8 @@
 #pragma once
-// The navdata field table (docs/protocol.md §3.5): for every option its tag, layout size, name and, per
-// field, the byte offset (from the option's tag), the PROTOCOL/SDK name and the unit. The decoder,
-// the encoder, the JSON export and `inspect navdata` all walk this one table, so the four cannot
-// disagree; tests check that each option's fields tile bytes [4, size) exactly.
+// The navdata field table (docs/protocol.md §3.5): for every option its tag, layout size, name and,
+// per field, the byte offset (from the option's tag), the PROTOCOL/SDK name and the unit. The
+// decoder, the encoder, the JSON export and `inspect navdata` all walk this one table, so the four
+// cannot disagree; tests check that each option's fields tile bytes [4, size) exactly.
 //
 // Spec<T>::fields(opt, f) calls f(offset, name, unit, field&) for every field in wire order; `opt`
 // may be const. Field types: arithmetic, GpsChannel, or (nested) std::array of those.

@@ -1,6 +1,6 @@
 #pragma once
-// Recording a live flight as a dataset (docs/dataset.md 1.1): attaches to a running DroneLink through
-// its recording subscriptions and drains them on its own thread into a DatasetWriter:
+// Recording a live flight as a dataset (docs/dataset.md 1.1): attaches to a running DroneLink
+// through its recording subscriptions and drains them on its own thread into a DatasetWriter:
 //   raw/           every byte received and sent (raw events), with the video connections;
 //   navdata.csv    the navdata samples the link accepted, in the order it accepted them;
 //   video.h264     the access units the link's video receiver turned into a picture (the

@@ -1,7 +1,7 @@
 #pragma once
 // The virtual AR.Drone's brain, as pure logic: AT datagrams and navdata wake-ups go in with their
-// time and sender, navdata datagrams come out, and the drone behaves as docs/protocol.md describes a
-// real one: bootstrap navdata until configured; demo (15 Hz) or full (200 Hz) navdata with valid
+// time and sender, navdata datagrams come out, and the drone behaves as docs/protocol.md describes
+// a real one: bootstrap navdata until configured; demo (15 Hz) or full (200 Hz) navdata with valid
 // checksums; every drone_state bit maintained; navdata sent to the address and port the wake-up
 // came from; AT sequence rules; a configuration store with the ACK bit; the communication
 // watchdog; emergency cut-off. Faults for tests (loss, reordering, duplication, corrupt checksums,

@@ -6,8 +6,8 @@
 // ground-truth poses, and AR.Drone-like navdata (attitude, drifting yaw, noisy velocities).
 // Deterministic for (params, seed).
 //
-// Written as a docs/dataset.md bottom-camera dataset (flight.json, frames/, frames.csv with gt_* and
-// altitude_m = the bottom distance sensor) plus the two-camera extras read by `ardrone-gs
+// Written as a docs/dataset.md bottom-camera dataset (flight.json, frames/, frames.csv with gt_*
+// and altitude_m = the bottom distance sensor) plus the two-camera extras read by `ardrone-gs
 // odometry`: top/ (one image per frame), top.json (its calibration) and distances.csv
 // (frame,bottom_m,top_m).
 

@@ -134,8 +134,8 @@ TEST(CalibrateCli, VideoOnlyDatasetIsDecodedThroughTheDatasetReader) {
 }
 
 TEST(CalibrateCli, DatasetOutsideTheRulesIsRefused) {
-    // The dataset reader's rules apply: without frames.csv (docs/dataset.md requires it) the dataset
-    // is refused, naming the file.
+    // The dataset reader's rules apply: without frames.csv (docs/dataset.md requires it) the
+    // dataset is refused, naming the file.
     const fs::path ds = scratch("bad_dataset");
     std::ofstream(ds / "flight.json") << R"({"format":"ardrone-dataset","version":1,
         "camera":"front","width":640,"height":360,"fps":30})";

@@ -1,6 +1,7 @@
 // The dataset's CSV and text readers: frames.csv, navdata.csv, labels.csv, the thesis imu.txt,
-// raw/video_connections.csv and raw/capture_times.csv. Whatever they accept obeys docs/dataset.md 1.1's
-// value rules (finite, within bounds; empty = unknown). Seeds: the shipped flight's CSVs and
+// raw/video_connections.csv and raw/capture_times.csv. Whatever they accept obeys
+// docs/dataset.md 1.1's value rules (finite, within bounds; empty = unknown). Seeds: the shipped
+// flight's CSVs and
 // ../shared/fixtures/real/navdata_logs (cut to a few KiB).
 #include "drone/dataset/dataset.hpp"
 #include "drone/dataset/raw_replay.hpp"

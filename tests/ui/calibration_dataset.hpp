@@ -1,8 +1,8 @@
 #pragma once
 // A replay dataset of the 11 real AR.Drone 2 chessboard frames (rjw57, 9x6 inner corners, 50 mm
 // squares, 640x360) built in a temporary folder (flight.json + frames.csv + frames/NNNNNN.png,
-// docs/dataset.md), for the window's calibration mode. The fixtures are read from GS_FIXTURES_DIR and
-// never copied into the repository.
+// docs/dataset.md), for the window's calibration mode. The fixtures are read from GS_FIXTURES_DIR
+// and never copied into the repository.
 
 #include "drone/core/camera_calibration.hpp"
 

@@ -1,6 +1,6 @@
 // The window replaying a flight: a flight past a pillar on the left is rendered with the virtual
-// drone's renderer and stored as a dataset (frames/ + frames.csv + flight.json, docs/dataset.md); the
-// obstacle pipeline finds the frames where it flags only the left region; the real program then
+// drone's renderer and stored as a dataset (frames/ + frames.csv + flight.json, docs/dataset.md);
+// the obstacle pipeline finds the frames where it flags only the left region; the real program then
 // replays the flight offscreen under Xvfb (lock-stepped: window frame k shows dataset frame k)
 // and the screenshot's region bars must be red on the left and green elsewhere, as decided.
 #include "app/pipeline.hpp"

@@ -3,9 +3,9 @@
 // whole estimator (Shi-Tomasi + LK + RANSAC homography) on synthetic views of a textured floor and
 // ceiling under known motion.
 //
-// Conventions (vision/odometry.hpp, docs/dataset.md): body x forward, y right, yaw clockwise seen from
-// above; world x north, y east. Image x right, y down. A downward camera has image right = body
-// right and image up = body forward; an upward camera has image up = body forward and image
+// Conventions (vision/odometry.hpp, docs/dataset.md): body x forward, y right, yaw clockwise seen
+// from above; world x north, y east. Image x right, y down. A downward camera has image right =
+// body right and image up = body forward; an upward camera has image up = body forward and image
 // right = body left.
 #include "vision/odometry.hpp"
 

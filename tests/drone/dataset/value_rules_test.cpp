@@ -1,6 +1,7 @@
 // Issue 14 points 5 and 6: every JSON reader survives every nlohmann exception (a number that
-// overflows a double crashed replay with exit 134), and every CSV reader applies docs/dataset.md 1.1's
-// value rules (finite numbers within physical bounds; empty = unknown), naming file, row, column.
+// overflows a double crashed replay with exit 134), and every CSV reader applies
+// docs/dataset.md 1.1's value rules (finite numbers within physical bounds; empty = unknown),
+// naming file, row, column.
 #include "support/dataset_fixtures.hpp"
 
 #include "drone/core/camera_calibration.hpp"

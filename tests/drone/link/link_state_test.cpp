@@ -10,7 +10,8 @@ using namespace gs::link;
 
 namespace {
 using namespace gs::test;
-constexpr std::uint32_t kBootstrapState = 0x4F800C10;  // docs/protocol.md §7.4, a real bootstrap packet
+// docs/protocol.md §7.4, a real bootstrap packet.
+constexpr std::uint32_t kBootstrapState = 0x4F800C10;
 
 // Drives a state machine with a fake time line and a scripted drone.
 struct Harness {
