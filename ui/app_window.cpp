@@ -157,6 +157,7 @@ bool write_screenshot(const std::filesystem::path& png, int w, int h, const Layo
     j["video_index"] = layout.video_index;
     j["layout"] = layout.layout_mode;
     j["video_stale"] = layout.video_stale_text;
+    j["replay_notes"] = layout.replay_notes;
     const LayoutReport::Status& st = layout.status;
     j["status"] = {{"source", st.source},   {"state", st.state},     {"activity", st.activity},
                    {"battery", st.battery}, {"link", st.link},       {"video", st.video},

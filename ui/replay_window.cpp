@@ -54,6 +54,7 @@ void ReplayWindow::draw(const GuiSnapshot& s, ViewState& v, Actions& a) {
         ImGui::PushStyleColor(ImGuiCol_Text, colors::v4(colors::kWarn));
         ImGui::TextWrapped("%s", m.c_str());
         ImGui::PopStyleColor();
+        v.layout.replay_notes.push_back(m);
     }
     if (ImGui::Button("|<")) a.replay_seek = 0;
     ImGui::SameLine();

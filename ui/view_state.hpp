@@ -83,8 +83,9 @@ struct LayoutReport {
     bool messages_at_end = false;  // the Messages window shows the newest line
     float replay_scroll_max = 0;   // > 0: the Replay window's content is taller than the window
     std::string replay_position;   // "frame N / LAST", written beside the seek slider
-    bool keys_clipped = false;     // the key help does not fit its window
-    int messages_shown = -1;       // lines in the Messages window (-1: not drawn)
+    std::vector<std::string> replay_notes;  // the Replay window's missing-input warnings as drawn
+    bool keys_clipped = false;              // the key help does not fit its window
+    int messages_shown = -1;                // lines in the Messages window (-1: not drawn)
     // Buttons a test may click: "quit.land", "calibration.capture", "calibration.save" ...
     std::vector<std::pair<std::string, Rect>> buttons;
     // The calibration mode as drawn.

@@ -2,13 +2,12 @@
 // all three regions in most frames without a word. replay and eval now say which inputs the
 // classifier lacked and what that costs (the window shows the same lines: app/session).
 #include "cli_test_util.hpp"
+#include "support/dataset_fixtures.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <string>
 
 namespace gs::test::missing_inputs {  // named: the app tests are one unity build
@@ -20,20 +19,7 @@ const fs::path kFlight = fs::path(GS_TEST_DATA_DIR) / "flights" / "ci_pillar_lef
 // The shipped flight with frames.csv cut down to the required columns.
 fs::path attitude_only_flight(const std::string& name) {
     const auto dir = scratch_dir("missing_inputs", name);
-    fs::copy(kFlight, dir / "flight", fs::copy_options::recursive);
-    std::istringstream in(read_text(kFlight / "frames.csv"));
-    std::ofstream out(dir / "flight" / "frames.csv", std::ios::trunc);
-    std::string line;
-    bool header = true;
-    while (std::getline(in, line)) {
-        // frame,t_ms,roll_deg are the first three columns the writer puts out.
-        std::size_t comma = 0;
-        for (int i = 0; i < 3 && comma != std::string::npos; ++i)
-            comma = line.find(',', comma == 0 && i == 0 ? 0 : comma + 1);
-        out << (header ? "frame,t_ms,roll_deg" : line.substr(0, comma)) << '\n';
-        header = false;
-    }
-    fs::remove(dir / "flight" / "navdata.csv");
+    copy_attitude_only(kFlight, dir / "flight");
     return dir;
 }
 

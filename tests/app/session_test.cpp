@@ -2,6 +2,7 @@
 // checked through the session's published values.
 
 #include "app/session.hpp"
+#include "support/dataset_fixtures.hpp"
 #include "support/wait.hpp"
 
 #include <gtest/gtest.h>
@@ -39,6 +40,7 @@ TEST(Session, ReplaysADatasetThroughTheClassifierAndCloses) {
     EXPECT_EQ(r.frame_count, 153);
     EXPECT_EQ(latest(s.source()).kind, SessionSource::Replay);
     EXPECT_EQ(latest(s.calibration()).origin, "dataset " + kFlight);
+    EXPECT_TRUE(r.missing_inputs.empty()) << r.missing_inputs.front();
 
     // Stepping classifies each frame once, in order.
     for (int i = 0; i < 5; ++i) ASSERT_TRUE(s.request(ReplayStep{1}));
@@ -58,6 +60,20 @@ TEST(Session, ReplaysADatasetThroughTheClassifierAndCloses) {
     ASSERT_TRUE(s.request(CloseSource{}));
     ASSERT_TRUE(wait_until([&] { return latest(s.source()).kind == SessionSource::None; }, 10s));
     EXPECT_FALSE(latest(s.replay()).open);
+}
+
+// Issue 14 point 7: the session tells the window which inputs the classifier lacks.
+TEST(Session, AFlightWithoutVelocityAndAltitudeSaysWhatTheClassifierLacks) {
+    test::TempDir tmp;
+    const auto flight = (tmp.path() / "attitude_only").string();
+    test::copy_attitude_only(kFlight, flight);
+    Session s(headless_options());
+    ASSERT_TRUE(s.request(OpenReplay{flight}));
+    ASSERT_TRUE(wait_until([&] { return latest(s.replay()).open; }, 10s))
+        << latest(s.replay()).error << latest(s.source()).error;
+    const auto missing = latest(s.replay()).missing_inputs;
+    ASSERT_EQ(missing.size(), 3u);
+    EXPECT_NE(missing[0].find("no velocity"), std::string::npos) << missing[0];
 }
 
 TEST(Session, AMissingDatasetIsReportedNotOpened) {

@@ -89,4 +89,23 @@ std::vector<std::uint8_t> fake_access_unit(bool idr, int payload, std::uint8_t f
     return au;
 }
 
+void copy_attitude_only(const std::filesystem::path& from, const std::filesystem::path& to) {
+    namespace fs = std::filesystem;
+    fs::create_directories(to.parent_path());
+    fs::copy(from, to, fs::copy_options::recursive);
+    std::istringstream in(read_file(from / "frames.csv"));
+    std::ofstream out(to / "frames.csv", std::ios::trunc);
+    std::string line;
+    bool header = true;
+    while (std::getline(in, line)) {
+        // frame,t_ms,roll_deg are the first three columns the writer puts out.
+        std::size_t end = 0;
+        for (int i = 0; i < 3 && end != std::string::npos; ++i)
+            end = line.find(',', i == 0 ? 0 : end + 1);
+        out << (header ? "frame,t_ms,roll_deg" : line.substr(0, end)) << '\n';
+        header = false;
+    }
+    fs::remove(to / "navdata.csv");
+}
+
 }  // namespace gs::test

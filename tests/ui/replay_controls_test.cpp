@@ -6,6 +6,7 @@
 #include "app/gui_adapter.hpp"
 #include "app/session.hpp"
 #include "imgui_fixture.hpp"
+#include "support/dataset_fixtures.hpp"
 #include "support/wait.hpp"
 
 #include <gtest/gtest.h>
@@ -27,14 +28,15 @@ constexpr std::int64_t kFrames = 153;
 
 class ReplayControls : public ImGuiFixture {
 protected:
-    void start(bool autoplay, const char* classifier = nullptr) {
+    void start(bool autoplay, const char* classifier = nullptr,
+               const std::string& flight = kFlight) {
         app::SessionOptions so;
         so.replay_autoplay = autoplay;
         if (classifier) so.classifier = classifier;
         session = std::make_unique<app::Session>(so);
         adapter = std::make_unique<app::GuiAdapter>(*session);
         Actions open;
-        open.replay_open = kFlight;
+        open.replay_open = flight;
         adapter->consume(open);
     }
     void TearDown() override {
@@ -195,6 +197,34 @@ TEST_F(ReplayControls, TheReplayWindowDrawsTheStateAndItsSliderSpeedsArePowersOf
             return said;
         },
         5s));
+}
+
+// Issue 14 point 7: a flight whose frames.csv holds only frame,t_ms,roll_deg (allowed) leaves
+// the flow classifier without velocity, altitude, pitch and yaw. The Replay window says so, in
+// the words replay and eval print, for as long as that flight is open; the thesis classifier
+// (roll alone) and a complete flight get no such note.
+TEST_F(ReplayControls, TheWindowSaysWhichInputsTheClassifierLacksAndWhatItCosts) {
+    gs::test::TempDir tmp;
+    const auto flight = tmp.path() / "attitude_only";
+    gs::test::copy_attitude_only(kFlight, flight);
+    const auto notes_once_open = [&](const char* classifier, const std::string& path) {
+        start(/*autoplay=*/false, classifier, path);
+        EXPECT_TRUE(run_until([&] { return snap.replay.open; }, 15s)) << path;
+        step();  // the frame that draws the opened flight's notes
+        const auto notes = gui.view().layout.replay_notes;
+        adapter.reset();
+        session.reset();
+        std::string all;
+        for (const auto& n : notes) all += n + "\n";
+        return all;
+    };
+    const std::string flow = notes_once_open(nullptr, flight.string());
+    for (const char* what : {"no velocity (vx_mps, vy_mps, vz_mps) in 100 % of the frames",
+                             "no altitude", "no attitude (pitch, yaw)", "time to contact alone"})
+        EXPECT_NE(flow.find(what), std::string::npos) << what << "\n" << flow;
+    EXPECT_EQ(flow.find("no roll"), std::string::npos) << flow;
+    EXPECT_EQ(notes_once_open("thesis", flight.string()), "");
+    EXPECT_EQ(notes_once_open(nullptr, kFlight), "");
 }
 
 // Issue 6: the centre-scale plot carries the centre threshold where it means something: for the
