@@ -4,8 +4,9 @@
 #   build-asan/  clang 14, ASan+UBSan, -O1, no GUI: the drone/ tests, then every libFuzzer target
 #                of tests/fuzz for GS_FUZZ_SECONDS (default 15) each, seeded from ../shared/fixtures
 #                (scripts/fuzz.sh; the long run is `scripts/fuzz.sh long`);
-#   build-tsan/  GCC, ThreadSanitizer, -O1, no GUI: the threaded parts of drone/ (the link against
-#                the virtual drone, the recorder, the video receiver's frame pool, the queues).
+#   build-tsan/  GCC, ThreadSanitizer, -O1, no GUI: the threaded parts (the link against the
+#                virtual drone, the recorder, the video receiver's frame pool, the queues, and
+#                app::Session without the window).
 # Prints the time each stage took at the end.
 set -euo pipefail
 cd "$(dirname "$0")"
