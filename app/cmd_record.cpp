@@ -61,6 +61,7 @@ std::string stats_json(const record::RecorderStatus& st, const link::LinkStatus&
     j["recorder"] = {{"frames", st.frames},
                      {"navdata", st.navdata},
                      {"navdata_accepted", st.navdata_accepted},
+                     {"navdata_link_span", st.navdata_link_span},
                      {"at", st.at},
                      {"drops", st.drops},
                      {"dropped_link", st.dropped_link},

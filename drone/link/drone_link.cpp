@@ -518,6 +518,7 @@ void DroneLink::navdata_loop() {
                     s.state = protocol::navdata::to_nav_state(*nd, now - start_ns_);
                     if (config_.video) nav_to_video_.push(s.state);
                     raw_event.accepted = s.state;
+                    raw_event.accepted_ordinal = stats.accepted;
                     s.data = std::move(*nd);
                     if (!subs.navdata.empty()) fan_out(subs.navdata, s);
                     nav_slot_.publish(std::move(s));

@@ -69,6 +69,9 @@ struct RawEvent {
     // start); nullopt when it was refused (bad checksum, malformed, duplicate, late). One event
     // carries both, so a recording's raw/ and navdata.csv come from the same datagrams.
     std::optional<NavState> accepted;
+    // Navdata accepted: how many samples the link had accepted, this one included (1-based), so a
+    // recorder can prove it took every accepted sample between its first and its last.
+    std::uint64_t accepted_ordinal = 0;
 
     static RawEvent of(Kind kind, TimeNs t_ns, std::span<const std::uint8_t> bytes = {},
                        std::uint64_t stream_offset = 0) {

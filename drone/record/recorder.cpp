@@ -114,6 +114,7 @@ struct Recorder::State {
     std::uint64_t dropped_reference_lost = 0, dropped_no_picture = 0, dropped_not_h264 = 0;
     std::uint64_t concealed = 0;
     std::uint64_t navdata_accepted = 0;
+    std::uint64_t first_ordinal = 0, last_ordinal = 0;  // of the accepted samples recorded
 
     // Frames waiting for a ground-truth sample after their capture.
     std::deque<link::AccessUnitEvent> pending;
@@ -226,7 +227,11 @@ void Recorder::run() {
             case link::RawEvent::Kind::Navdata:
                 // raw/navdata.bin keeps every datagram received, navdata.csv the samples the
                 // link accepted from them, in the order it accepted them.
-                if (e.accepted) ++s.navdata_accepted;
+                if (e.accepted) {
+                    ++s.navdata_accepted;
+                    if (s.first_ordinal == 0) s.first_ordinal = e.accepted_ordinal;
+                    s.last_ordinal = e.accepted_ordinal;
+                }
                 (void)w.take_navdata(e.t_ns, std::move(e.bytes), e.accepted);
                 break;
             case link::RawEvent::Kind::Video:
@@ -372,6 +377,7 @@ void Recorder::run() {
         st.frames_skipped = ws.frames_skipped + s.not_in_raw;
         st.video_connections = ws.video_connections;
         st.navdata_accepted = s.navdata_accepted;
+        st.navdata_link_span = s.first_ordinal == 0 ? 0 : s.last_ordinal - s.first_ordinal + 1;
         st.write_errors = ws.write_errors;
         st.disk_full = ws.stopped;
         if (ws.stopped) {

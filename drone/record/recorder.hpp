@@ -74,6 +74,9 @@ struct RecorderStatus {
     std::uint64_t concealed = 0;               // kept, with damage the decoder concealed
     std::uint64_t video_connections = 0;       // raw/video_connections.csv rows
     std::uint64_t navdata_accepted = 0;        // samples the link accepted while recording
+    // How many samples the link accepted from the first recorded one to the last, both included
+    // (RawEvent::accepted_ordinal): equal to navdata_accepted when none was lost in between.
+    std::uint64_t navdata_link_span = 0;
     std::uint64_t write_errors = 0;
     bool disk_full = false;  // stopped because the disk is full (or another write failed)
     std::string error;       // the first I/O error, as the pilot reads it

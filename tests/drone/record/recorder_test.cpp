@@ -318,6 +318,8 @@ TEST(RecorderFaults, AResetInsideAnIdrAndReorderedNavdataLeaveADatasetThatReplay
     }
     // navdata.csv: what the link accepted, in order (no duplicate, no late packet).
     ASSERT_EQ(d->navdata().size(), st.navdata_accepted);
+    // ... every one the link accepted from the first recorded to the last, none lost between.
+    EXPECT_EQ(st.navdata_link_span, st.navdata_accepted);
     for (std::size_t i = 1; i < d->navdata().size(); ++i) {
         ASSERT_TRUE(d->navdata()[i].seq);
         EXPECT_GT(*d->navdata()[i].seq, *d->navdata()[i - 1].seq) << "row " << i;
