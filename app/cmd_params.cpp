@@ -64,7 +64,7 @@ const CommandRegistration reg(70, [](CLI::App& root) {
     sub->add_option("--classifier", o->classifiers, "Only this classifier's (repeatable)")
         ->check(CLI::IsMember(names));
     sub->add_flag("--odometry", o->odometry, "Only the visual odometry's");
-    sub->callback([o] { run(*o); });
+    set_action(*sub, [o] { run(*o); });
 });
 
 }  // namespace

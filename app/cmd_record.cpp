@@ -9,8 +9,8 @@
 #include "drone/dataset/csv.hpp"
 #include "drone/link/drone_link.hpp"
 #include "drone/record/recorder.hpp"
+#include "drone/sim/loopback.hpp"
 #include "drone/sim/scenarios.hpp"
-#include "drone/sim/virtual_drone.hpp"
 #include "vision/classifier.hpp"
 
 #include <nlohmann/json.hpp>
@@ -156,19 +156,12 @@ int run(const Opts& o) {
     if (!o.sim.empty()) {
         auto scene = sim::resolve_scene(o.sim);
         if (!scene) throw fail(sim::to_string(scene.error()));
-        sim::VirtualDroneOptions vo;
-        vo.bind_address = "127.0.0.1";
-        vo.at_port = vo.navdata_port = vo.video_port = vo.control_port = 0;
-        vo.scene = std::move(*scene);
+        sim::VirtualDroneOptions vo = sim::loopback_options(std::move(*scene));
         vo.autopilot = o.autopilot;
         drone = std::make_unique<sim::VirtualDrone>(std::move(vo));
         auto started = drone->start();
         if (!started) throw fail("cannot start the virtual drone: " + started.error().message);
-        lc.drone_address = lc.bind_address = "127.0.0.1";
-        lc.at_port = drone->at_port();
-        lc.navdata_port = drone->navdata_port();
-        lc.video_port = drone->video_port();
-        lc.control_port = drone->control_port();
+        lc = sim::link_config(*drone);
     } else {
         lc.drone_address = o.drone;
         if (o.port_base != 0) {

@@ -1,12 +1,20 @@
 #pragma once
-// Between the Session and the window, on the UI thread: fill() copies the session's latest values
-// (link status and counters, the navdata sample, the classified frame and its result, replay and
-// classifier state, messages) into one ui::GuiSnapshot per frame; consume() turns the window's
-// Actions into typed drone commands (DroneLink::submit, never blocking) and session requests.
+// Between the Session and the window, on the UI thread. Snapshot in, actions out:
+//   fill()    copies the session's latest values into one ui::GuiSnapshot per frame and only
+//             reads: each view has its file (app/gui_link.cpp link status and byte rates,
+//             gui_telemetry.cpp navdata, gui_video.cpp the classified frame and overlay,
+//             gui_plots.cpp plot series, gui_calibration.cpp calibration status; the settings
+//             view, replay and recording status here in gui_adapter.cpp).
+//   consume() turns the window's Actions into typed drone commands (DroneLink::submit, never
+//             blocking) and session requests (app/gui_actions.cpp): the only path that sends.
+//             The pilot's stick input goes through app/pilot_commands.hpp, where a filter between
+//             the pilot and the AT sender (a collision-prevention assist) plugs in.
 // Results of commands arrive later through their futures and are shown as messages, so a refused
 // take-off says why. Built only with the window (GS_HAVE_GUI).
 #ifdef GS_HAVE_GUI
 
+#include "app/gui_rate.hpp"
+#include "app/pilot_commands.hpp"
 #include "app/session.hpp"
 #include "ui/actions.hpp"
 #include "ui/snapshot.hpp"
@@ -39,20 +47,10 @@ public:
     // Adds a line to the window's message log.
     void note(std::string m, ui::LogLevel level = ui::LogLevel::Info);
 
-    std::uint64_t moves_sent() const { return moves_sent_; }
-    std::uint64_t hovers_sent() const { return hovers_sent_; }
+    std::uint64_t moves_sent() const { return pilot_.moves(); }
+    std::uint64_t hovers_sent() const { return pilot_.hovers(); }
 
 private:
-    // Items per second over the last second, from a counter sampled at every fill(): a stream
-    // that stops reads 0 a second later, and a burst after a stall is spread over the window.
-    struct SlidingRate {
-        static constexpr std::size_t kSamples = 256;
-        std::array<std::pair<TimeNs, std::uint64_t>, kSamples> ring{};
-        std::size_t head = 0, size = 0;
-        double hz = kUnknown;
-        double update(std::uint64_t count, TimeNs now);
-        void reset() { *this = SlidingRate{}; }
-    };
     struct Pending {
         std::string what;
         std::future<link::CommandResult> result;
@@ -61,13 +59,17 @@ private:
     };
 
     void on_source_change();
+    // Views (read only; each in its file, see above).
     void fill_link(ui::GuiSnapshot& s, TimeNs now);
     void fill_telemetry(ui::GuiSnapshot& s);
     void fill_output(ui::GuiSnapshot& s);
     void fill_calibration(ui::GuiSnapshot& s);
     void fill_config(ui::GuiSnapshot& s);
     void fill_activity(ui::GuiSnapshot& s, const OpeningInfo& opening, bool opening_pending);
+    // Actions (app/gui_actions.cpp).
     void poll_results();
+    void send_due();  // what the adapter sends by itself once connected (start camera, read-back)
+    void send_pilot(const ui::Actions& a);
     void command(link::Command c, bool report_success = false, std::string ok_text = {});
 
     Session& session_;
@@ -91,6 +93,7 @@ private:
     SlidingRate at_rate_, nav_rate_, video_rate_, replay_rate_;
     TimeNs last_video_frame_ns_ = 0;  // the link's newest frame (live)
     bool video_connected_ = false;
+    bool link_connected_ = false;  // the link's state at the last fill()
     // The emergency the drone reports was commanded from here (key, button) just before.
     TimeNs emergency_sent_ns_ = 0;
     bool prev_emergency_bit_ = false, emergency_commanded_ = false;
@@ -102,9 +105,7 @@ private:
     bool config_requested_ = false;  // a read-back asked for this source
 
     // Piloting: manual input is sent as Move while it lasts, then one Hover.
-    bool manual_ = false;
-    ui::PilotInput last_pilot_;
-    std::uint64_t moves_sent_ = 0, hovers_sent_ = 0;
+    PilotCommands pilot_;
     int camera_channel_ = 0;                   // the channel the C key asked for last
     CameraId shown_camera_ = CameraId::Front;  // the camera of the frames shown
     bool sim_autopilot_ = false;

@@ -14,6 +14,11 @@
 // subscription of 2 frames, oldest dropped; replay: the source's pacing) through the classifier
 // and publishes the results. Flight commands go straight to the link (DroneLink::submit never
 // blocks), so the UI never waits on the network, the disk or the classifier.
+//
+// The implementation is one file per concern (app/session_current.hpp lists them): source
+// lifecycle, replay control, recording control, camera tracking, frame processing, and the
+// requests, handled by one visitor with a handler per request type (a new type left unhandled
+// does not compile).
 
 #include "app/live_odometry.hpp"
 #include "app/pipeline.hpp"
@@ -254,30 +259,44 @@ public:
     std::uint64_t frames_processed() const { return processed_.load(); }
 
 private:
-    struct Current;
+    struct Current;  // the open source (app/session_current.hpp)
+
+    // The thread, requests (the visitor) and publishing: app/session.cpp.
     void run();
     void handle(SessionRequest& r);
+    void message(std::string m);
+    void publish_source(std::string error = {});
+    void publish_replay();
+    void publish_classifier(std::string error = {});
+    // Source lifecycle: app/session_sources.cpp.
     void open_drone(const std::string& address);
     void open_sim(const StartSim& s);
     void open_replay(const std::string& path);
     void close_current();
-    void publish_source(std::string error = {});
-    void publish_replay();
-    void publish_classifier(std::string error = {});
-    void process(FrameSample& f, TimeNs recv_ns);
+    CameraCalibration drone_calibration(std::string& origin) const;
+    // Replay control: app/session_replay.cpp.
+    bool replay_open();  // false (and said so) without a replay
+    void replay_control(const ReplayPlay& q);
+    void replay_control(const ReplayStep& q);
+    void replay_control(const ReplaySeek& q);
+    void replay_control(const ReplaySpeed& q);
+    void replay_control(const ReplayLoop& q);
     bool replay_tick(TimeNs& wait_ns);
     bool replay_step(int delta);
-    void message(std::string m);
+    // Recording control: app/session_recording.cpp.
     void record_start(const std::string& dir);
     void record_stop();
     void publish_recording(TimeNs now);
-    void use_calibration(const CameraCalibration& c, std::string origin);
-    void publish_calibration();
-    void reset_vision();
+    // Camera tracking and the calibration in use: app/session_camera.cpp.
     void update_camera();
     void set_camera(CameraId camera, const char* why);
-    CameraCalibration drone_calibration(std::string& origin) const;
+    void use_calibration(const CameraCalibration& c, std::string origin);
+    void apply_calibration(const ApplyCalibration& q);
+    void publish_calibration();
     vision::CalibrationMode& calibration_worker();
+    // Frame processing: app/session_frames.cpp.
+    void process(FrameSample& f, TimeNs recv_ns);
+    void reset_vision();
 
     SessionOptions opts_;
     Clock& clock_;

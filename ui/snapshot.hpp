@@ -55,8 +55,8 @@ struct StreamHealth {
     // Packets (navdata), frames (video), datagrams (AT) per s, over a sliding window of the
     // items received: falls to 0 when they stop.
     double rate_hz = kUnknown;
-    double age_ms = kUnknown;  // time since the last packet
-    double bytes_per_s = kUnknown;  // counted by the link
+    double age_ms = kUnknown;       // time since the last packet
+    double bytes_per_s = kUnknown;  // the bytes the link counts, over the same sliding window
     std::uint64_t packets = 0;
     std::uint64_t gaps = 0;   // sequence gaps (missing sequence numbers)
     std::uint64_t drops = 0;  // dropped on our side (queue full, late, reordered)

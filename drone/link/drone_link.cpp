@@ -383,7 +383,7 @@ void DroneLink::navdata_loop() {
     LinkStateMachine sm(config_.setup);
     LinkActions actions;
     NavdataStats stats;
-    RateMeter rate, byte_rate;
+    RateMeter rate;
     std::vector<std::pair<std::uint64_t, NavRequest>> pending;  // awaiting the machine's verdict
     std::array<std::uint8_t, kNavdataMax + 1> buf{};
     std::uint64_t dumps = 0;
@@ -492,7 +492,6 @@ void DroneLink::navdata_loop() {
             } else {
                 ++stats.datagrams;
                 stats.bytes += got->size;
-                byte_rate.tick(now, got->size);
                 // Handed to recorders with the link's verdict, below (one event per datagram).
                 RawEvent raw_event = RawEvent::of(RawEvent::Kind::Navdata, now);
                 if (!subs.raw.empty()) raw_event.bytes.assign(bytes.begin(), bytes.end());
@@ -532,7 +531,6 @@ void DroneLink::navdata_loop() {
         apply(now);
         if (now - last_publish >= ms_to_ns(20)) {
             stats.rate_hz = rate.rate_hz(now);
-            stats.bytes_per_s = byte_rate.rate_hz(now);
             nav_stats_slot_.publish(stats);
             publish_machine();
             last_publish = now;
@@ -567,7 +565,6 @@ void DroneLink::at_loop() {
     prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
     std::vector<std::string> datagrams;
     std::array<std::uint8_t, 2048> drain{};
-    RateMeter byte_rate;
     std::uint64_t subs_gen = 0;
     Subscribers subs;
     TimeNs next = clock_.now_ns();
@@ -623,7 +620,6 @@ void DroneLink::at_loop() {
                 ++stats.send_errors;
             } else {
                 stats.bytes_sent += d.size();
-                byte_rate.tick(now, d.size());
             }
             if (!subs.raw.empty()) {
                 const auto* p = reinterpret_cast<const std::uint8_t*>(d.data());
@@ -650,14 +646,13 @@ void DroneLink::at_loop() {
         last_cycle = now;
         stats.counters = sched.counters();
         stats.intent = sched.intent();
-        stats.bytes_per_s = byte_rate.rate_hz(now);
         at_stats_slot_.publish(stats);
     }
 }
 
 void DroneLink::video_loop() {
     VideoStats stats;
-    RateMeter rate, byte_rate;
+    RateMeter rate;
     // The one receive pipeline (drone/video/receiver.hpp): framing, decoding into pooled
     // buffers, capture times; connections are announced to it so no frame spans two.
     video::ReceiverOptions ro;
@@ -686,7 +681,6 @@ void DroneLink::video_loop() {
         stats.pool_exhausted = r.pool_exhausted;
         stats.unsupported_codec_frames = r.not_h264;
         stats.fps = rate.rate_hz(now);
-        stats.bytes_per_s = byte_rate.rate_hz(now);
         video_stats_slot_.publish(stats);
         last_publish = now;
     };
@@ -730,7 +724,6 @@ void DroneLink::video_loop() {
             }
             last_data = now;
             stats.bytes += *got;
-            byte_rate.tick(now, *got);
             const std::span<const std::uint8_t> chunk(buf.data(), *got);
             if (!subs.raw.empty())
                 fan_out(subs.raw,

@@ -105,7 +105,7 @@ struct AccessUnitEvent {
     cv::Mat image;  // the decoded frame (a pooled buffer: drop it soon)
 };
 
-// Events (or bytes) per second over the last second.
+// Events per second over the last second (packet and frame rates).
 class RateMeter {
 public:
     void tick(TimeNs now, std::uint64_t count = 1);
@@ -124,8 +124,9 @@ struct NavdataStats {
     std::uint64_t checksum_failures = 0;
     std::uint64_t foreign_dropped = 0;  // from any other address or port
     std::uint64_t oversize = 0;         // datagrams larger than the 4096-byte maximum
-    std::uint64_t bytes = 0;            // bytes of the datagrams from the drone's address
-    double bytes_per_s = 0;             // over the last second
+    // Bytes of the datagrams from the drone's address. Counted only: a rate is the reader's
+    // (the window's sliding window over this total, app/gui_link.cpp), unknown until measured.
+    std::uint64_t bytes = 0;
     double rate_hz = 0;
     TimeNs last_ns = 0;
     std::string last_error;
@@ -133,8 +134,7 @@ struct NavdataStats {
 
 struct VideoStats {
     bool connected = false;
-    std::uint64_t bytes = 0;
-    double bytes_per_s = 0;  // over the last second
+    std::uint64_t bytes = 0;  // received on the video connection (counted only, as navdata's)
     std::uint64_t pave_frames = 0;
     std::uint64_t decoded = 0;
     std::uint64_t decode_errors = 0;
@@ -161,8 +161,7 @@ struct VideoStats {
 struct AtStats {
     AtCounters counters;
     std::uint64_t send_errors = 0;
-    std::uint64_t bytes_sent = 0;  // AT datagram bytes handed to the socket
-    double bytes_per_s = 0;        // over the last second
+    std::uint64_t bytes_sent = 0;  // AT datagram bytes handed to the socket (counted only)
     double period_ms_last = 0;
     double period_ms_max = 0;  // worst gap between two cycles since start
     // Every gap between two cycles since start: bin i counts gaps in [i, i + 1) ms, the last bin

@@ -1,5 +1,6 @@
-// app::Session without the window (app_core only): the same source lifecycle the GUI drives,
-// checked through the session's published values.
+// app::Session without the window (app_core only), checked through the session's published
+// values: the source lifecycle (open, switch, close), replay control, recording control and the
+// request visitor's other handlers (classifier, calibration).
 
 #include "app/session.hpp"
 #include "support/dataset_fixtures.hpp"
@@ -8,7 +9,9 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <filesystem>
 #include <string>
+#include <vector>
 
 namespace gs::app {
 namespace {
@@ -28,6 +31,26 @@ SessionOptions headless_options() {
 template <class T>
 T latest(const LatestValue<T>& slot) {
     return slot.latest().value_or(T{});
+}
+
+// Reads the session's messages until one contains `text` (kept in `seen` for the failure text).
+bool wait_message(Session& s, const std::string& text, std::vector<std::string>& seen) {
+    return wait_until(
+               [&] {
+                   while (auto m = s.next_message()) {
+                       seen.push_back(*m);
+                       if (m->find(text) != std::string::npos) return true;
+                   }
+                   return false;
+               },
+               10s)
+        .has_value();
+}
+
+std::string joined(const std::vector<std::string>& v) {
+    std::string out;
+    for (const auto& m : v) out += m + "\n";
+    return out;
 }
 
 TEST(Session, ReplaysADatasetThroughTheClassifierAndCloses) {
@@ -106,6 +129,154 @@ TEST(Session, FliesTheVirtualDroneAndClassifiesItsVideo) {
 
     ASSERT_TRUE(s.request(CloseSource{}));
     ASSERT_TRUE(wait_until([&] { return latest(s.source()).kind == SessionSource::None; }, 10s));
+}
+
+TEST(Session, SwitchesSourcesWithoutAClose) {
+    Session s(headless_options());
+    ASSERT_TRUE(s.request(OpenReplay{kFlight}));
+    ASSERT_TRUE(wait_until([&] { return latest(s.replay()).open; }, 10s));
+    const SourceInfo replay = latest(s.source());
+    EXPECT_EQ(replay.opens_handled, 1u);
+    EXPECT_EQ(latest(s.opening()).count, 1u);
+
+    // Another source replaces the replay: a new id, the replay closed, the drone's calibration.
+    ASSERT_TRUE(s.request(StartSim{"thesis_pillar_left", false}));
+    EXPECT_EQ(latest(s.opening()).kind, SessionSource::Sim);  // said before the thread sees it
+    ASSERT_TRUE(wait_until([&] { return latest(s.source()).kind == SessionSource::Sim; }, 10s))
+        << latest(s.source()).error;
+    const SourceInfo sim = latest(s.source());
+    EXPECT_GT(sim.id, replay.id);
+    EXPECT_EQ(sim.opens_handled, 2u);
+    EXPECT_TRUE(sim.link);
+    EXPECT_FALSE(latest(s.replay()).open);
+    EXPECT_EQ(latest(s.calibration()).source_id, sim.id);
+    EXPECT_NE(latest(s.calibration()).origin, "dataset " + kFlight);
+
+    // And back: the link and the virtual drone are gone from the published source.
+    ASSERT_TRUE(s.request(OpenReplay{kFlight}));
+    ASSERT_TRUE(wait_until([&] { return latest(s.source()).kind == SessionSource::Replay; }, 10s));
+    const SourceInfo again = latest(s.source());
+    EXPECT_GT(again.id, sim.id);
+    EXPECT_FALSE(again.link);
+    EXPECT_FALSE(again.virtual_drone);
+    EXPECT_EQ(again.opens_handled, 3u);
+    EXPECT_EQ(latest(s.calibration()).origin, "dataset " + kFlight);
+}
+
+TEST(Session, ReplayControlsSeekStepPaceAndLoop) {
+    Session s(headless_options());
+    std::vector<std::string> seen;
+    // Without a replay the controls are refused, and said so.
+    ASSERT_TRUE(s.request(ReplaySeek{3}));
+    ASSERT_TRUE(wait_message(s, "no replay open", seen)) << joined(seen);
+
+    ASSERT_TRUE(s.request(OpenReplay{kFlight}));
+    ASSERT_TRUE(wait_until([&] { return latest(s.replay()).open; }, 10s));
+    EXPECT_FALSE(latest(s.replay()).playing);  // headless_options: no autoplay
+
+    // A seek while paused shows the frame there; past the end it is clamped to the last frame.
+    ASSERT_TRUE(s.request(ReplaySeek{40}));
+    ASSERT_TRUE(wait_until([&] { return latest(s.replay()).frame == 40; }, 10s))
+        << latest(s.replay()).frame;
+    ASSERT_TRUE(s.request(ReplaySeek{1'000'000}));
+    ASSERT_TRUE(wait_until([&] { return latest(s.replay()).frame == 152; }, 10s))
+        << latest(s.replay()).frame;
+    // One step back.
+    ASSERT_TRUE(s.request(ReplayStep{-1}));
+    ASSERT_TRUE(wait_until([&] { return latest(s.replay()).frame == 151; }, 10s))
+        << latest(s.replay()).frame;
+    ASSERT_TRUE(wait_until(
+        [&] {
+            const auto out = latest(s.output());
+            return out && out->frame.index == 151;
+        },
+        10s));
+
+    // Speed is clamped to the pacing's range; loop and play are kept as asked.
+    ASSERT_TRUE(s.request(ReplaySpeed{100.0}));
+    ASSERT_TRUE(s.request(ReplayLoop{true}));
+    ASSERT_TRUE(wait_until([&] { return latest(s.replay()).loop; }, 10s));
+    EXPECT_DOUBLE_EQ(latest(s.replay()).speed, Pacing::kMaxSpeed);
+    ASSERT_TRUE(s.request(ReplaySpeed{0.0}));
+    ASSERT_TRUE(wait_until([&] { return latest(s.replay()).speed == Pacing::kMinSpeed; }, 10s));
+    ASSERT_TRUE(s.request(ReplayPlay{true}));
+    ASSERT_TRUE(wait_until([&] { return latest(s.replay()).playing; }, 10s));
+    ASSERT_TRUE(s.request(ReplayPlay{false}));
+    ASSERT_TRUE(wait_until([&] { return !latest(s.replay()).playing; }, 10s));
+}
+
+TEST(Session, RecordsALiveSourceAndStops) {
+    Session s(headless_options());
+    std::vector<std::string> seen;
+    // A replay is already recorded: refused, said so, nothing published as recording.
+    ASSERT_TRUE(s.request(OpenReplay{kFlight}));
+    ASSERT_TRUE(wait_until([&] { return latest(s.replay()).open; }, 10s));
+    ASSERT_TRUE(s.request(RecordStart{}));
+    ASSERT_TRUE(wait_message(s, "recording needs a drone", seen)) << joined(seen);
+    EXPECT_FALSE(s.recording().latest());
+
+    ASSERT_TRUE(s.request(StartSim{"thesis_pillar_left", false}));
+    ASSERT_TRUE(wait_until([&] { return latest(s.source()).kind == SessionSource::Sim; }, 10s))
+        << latest(s.source()).error;
+    const std::filesystem::path dir =
+        std::filesystem::path(::testing::TempDir()) / "session_test_recording";
+    std::filesystem::remove_all(dir);
+    ASSERT_TRUE(s.request(RecordStart{dir.string()}));
+    ASSERT_TRUE(wait_until(
+        [&] {
+            const RecordingInfo r = latest(s.recording());
+            return r.status.recording && r.status.frames >= 5 && r.status.navdata > 0;
+        },
+        20s))
+        << latest(s.recording()).status.error << joined(seen);
+    // The status is republished while recording, with the free space where it writes.
+    const RecordingInfo during = latest(s.recording());
+    EXPECT_EQ(during.last_path, dir.string());
+    EXPECT_TRUE(known(during.disk_free_bytes));
+    EXPECT_GT(during.status.bytes, 0u);
+
+    ASSERT_TRUE(s.request(RecordStop{}));
+    ASSERT_TRUE(wait_until([&] { return !latest(s.recording()).status.recording; }, 10s));
+    const RecordingInfo after = latest(s.recording());
+    EXPECT_EQ(after.last_path, dir.string());
+    EXPECT_GE(after.status.frames, during.status.frames);
+    EXPECT_TRUE(std::filesystem::exists(dir / "flight.json"));
+    EXPECT_TRUE(std::filesystem::exists(dir / "frames.csv"));
+    ASSERT_TRUE(wait_message(s, "recording stopped", seen)) << joined(seen);
+    std::filesystem::remove_all(dir);
+}
+
+TEST(Session, ClassifierAndCalibrationRequestsAreHandled) {
+    Session s(headless_options());
+    std::vector<std::string> seen;
+    const ClassifierInfo first = latest(s.classifier());
+    ASSERT_FALSE(first.available.empty());
+
+    ASSERT_TRUE(s.request(SelectClassifier{"no_such_classifier"}));
+    ASSERT_TRUE(wait_until([&] { return !latest(s.classifier()).error.empty(); }, 10s));
+    EXPECT_EQ(latest(s.classifier()).active, first.active);
+
+    const std::string other = first.available.back();
+    ASSERT_TRUE(s.request(SelectClassifier{other}));
+    ASSERT_TRUE(wait_until(
+        [&] {
+            const ClassifierInfo c = latest(s.classifier());
+            return c.active == other && c.error.empty();
+        },
+        10s));
+    ASSERT_TRUE(s.request(SetClassifierParam{"no_such_parameter", 1.0}));
+    ASSERT_TRUE(wait_until([&] { return !latest(s.classifier()).error.empty(); }, 10s));
+
+    // An invalid calibration is refused, a valid one applied (and said so).
+    ASSERT_TRUE(s.request(ApplyCalibration{CameraCalibration{}, "nothing"}));
+    ASSERT_TRUE(wait_message(s, "is not valid", seen)) << joined(seen);
+    CameraCalibration cam = latest(s.calibration()).camera;
+    ASSERT_TRUE(cam.valid());
+    cam.fx *= 1.01;
+    ASSERT_TRUE(s.request(ApplyCalibration{cam, "a test"}));
+    ASSERT_TRUE(wait_until([&] { return latest(s.calibration()).origin == "a test"; }, 10s));
+    EXPECT_DOUBLE_EQ(latest(s.calibration()).camera.fx, cam.fx);
+    ASSERT_TRUE(wait_message(s, "calibration applied", seen)) << joined(seen);
 }
 
 }  // namespace

@@ -6,8 +6,9 @@
 #   drone/protocol   core                  drone/transport  core
 #   drone/video      core protocol         drone/link       core protocol transport video
 #   drone/dataset    core protocol video   drone/record     core protocol video link dataset
-#   drone/sim        core protocol transport video dataset record (the virtual drone; nothing
-#                    below it includes sim)
+#   drone/sim        core protocol transport video link dataset record (the virtual drone;
+#                    nothing below it includes sim; it names the link only to build the
+#                    LinkConfig that reaches it, drone/sim/loopback.hpp)
 #   vision           drone/core only       ui               drone/core drone/protocol vision
 #   app              anything
 # and no file outside ui/ and app's GUI part (app/gui_*, app/cmd_gui.cpp) includes ImGui, GLFW or
@@ -27,7 +28,7 @@ set(allowed_drone/link "drone/core;drone/protocol;drone/transport;drone/video;dr
 set(allowed_drone/dataset "drone/core;drone/protocol;drone/video;drone/dataset")
 set(allowed_drone/record "drone/core;drone/protocol;drone/video;drone/link;drone/dataset;drone/record")
 set(allowed_drone/sim
-    "drone/core;drone/protocol;drone/transport;drone/video;drone/dataset;drone/record;drone/sim")
+    "drone/core;drone/protocol;drone/transport;drone/video;drone/link;drone/dataset;drone/record;drone/sim")
 set(allowed_vision "drone/core;vision")
 set(allowed_ui "drone/core;drone/protocol;vision;ui")
 

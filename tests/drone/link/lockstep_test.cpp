@@ -3,9 +3,9 @@
 // same flight. The offscreen window relies on it (tests/ui/cockpit_lockstep_test.cpp).
 #include "drone/core/clock.hpp"
 #include "drone/link/drone_link.hpp"
+#include "drone/sim/loopback.hpp"
 #include "drone/sim/scenarios.hpp"
 #include "drone/sim/virtual_drone.hpp"
-#include "support/virtual_drone.hpp"
 
 #include <gtest/gtest.h>
 
@@ -31,12 +31,12 @@ std::vector<Step> lockstepped_flight(int steps, bool slow) {
     auto scene = sim::resolve_scene("thesis_pillar_left");
     EXPECT_TRUE(scene);
     if (!scene) return {};
-    sim::VirtualDroneOptions vo = loopback_drone_options(std::move(*scene));
+    sim::VirtualDroneOptions vo = sim::loopback_options(std::move(*scene));
     vo.autopilot = true;
     vo.clock = &clock;
     sim::VirtualDrone drone(std::move(vo));
     EXPECT_TRUE(drone.start());
-    link::DroneLink link(link_config_for(drone), clock);
+    link::DroneLink link(sim::link_config(drone), clock);
     EXPECT_TRUE(link.start());
     // The video connection comes first (real time), then the flight (simulated time).
     const auto deadline = std::chrono::steady_clock::now() + 10s;

@@ -8,9 +8,9 @@
 #include "drone/dataset/video_frames.hpp"
 #include "drone/link/drone_link.hpp"
 #include "drone/record/recorder.hpp"
+#include "drone/sim/loopback.hpp"
 #include "drone/sim/scenarios.hpp"
 #include "drone/sim/virtual_drone.hpp"
-#include "support/virtual_drone.hpp"
 #include "support/wait.hpp"
 
 #include <gtest/gtest.h>
@@ -43,14 +43,14 @@ struct Flight {
             error = sim::to_string(scene.error());
             return;
         }
-        sim::VirtualDroneOptions vo = test::loopback_drone_options(*scene);
+        sim::VirtualDroneOptions vo = sim::loopback_options(*scene);
         vo.autopilot = true;
         drone = std::make_unique<sim::VirtualDrone>(vo);
         if (auto s = drone->start(); !s) {
             error = s.error().message;
             return;
         }
-        link = std::make_unique<link::DroneLink>(test::link_config_for(*drone));
+        link = std::make_unique<link::DroneLink>(sim::link_config(*drone));
         if (auto s = link->start(); !s) {
             error = s.error().message;
             return;
