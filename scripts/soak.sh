@@ -26,10 +26,11 @@ echo "soak: ${minutes} min, ports $port.., work in $work"
   --reboot-at $((secs / 2)) --boot-ms 3000 >"$work/sim.log" 2>&1 &
 sim=$!
 trap 'kill "$sim" 2>/dev/null || true' EXIT
-sleep 1
+# Ready when its navdata port is bound (a loaded machine takes seconds to start it).
+for _ in $(seq 150); do ss -Hunl "sport = :$port" | grep -q . && break; sleep 0.2; done
 timer=()
 [[ -x /usr/bin/time ]] && timer=(/usr/bin/time -v)  # peak memory, when the tool is there
-"${timer[@]}" "$bin" record --drone 127.0.0.1 --port-base "$port" --seconds "$secs" \
+"${timer[@]}" "$bin" record --drone 127.0.0.1 --port-base "$port" --seconds "$secs" --connect-timeout 30 \
   --quiet --out "$work/flight" --stats "$work/record.json" >"$work/record.log" 2>"$work/time.log" ||
   { cat "$work/record.log"; echo "soak: record failed"; exit 1; }
 cat "$work/record.log"

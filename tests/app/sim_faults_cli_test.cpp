@@ -32,7 +32,8 @@ bool wait_until(const std::function<bool()>& pred, std::chrono::milliseconds lim
 
 TEST(SimCli, FaultKnobsFromTheCommandLineReachTheLink) {
     const auto dir = scratch_dir("sim_faults", "run");
-    const int base = 31000 + ::getpid() % 3000 * 10;
+    // Below Linux's ephemeral range (32768-60999), where the other tests' sockets take theirs.
+    const int base = 20000 + ::getpid() % 1200 * 10;
     const std::string log = (dir / "sim.txt").string();
     const std::string base_s = std::to_string(base);
     const pid_t pid = ::fork();
@@ -41,8 +42,8 @@ TEST(SimCli, FaultKnobsFromTheCommandLineReachTheLink) {
         const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
         ::dup2(fd, STDOUT_FILENO);
         ::dup2(fd, STDERR_FILENO);
-        ::execl(GS_BINARY, GS_BINARY, "sim", "--port-base", base_s.c_str(), "--seconds", "12",
-                "--loss", "0.3", "--reboot-at", "6", "--boot-ms", "400", "--video-reset-every", "2",
+        ::execl(GS_BINARY, GS_BINARY, "sim", "--port-base", base_s.c_str(), "--seconds", "16",
+                "--loss", "0.3", "--reboot-at", "10", "--boot-ms", "400", "--video-reset-every", "2",
                 static_cast<char*>(nullptr));
         ::_exit(127);
     }
@@ -56,7 +57,7 @@ TEST(SimCli, FaultKnobsFromTheCommandLineReachTheLink) {
         link::DroneLink link(lc);
         ASSERT_TRUE(link.start());
         EXPECT_TRUE(
-            wait_until([&] { return link.state() == link::ConnectionState::Connected; }, 6s))
+            wait_until([&] { return link.state() == link::ConnectionState::Connected; }, 10s))
             << link.status().reason;
         EXPECT_TRUE(wait_until([&] { return link.status().machine.drone_restarts >= 1; }, 15s))
             << link.status().reason;
