@@ -8,6 +8,7 @@
 #include "drone/sim/scene.hpp"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
