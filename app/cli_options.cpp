@@ -4,12 +4,14 @@
 #include "app/replay_run.hpp"
 #include "vision/classifier.hpp"
 
+#include <sched.h>
 #include <sys/stat.h>
 
 #include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <thread>
 
 namespace gs::app {
 
@@ -179,6 +181,49 @@ CLI::Validator unsigned_integer() {
             return {};
         },
         "", "unsigned integer");
+}
+
+int usable_cores() {
+    cpu_set_t set;
+    CPU_ZERO(&set);
+    if (::sched_getaffinity(0, sizeof set, &set) == 0) {
+        const int n = CPU_COUNT(&set);
+        if (n > 0) return n;
+    }
+    return std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+}
+
+CLI::Option* add_jobs_option(CLI::App& sub, int& jobs, const std::string& what) {
+    jobs = usable_cores();
+    return sub
+        .add_option("--jobs,-j", jobs,
+                    what + " in parallel (default: every core this process may use, " +
+                        std::to_string(jobs) + " here)")
+        ->check(CLI::Range(1, 256));
+}
+
+CLI::Option* add_shard_option(CLI::App& sub, Shard& shard, const std::string& what) {
+    return sub
+        .add_option_function<std::string>(
+            "--shard",
+            [&shard](const std::string& text) {
+                int k = 0, n = 0;
+                const char* b = text.data();
+                const char* e = b + text.size();
+                const auto slash = text.find('/');
+                auto [p1, ec1] = std::from_chars(b, b + std::min(slash, text.size()), k);
+                bool ok = slash != std::string::npos && ec1 == std::errc() && p1 == b + slash;
+                if (ok) {
+                    auto [p2, ec2] = std::from_chars(b + slash + 1, e, n);
+                    ok = ec2 == std::errc() && p2 == e && n >= 1 && n <= 100000 && k >= 1 && k <= n;
+                }
+                if (!ok)
+                    throw CLI::ValidationError(
+                        "--shard", "expected K/N with 1 <= K <= N <= 100000, got '" + text + "'");
+                shard = Shard{k, n};
+            },
+            what)
+        ->type_name("K/N");
 }
 
 std::optional<std::string> check_output_dir(const fs::path& dir,

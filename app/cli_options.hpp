@@ -75,6 +75,24 @@ CLI::Validator unsigned_integer();
                                                           std::initializer_list<const char*> own,
                                                           bool force);
 
+// --jobs,-j N: how many flights a batch command (eval, generate --suite) works on at once; the
+// default is every core this process may run on (its CPU affinity, which taskset, cgroups and
+// batch schedulers such as Slurm restrict), so a job array's tasks use what they were given.
+int usable_cores();
+CLI::Option* add_jobs_option(CLI::App& sub, int& jobs, const std::string& what);
+
+// --shard K/N: the K-th of N parts of a batch (K from 1 to N), for splitting it across
+// processes or machines: the part holds the flights whose index in the batch's sorted list,
+// counted from 0, is K-1 modulo N ("every N-th flight"). {1, 1} is the whole batch.
+struct Shard {
+    int k = 1, n = 1;
+    bool whole() const { return n == 1; }
+    bool holds(std::size_t index) const {
+        return static_cast<int>(index % static_cast<std::size_t>(n)) == k - 1;
+    }
+};
+CLI::Option* add_shard_option(CLI::App& sub, Shard& shard, const std::string& what);
+
 // --classifier NAME (thesis or flow) and --set key=value (repeatable).
 void add_classifier_options(CLI::App& sub, std::string& classifier, std::vector<std::string>& set);
 

@@ -35,10 +35,56 @@ void TrajectoryTracker::configure(const CameraCalibration& calib, const TrackerP
     reset();
 }
 
+void TrajectoryTracker::compensate_gain() {
+    cv::Mat& g = grey_track_;
+    const int H = g.rows, W = g.cols;
+    const int B = std::clamp(p_.gain_bands, 1, std::max(1, H / 2));
+    row_mean_.resize(std::size_t(H));
+    for (int y = 0; y < H; ++y) {
+        const std::uint8_t* r = g.ptr<std::uint8_t>(y);
+        int sum = 0;
+        for (int x = 0; x < W; ++x) sum += r[x];
+        row_mean_[std::size_t(y)] = double(sum) / std::max(1, W);
+    }
+    band_mean_.assign(std::size_t(B), 0.0);
+    for (int b = 0; b < B; ++b) {
+        const int y0 = b * H / B, y1 = (b + 1) * H / B;
+        for (int y = y0; y < y1; ++y) band_mean_[std::size_t(b)] += row_mean_[std::size_t(y)];
+        band_mean_[std::size_t(b)] /= std::max(1, y1 - y0);
+    }
+    if (band_ref_.size() != band_mean_.size() || !have_prev_) {
+        band_ref_ = band_mean_;
+        return;
+    }
+    // Each band's gain toward its reference, linear between band centres.
+    row_gain_.resize(std::size_t(H));
+    auto gain = [&](int b) {
+        return std::clamp(band_ref_[std::size_t(b)] / std::max(1.0, band_mean_[std::size_t(b)]),
+                          0.5, 2.0);
+    };
+    for (int y = 0; y < H; ++y) {
+        const double pos = (y + 0.5) * B / H - 0.5;  // in band units, centres at integers
+        const int b0 = std::clamp(int(std::floor(pos)), 0, B - 1), b1 = std::min(B - 1, b0 + 1);
+        const double f = std::clamp(pos - b0, 0.0, 1.0);
+        row_gain_[std::size_t(y)] = gain(b0) + f * (gain(b1) - gain(b0));
+    }
+    for (int y = 0; y < H; ++y) {
+        const double k = row_gain_[std::size_t(y)];
+        if (std::abs(k - 1) < 1e-3) continue;
+        std::uint8_t* r = g.ptr<std::uint8_t>(y);
+        for (int x = 0; x < W; ++x) r[x] = cv::saturate_cast<std::uint8_t>(r[x] * k);
+    }
+    // The reference follows the raw image slowly.
+    const double a = 1 / std::max(1.0, p_.gain_tau_frames);
+    for (int b = 0; b < B; ++b)
+        band_ref_[std::size_t(b)] += a * (band_mean_[std::size_t(b)] - band_ref_[std::size_t(b)]);
+}
+
 void TrajectoryTracker::reset() {
     tracks_.clear();
     prev_pts_.clear();
     have_prev_ = false;
+    band_ref_.clear();
     frame_ = 0;
     next_id_ = 1;
     ended_ = added_ = 0;
@@ -124,6 +170,13 @@ void TrajectoryTracker::update(const cv::Mat& image, std::int64_t t_ns, double r
         cv::resize(*grey, grey_track_, ts, 0, 0, cv::INTER_AREA);
     } else {
         grey_track_ = *grey;  // header only
+    }
+    if (p_.gain_bands > 0) {
+        if (grey_track_.data == image.data) {
+            grey_track_.copyTo(grey_own_);  // never change the caller's image
+            grey_track_ = grey_own_;
+        }
+        compensate_gain();
     }
     timings_.grey_ms = ms_since(t0);
 

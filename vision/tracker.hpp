@@ -59,7 +59,15 @@ struct TrackerParams {
     double lk_epsilon = 0.03;
     double lk_min_eig = 1e-4;  // LK drops points whose gradient matrix is weaker
     double track_scale = 0.5;  // track on an image resized by this (measured: see bench)
-    int detect_interval = 2;   // look for new corners every n-th frame (thesis: every frame)
+    // Photometric compensation (a real camera does not keep the brightness LK assumes: its
+    // auto-exposure steps, mains flicker bands the rows through the rolling shutter): the rows
+    // are split into this many horizontal bands and each band's mean brightness is held to a
+    // reference that follows the image slowly (time constant gain_tau_frames), interpolated
+    // between band centres. A step of the whole image's or of a band's gain then reaches the
+    // tracker spread over that many frames instead of at once. 0 = off.
+    int gain_bands = 0;
+    double gain_tau_frames = 30;
+    int detect_interval = 2;  // look for new corners every n-th frame (thesis: every frame)
     // Spread the trajectories over a grid of cols x rows cells (0 = off, the thesis): no cell
     // holds more than its share of max_tracks, the newest trajectories of a crowded cell give
     // way, and new corners go to cells below their share. Without it the strongest corners of a
@@ -124,6 +132,10 @@ void describe_tracker_params(ParamTable<P>& t) {
              "Lucas-Kanade: drop points with a weaker gradient matrix")
         .add("track.track_scale", &P::track_scale, 0.25, 1, "track on an image resized by this",
              true)
+        .add("track.gain_bands", &P::gain_bands, 0, 64,
+             "photometric compensation: bands of rows whose brightness is held steady (0 = off)")
+        .add("track.gain_tau_frames", &P::gain_tau_frames, 1, 1000,
+             "photometric compensation: frames over which a brightness change is let through")
         .add("track.detect_interval", &P::detect_interval, 1, 30,
              "look for new corners every n-th frame")
         .add("track.grid_cols", &P::grid_cols, 0, 32,
@@ -221,6 +233,7 @@ private:
     int cell_of(cv::Point2f raw) const;
     int cell_quota() const;
     void balance_grid();
+    void compensate_gain();
 
     CameraCalibration calib_;
     TrackerParams p_;
@@ -232,7 +245,8 @@ private:
     bool have_prev_ = false;
     double now_s_ = 0;
 
-    cv::Mat grey_full_, grey_track_;
+    cv::Mat grey_full_, grey_track_, grey_own_;
+    std::vector<double> row_mean_, band_mean_, band_ref_, row_gain_;  // compensate_gain
     std::vector<cv::Mat> pyr_prev_, pyr_cur_;
     std::vector<Trajectory> tracks_;
     std::vector<cv::Point2f> prev_pts_, cur_pts_, raw_, und_;

@@ -237,9 +237,12 @@ Expected<DatasetInfo, FileError> read_flight_json(const std::string& text,
             return Unexpected(f.error(FileErrorCode::Malformed, "source", "expected a string"));
         info.source = s->get<std::string>();
     }
+    if (const json* r = f.find("realism"); r && !r->is_object())
+        return Unexpected(f.error(FileErrorCode::Malformed, "realism", "expected an object"));
+    // "realism": what the generator did to a rendered flight (docs/dataset.md); informative.
     static const std::set<std::string> known = {"format", "version",     "camera", "width",
                                                 "height", "fps",         "frames", "video",
-                                                "images", "calibration", "source"};
+                                                "images", "calibration", "source", "realism"};
     std::string unknown;
     for (auto it = j.begin(); it != j.end(); ++it) {
         if (known.count(it.key())) continue;

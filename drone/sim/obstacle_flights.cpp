@@ -4,6 +4,7 @@
 #include "drone/dataset/csv.hpp"
 #include "drone/dataset/writer.hpp"
 #include "drone/sim/drone_core.hpp"
+#include "drone/sim/realism.hpp"
 #include "drone/sim/renderer.hpp"
 #include "drone/sim/rng.hpp"
 #include "drone/video/h264_encoder.hpp"
@@ -43,13 +44,6 @@ namespace {
 
 double since_ms(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
-
-// Gaussian noise from the deterministic generator (Box-Muller).
-double gauss(Rng& r, double sigma) {
-    if (sigma <= 0) return 0;
-    const double u1 = std::max(r.uniform(), 1e-300), u2 = r.uniform();
-    return sigma * std::sqrt(-2 * std::log(u1)) * std::cos(2 * std::numbers::pi * u2);
 }
 
 std::optional<std::string> write_text(const fs::path& p, const std::string& text) {
@@ -237,6 +231,11 @@ Expected<ObstacleFlightSummary, std::string> write_obstacle_flight(const fs::pat
     std::string labels_csv = "frame,distance_m,lateral_m\n";
 
     Rng noise(mix_seed(p.seed, 0x0b5));
+    if (auto e = p.realism.check()) return Unexpected(*e);
+    CameraEffects camera_fx(calib, p.realism, mix_seed(p.seed, 0xca3e7a));
+    StreamDamage damage(p.realism.slice_loss_pct, mix_seed(p.seed, 0x511ce));
+    NavdataEffects nav_fx(p.realism, mix_seed(p.seed, 0x4a7da7a));
+    std::optional<Pose> last_pose;
     std::vector<std::uint8_t> au;
     cv::Mat image;
     ObstacleFlightSummary sum;
@@ -248,11 +247,23 @@ Expected<ObstacleFlightSummary, std::string> write_obstacle_flight(const fs::pat
             auto t0 = std::chrono::steady_clock::now();
             renderer->render(f.pose, image);
             sum.render_ms += since_ms(t0);
+            const double frame_s = 1 / p.fps;
+            if (p.realism.geometric() || p.realism.photometric()) {
+                t0 = std::chrono::steady_clock::now();
+                const CameraMotion m =
+                    last_pose ? camera_motion(*last_pose, f.pose, frame_s, CameraKind::Front)
+                              : CameraMotion{};
+                camera_fx.apply(image, static_cast<double>(f.t_ns) * 1e-9, m,
+                                renderer->inverse_depth());
+                sum.realism_ms += since_ms(t0);
+            }
+            last_pose = f.pose;
             t0 = std::chrono::steady_clock::now();
             bool idr = false;
             auto n = (*encoder)->encode(image, au, idr);
             if (!n) return "H.264 encoder: " + to_string(n.error());
             sum.encode_ms += since_ms(t0);
+            damage.apply(au, idr);
             t0 = std::chrono::steady_clock::now();
             video.write(reinterpret_cast<const char*>(au.data()),
                         static_cast<std::streamsize>(au.size()));
@@ -261,13 +272,27 @@ Expected<ObstacleFlightSummary, std::string> write_obstacle_flight(const fs::pat
             dataset::FrameRow row;
             row.frame = f.index;
             row.nav.t_ns = f.t_ns;
-            row.nav.roll_deg = s.roll_deg + gauss(noise, p.attitude_noise_deg);
-            row.nav.pitch_deg = s.pitch_deg + gauss(noise, p.attitude_noise_deg);
-            row.nav.yaw_deg = s.yaw_deg + gauss(noise, p.attitude_noise_deg);
-            row.nav.vx_mps = s.vx_body_mps() + gauss(noise, p.velocity_noise_mps);
-            row.nav.vy_mps = s.vy_body_mps() + gauss(noise, p.velocity_noise_mps);
-            row.nav.vz_mps = s.vz_mps + gauss(noise, p.velocity_noise_mps);
-            row.nav.altitude_m = s.z_m;
+            NavState truth;
+            truth.t_ns = f.t_ns;
+            truth.roll_deg = s.roll_deg;
+            truth.pitch_deg = s.pitch_deg;
+            truth.yaw_deg = s.yaw_deg;
+            truth.vx_mps = s.vx_body_mps();
+            truth.vy_mps = s.vy_body_mps();
+            truth.vz_mps = s.vz_mps;
+            truth.altitude_m = s.z_m;
+            if (p.realism.navdata()) {
+                // Late, jittered and drifting, as the drone's estimator reports it.
+                nav_fx.push_truth(truth);
+                truth = nav_fx.sample(f.t_ns);
+            }
+            row.nav.roll_deg = truth.roll_deg + gaussian(noise, p.attitude_noise_deg);
+            row.nav.pitch_deg = truth.pitch_deg + gaussian(noise, p.attitude_noise_deg);
+            row.nav.yaw_deg = truth.yaw_deg + gaussian(noise, p.attitude_noise_deg);
+            row.nav.vx_mps = truth.vx_mps + gaussian(noise, p.velocity_noise_mps);
+            row.nav.vy_mps = truth.vy_mps + gaussian(noise, p.velocity_noise_mps);
+            row.nav.vz_mps = truth.vz_mps + gaussian(noise, p.velocity_noise_mps);
+            row.nav.altitude_m = truth.altitude_m;
             row.nav.battery_pct = std::floor(s.battery_pct);
             row.gt = dataset::GroundTruthPose{f.pose.x_m, f.pose.y_m, f.pose.z_m, f.pose.yaw_deg};
             frames_csv += dataset::frames_csv_row(row);
@@ -283,6 +308,7 @@ Expected<ObstacleFlightSummary, std::string> write_obstacle_flight(const fs::pat
     video.close();
     if (!video) return Unexpected("cannot write " + (dir / "video.h264").string());
     sum.frames = static_cast<int>(flown->frames);
+    sum.slices_lost = damage.damaged();
     sum.duration_s = flown->duration_s;
     const std::int64_t index = flown->frames;
 
@@ -299,8 +325,18 @@ Expected<ObstacleFlightSummary, std::string> write_obstacle_flight(const fs::pat
     if (auto e = write_text(dir / "labels.json", fl.extra_labels().dump(2) + "\n"))
         return Unexpected(*e);
     // flight.json last: a half-written flight is not a dataset.
-    if (auto e = write_text(dir / "flight.json", dataset::flight_json_text(info)))
-        return Unexpected(*e);
+    std::string flight_json = dataset::flight_json_text(info);
+    if (p.realism.any()) {
+        // What the realism layer did (docs/dataset.md "realism"), beside the standard keys.
+        auto j = nlohmann::ordered_json::parse(flight_json);
+        nlohmann::ordered_json r = p.realism.to_json();
+        r["video_bitrate_kbps"] = p.bitrate_bps / 1000.0;
+        r["seed"] = p.seed;
+        r["slices_lost"] = sum.slices_lost;
+        j["realism"] = r;
+        flight_json = j.dump(2) + "\n";
+    }
+    if (auto e = write_text(dir / "flight.json", flight_json)) return Unexpected(*e);
     return sum;
 }
 

@@ -18,6 +18,7 @@
 #include "drone/core/expected.hpp"
 #include "drone/core/unknown.hpp"
 #include "drone/sim/flight_model.hpp"
+#include "drone/sim/realism.hpp"
 #include "drone/sim/scene.hpp"
 
 #include <nlohmann/json.hpp>
@@ -59,7 +60,9 @@ struct ObstacleFlightParams {
     // NaN: the scene as it is.
     double clear_path_m = kUnknown;
     int bitrate_bps = 1'500'000;  // the drone's default video bitrate
-    std::uint64_t seed = 1;       // noise
+    // What a real camera, link and estimator add (drone/sim/realism.hpp); all off by default.
+    RealismOptions realism;
+    std::uint64_t seed = 1;  // noise
 };
 
 struct ObstacleFlightInfo {
@@ -78,6 +81,8 @@ struct ObstacleFlightSummary {
     double start_distance_m = 0;  // target's near face at the first frame (NaN for none)
     double end_distance_m = 0;
     double render_ms = 0, encode_ms = 0, write_ms = 0;  // totals
+    double realism_ms = 0;                              // the realism layer's share
+    int slices_lost = 0;                                // frames damaged by realism.slice_loss_pct
     std::uint64_t video_bytes = 0;
 };
 

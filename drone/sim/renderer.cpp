@@ -560,6 +560,14 @@ std::optional<cv::Point2d> Renderer::project(const Pose& pose, double x_m, doubl
     return distort_to_pixel(impl_->calib, {c[0] / c[2], c[1] / c[2]});
 }
 
+std::span<const float> Renderer::inverse_depth() const {
+    return impl_->wbuf;
+}
+
+cv::Matx33d world_from_camera(const Pose& pose, CameraKind camera) {
+    return camera_frame(pose, camera).r_cw.t();
+}
+
 const CameraCalibration& Renderer::calibration() const {
     return impl_->calib;
 }

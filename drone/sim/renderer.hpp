@@ -15,6 +15,7 @@
 
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 
 namespace gs::sim {
@@ -59,6 +60,10 @@ public:
     std::optional<cv::Point2d> project(const Pose& camera_pose, double x_m, double y_m,
                                        double z_m) const;
 
+    // 1 / z (z: depth along the optical axis, m) of each pixel of the last render, row-major;
+    // 0 where nothing was hit. For the realism layer's motion blur (drone/sim/realism.hpp).
+    std::span<const float> inverse_depth() const;
+
     const CameraCalibration& calibration() const;
     CameraKind camera() const;
     RenderStats stats() const;
@@ -68,5 +73,9 @@ private:
     explicit Renderer(std::unique_ptr<Impl> impl);
     std::unique_ptr<Impl> impl_;
 };
+
+// The camera's axes (x right, y down, z optical) as columns in the renderer's world frame (x
+// forward, y right, z down) at `pose`.
+cv::Matx33d world_from_camera(const Pose& pose, CameraKind camera);
 
 }  // namespace gs::sim

@@ -396,5 +396,73 @@ TEST_F(EvalCli, ANamedListEqualsTheFolderAndUnlabelledFlightsAreErrors) {
     EXPECT_NE(u.out.find("no labels.json"), std::string::npos) << u.out;
 }
 
+// A report without what depends on the machine (replay CPU time): the rest must not depend on
+// --jobs, on sharding or on the order the flights finished in.
+nlohmann::json report_without_timing(const fs::path& dir) {
+    nlohmann::json j = read_json(dir / "report.json");
+    j.erase("cpu_s");
+    return j;
+}
+std::string report_md_without_timing(const fs::path& dir) {
+    std::string md = read_text(dir / "report.md");
+    const auto at = md.find("\nReplay CPU time");
+    return at == std::string::npos ? md : md.substr(0, at);
+}
+
+TEST_F(EvalCli, ShardsMergeIntoTheSingleRunsReportWhateverTheJobs) {
+    const std::string base = "eval -q " + flights().string() + " --classifier flow";
+    const fs::path one = scratch("shard_one"), two = scratch("shard_two");
+    ASSERT_EQ(run_cli(base + " -j 1 --out " + one.string()).exit_code, 0);
+    ASSERT_EQ(run_cli(base + " -j 2 --out " + two.string()).exit_code, 0);
+    EXPECT_EQ(report_without_timing(one), report_without_timing(two));
+    EXPECT_EQ(report_md_without_timing(one), report_md_without_timing(two));
+
+    // Three flights in two shards: 1/2 holds flights 0 and 2, 2/2 holds flight 1.
+    const fs::path s1 = scratch("shard_1"), s2 = scratch("shard_2"), merged = scratch("merged");
+    ASSERT_EQ(run_cli(base + " --shard 1/2 --out " + s1.string()).exit_code, 0);
+    ASSERT_EQ(run_cli(base + " --shard 2/2 --out " + s2.string()).exit_code, 0);
+    EXPECT_EQ(read_json(s1 / "report.json")["flights"].size(), 2U);
+    EXPECT_EQ(read_json(s2 / "report.json")["flights"].size(), 1U);
+    // Given in either order, the shards merge into the single run's report, field for field.
+    const CmdResult m =
+        run_cli("eval --merge " + s2.string() + " " + s1.string() + " --out " + merged.string());
+    ASSERT_EQ(m.exit_code, 0) << m.out;
+    EXPECT_NE(m.out.find("evaluated 3 flights"), std::string::npos) << m.out;
+    EXPECT_EQ(report_without_timing(merged), report_without_timing(one));
+    EXPECT_EQ(report_md_without_timing(merged), report_md_without_timing(one));
+    // The replay CPU time is the shards' sum.
+    EXPECT_DOUBLE_EQ(read_json(merged / "report.json")["cpu_s"].get<double>(),
+                     read_json(s1 / "report.json")["cpu_s"].get<double>() +
+                         read_json(s2 / "report.json")["cpu_s"].get<double>());
+    // Each flight's own outputs come along, as the single run wrote them.
+    for (const char* f : {"ci_pillar_left", "center", "open"})
+        EXPECT_EQ(read_text(merged / f / "decisions.csv"), read_text(one / f / "decisions.csv"))
+            << f;
+
+    // A shard missing, a shard twice, a shard of another batch: refused, saying which.
+    const CmdResult missing =
+        run_cli("eval --merge " + s1.string() + " --out " + scratch("m_missing").string());
+    EXPECT_NE(missing.exit_code, 0);
+    EXPECT_NE(missing.out.find("shards missing from the merge: 2/2"), std::string::npos)
+        << missing.out;
+    const CmdResult twice = run_cli("eval --merge " + s1.string() + " " + s1.string() + " --out " +
+                                    scratch("m_twice").string());
+    EXPECT_NE(twice.exit_code, 0);
+    EXPECT_NE(twice.out.find("given twice"), std::string::npos) << twice.out;
+    const fs::path other = scratch("shard_thesis");
+    ASSERT_EQ(run_cli("eval -q " + flights().string() + " --classifier thesis --shard 2/2 --out " +
+                      other.string())
+                  .exit_code,
+              0);
+    const CmdResult mixed = run_cli("eval --merge " + s1.string() + " " + other.string() +
+                                    " --out " + scratch("m_mixed").string());
+    EXPECT_NE(mixed.exit_code, 0);
+    EXPECT_NE(mixed.out.find("a shard of another batch"), std::string::npos) << mixed.out;
+    // A malformed --shard is an option error.
+    const CmdResult bad = run_cli(base + " --shard 3/2 --out " + scratch("m_bad").string());
+    EXPECT_NE(bad.exit_code, 0);
+    EXPECT_NE(bad.out.find("1 <= K <= N"), std::string::npos) << bad.out;
+}
+
 }  // namespace
 }  // namespace gs::test
