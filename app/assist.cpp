@@ -1,5 +1,6 @@
 #include "app/assist.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -98,30 +99,53 @@ AssistOutput Assist::step(const AssistInput& in) {
     const bool moving_forward = vx_known && in.vx_mps > p_.moving_forward_mps;
     const bool pilot_forward = in.pilot.progressive && in.pilot.pitch < 0;
 
+    // Forward travel since the brake (navdata velocity integrated over the caller's clock).
+    const double dt = known(st_.last_t_s) ? std::clamp(in.t_s - st_.last_t_s, 0.0, 0.5) : 0.0;
+    st_.last_t_s = in.t_s;
+    if (vx_known) st_.travelled_m += in.vx_mps * dt;
+    auto remember = [&] {
+        const double d =
+            known(c.ttc_s) && vx_known && in.vx_mps > 0.2 ? c.ttc_s * in.vx_mps : kUnknown;
+        const double est = known(d) ? d : p_.default_obstacle_m;
+        const double remaining = known(st_.obstacle_m) ? st_.obstacle_m - st_.travelled_m : 1e9;
+        st_.obstacle_m = std::min(est, remaining);
+        st_.travelled_m = 0;
+        st_.heading_deg = in.yaw_deg;
+        st_.clear_since_s = kUnknown;
+    };
+
     // Centre: brake, hold, release.
-    if (centre == RegionState::Unsafe && st_.phase == Phase::Free &&
-        (moving_forward || pilot_forward)) {
+    if (centre == RegionState::Unsafe && (moving_forward || pilot_forward) &&
+        (st_.phase == Phase::Free || (st_.phase == Phase::Holding && moving_forward))) {
+        remember();
         st_.phase = moving_forward ? Phase::Braking : Phase::Holding;
         st_.since_s = in.t_s;
-        st_.heading_deg = in.yaw_deg;
+    } else if (centre == RegionState::Unsafe && st_.phase != Phase::Free) {
+        remember();
     }
     if (st_.phase != Phase::Free) {
         const bool turned = known(st_.heading_deg) && known(in.yaw_deg) &&
                             heading_change_deg(st_.heading_deg, in.yaw_deg) >= p_.release_turn_deg;
-        if (centre == RegionState::Clear || turned) {
+        if (centre == RegionState::Clear && moving_forward) {
+            if (!known(st_.clear_since_s)) st_.clear_since_s = in.t_s;
+        } else if (centre != RegionState::Clear) {
+            st_.clear_since_s = kUnknown;
+        }
+        const bool forgotten =
+            known(st_.clear_since_s) && in.t_s - st_.clear_since_s >= p_.forget_after_clear_s;
+        if (turned || forgotten) {
             st_.phase = Phase::Free;
-        } else if (centre == RegionState::Unsafe) {
-            st_.heading_deg = known(in.yaw_deg) ? in.yaw_deg : st_.heading_deg;
-            if (st_.phase == Phase::Holding && moving_forward) {  // still carried forward
-                st_.phase = Phase::Braking;
-                st_.since_s = in.t_s;
-            }
+            st_.obstacle_m = kUnknown;
         }
     }
     if (st_.phase == Phase::Braking) {
         const bool slow = vx_known && in.vx_mps < p_.brake_release_mps;
         if (slow || !vx_known || in.t_s - st_.since_s > p_.max_brake_s) st_.phase = Phase::Holding;
     }
+    // Holding: forward allowed while the remembered obstacle is more than the gap away.
+    const double remaining = known(st_.obstacle_m) ? st_.obstacle_m - st_.travelled_m : kUnknown;
+    const bool room_ahead = st_.phase == Phase::Holding && vx_known && known(remaining) &&
+                            remaining > p_.hold_gap_m && centre != RegionState::Unsafe;
 
     FlightCommand& cmd = out.command;
     const bool pilot_backing = in.pilot.progressive && in.pilot.pitch > 0;
@@ -132,6 +156,11 @@ AssistOutput Assist::step(const AssistInput& in) {
         if (!in.pilot.progressive) cmd.roll = cmd.gaz = cmd.yaw = 0;
         out.action = AssistAction::Braking;
         out.reason = "BRAKING: obstacle ahead" + contact_text(c);
+    } else if (st_.phase == Phase::Holding && room_ahead) {
+        char buf[96];
+        std::snprintf(buf, sizeof buf, "APPROACHING: obstacle remembered %.1f m ahead", remaining);
+        out.action = AssistAction::Watching;
+        out.reason = buf;
     } else if (st_.phase == Phase::Holding) {
         if (!vx_known && !pilot_backing) {
             cmd = FlightCommand{};  // no velocity to hold against: the drone's own hover
@@ -162,7 +191,7 @@ AssistOutput Assist::step(const AssistInput& in) {
         !(in.pilot == cmd))
         cmd.progressive = false;
 
-    if (out.action == AssistAction::Watching) {
+    if (out.action == AssistAction::Watching && !room_ahead) {
         // Say what is not known: an unknown region is never a reason to brake.
         if (pilot_forward && (centre == RegionState::Unknown || centre == RegionState::Stale))
             out.reason = std::string("centre ") + to_string(centre) + ": no evidence, not braking";

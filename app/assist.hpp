@@ -75,6 +75,13 @@ struct AssistParams {
     double max_brake_s = 2.0;          // the braking pitch never lasts longer (then hover)
     double release_turn_deg = 45.0;    // turned this far from the braking heading: hold released
     double stale_after_s = 0.5;        // an older decision is stale (no evidence)
+    // The obstacle a brake was for is remembered ahead (at time-to-contact x speed, or this far
+    // when no time to contact is known) and the drone is let forward only while it stays more
+    // than `hold_gap_m` from it: a drone that has stopped sees no expansion, so "clear" from the
+    // classifier alone would let it creep into what it just braked for.
+    double default_obstacle_m = 1.5;
+    double hold_gap_m = 1.0;
+    double forget_after_clear_s = 1.5;  // clear this long while moving forward: forgotten
 };
 
 struct AssistOutput {
@@ -101,6 +108,10 @@ private:
         enum class Phase : std::uint8_t { Free, Braking, Holding } phase = Phase::Free;
         double since_s = 0;
         double heading_deg = kUnknown;
+        double last_t_s = kUnknown;
+        double obstacle_m = kUnknown;  // remembered obstacle ahead, from the brake's position
+        double travelled_m = 0;        // forward since then
+        double clear_since_s = kUnknown;
         AssistAction last_action = AssistAction::Watching;
         vision::Region last_region = vision::Region::Centre;
         bool first = true;

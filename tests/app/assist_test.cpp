@@ -74,11 +74,38 @@ TEST(Assist, CentreUnsafeWhileMovingForwardBrakesThenHoldsUntilClear) {
     EXPECT_FALSE(o.command.progressive);
     EXPECT_NE(o.reason.find("until it is clear"), std::string::npos);
 
+    // One clear decision does not release it: a slowed drone sees less expansion.
     in.t_s = 1.5;
     in.regions[1] = clear();
     o = a.step(in);
+    EXPECT_EQ(o.action, AssistAction::Holding);
+    // Clear for 1.5 s while still drifting forward: the obstacle is forgotten.
+    in.t_s = 3.1;
+    o = a.step(in);
     EXPECT_EQ(o.action, AssistAction::Watching);
     EXPECT_EQ(o.command, forward());
+}
+
+TEST(Assist, AfterABrakeItLetsTheDroneOnlyUpToAGapBeforeTheRememberedObstacle) {
+    Assist a;
+    // Unsafe with 3 s to contact at 1.2 m/s: the obstacle is 3.6 m ahead.
+    AssistInput in = flying_forward(1.2, unsafe(3.0));
+    ASSERT_EQ(a.step(in).action, AssistAction::Braking);
+    in.t_s = 0.5;
+    in.vx_mps = 0.1;
+    in.regions[1] = {RegionState::Unknown, kUnknown, kUnknown};
+    AssistOutput o = a.step(in);
+    EXPECT_EQ(o.action, AssistAction::Watching);  // 3.6 m - travelled: room to go on
+    EXPECT_EQ(o.command, forward());
+    EXPECT_NE(o.reason.find("APPROACHING: obstacle remembered"), std::string::npos) << o.reason;
+    // Creeping on at 0.5 m/s for 6 s: 3 m more, under 1 m left: held.
+    for (int i = 1; i <= 60; ++i) {
+        in.t_s = 0.5 + 0.1 * i;
+        in.vx_mps = 0.5;
+        o = a.step(in);
+    }
+    EXPECT_EQ(o.action, AssistAction::Holding);
+    EXPECT_FALSE(o.command.progressive);
 }
 
 TEST(Assist, YawClimbAndBackingAwayAreNeverLimited) {
@@ -104,16 +131,21 @@ TEST(Assist, YawClimbAndBackingAwayAreNeverLimited) {
 }
 
 TEST(Assist, TurningAwayReleasesTheHold) {
-    Assist a;
-    AssistInput in = flying_forward(0.1, unsafe());
+    AssistParams p;
+    p.default_obstacle_m = 0.8;  // no time to contact: remembered closer than the gap
+    Assist a(p);
+    AssistInput in = flying_forward(0.0, unsafe());
     AssistOutput o = a.step(in);
     EXPECT_EQ(o.action, AssistAction::Holding);  // the pilot pushes forward while stopped
-    in.regions[1] = {RegionState::Unknown, kUnknown, kUnknown};
-    in.yaw_deg = 40;  // 30 degrees: not yet
+    in.yaw_deg = 40;  // turning, the centre still unsafe: held (and the heading followed)
     in.t_s = 1;
     EXPECT_EQ(a.step(in).action, AssistAction::Holding);
-    in.yaw_deg = 60;  // 50 degrees from the heading it stopped on
+    in.regions[1] = {RegionState::Unknown, kUnknown, kUnknown};
+    in.yaw_deg = 70;  // 30 degrees further: not yet
     in.t_s = 2;
+    EXPECT_EQ(a.step(in).action, AssistAction::Holding);
+    in.yaw_deg = 95;  // 55 degrees from where the obstacle was last seen ahead
+    in.t_s = 3;
     o = a.step(in);
     EXPECT_EQ(o.action, AssistAction::Watching);
     EXPECT_EQ(o.command, forward());
