@@ -161,22 +161,26 @@ int run(const Opts& o) {
                 "{\"t_s\":%.3f,\"ctrl\":\"%s\",\"x_m\":%.4f,\"y_m\":%.4f,\"z_m\":%.4f,"
                 "\"yaw_deg\":%.3f,\"vx_mps\":%.4f,\"battery_pct\":%.3f,"
                 "\"drone_state\":%u,\"navdata_sent\":%llu,\"video_frames\":%llu,"
-                "\"at_commands\":%llu}\n",
+                "\"at_commands\":%llu,\"collisions\":%llu,\"bumps\":%llu}\n",
                 elapsed, sim::to_string(st.flight.major), st.flight.x_m, st.flight.y_m,
                 st.flight.z_m, st.flight.yaw_deg, st.flight.vx_body_mps(), st.flight.battery_pct,
                 st.drone_state, static_cast<unsigned long long>(st.counters.navdata_sent),
                 static_cast<unsigned long long>(st.video_frames_sent),
-                static_cast<unsigned long long>(st.counters.at_commands));
+                static_cast<unsigned long long>(st.counters.at_commands),
+                static_cast<unsigned long long>(st.counters.collisions),
+                static_cast<unsigned long long>(st.counters.bumps));
             std::fflush(stdout);
         } else if (tty) {
             const auto st = drone.status();
             std::printf(
                 "\r%6.1f s  %-9s  x %6.2f y %6.2f z %5.2f m  yaw %7.1f  battery %5.1f %%  "
-                "navdata %llu  video %llu frames   ",
+                "navdata %llu  video %llu frames  crashes %llu bumps %llu   ",
                 elapsed, sim::to_string(st.flight.major), st.flight.x_m, st.flight.y_m,
                 st.flight.z_m, st.flight.yaw_deg, st.flight.battery_pct,
                 static_cast<unsigned long long>(st.counters.navdata_sent),
-                static_cast<unsigned long long>(st.video_frames_sent));
+                static_cast<unsigned long long>(st.video_frames_sent),
+                static_cast<unsigned long long>(st.counters.collisions),
+                static_cast<unsigned long long>(st.counters.bumps));
             std::fflush(stdout);
         }
     }
@@ -198,6 +202,14 @@ int run(const Opts& o) {
             static_cast<unsigned long long>(st.video_resets),
             static_cast<unsigned long long>(st.video_clients),
             static_cast<unsigned long long>(c.reboots));
+        std::printf("sim: collisions %llu (motors cut), bumps %llu\n",
+                    static_cast<unsigned long long>(c.collisions),
+                    static_cast<unsigned long long>(c.bumps));
+        for (const auto& e : st.collisions)
+            std::printf(
+                "sim: %s at %.2f s: %s %s at x %.2f y %.2f z %.2f m, %.2f m/s (%.2f m/s into it)\n",
+                e.crash ? "crash" : "bump", e.t_s, sim::to_string(e.kind), e.what.c_str(), e.x_m,
+                e.y_m, e.z_m, e.speed_mps, e.approach_mps);
     }
     return 0;
 }

@@ -7,6 +7,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace gs::record {
 
@@ -36,6 +37,17 @@ struct TruthScene {
     std::string description;
 };
 
+// A contact of the drone's body with the scene (collisions.csv, docs/dataset.md).
+struct TruthCollision {
+    TimeNs t_ns = 0;     // monotonic (the link's clock)
+    bool crash = false;  // motors cut; false: a gentle bump
+    std::string kind;    // "obstacle", "wall", "ceiling", "floor"
+    std::string what;    // the obstacle's id or "obstacle N", "front wall" ...
+    TruthPose pose;      // where the body was
+    double speed_mps = 0;
+    double approach_mps = 0;  // speed into the surface
+};
+
 class GroundTruthSource {
 public:
     virtual ~GroundTruthSource() = default;
@@ -44,6 +56,8 @@ public:
     virtual TruthSample truth_sample() const = 0;
     // The scene's target relative to pose `p`; nullopt when the scene has none.
     virtual std::optional<TargetOffset> target_offset(const TruthPose& p) const = 0;
+    // Every contact so far, oldest first; a source that cannot collide has none.
+    virtual std::vector<TruthCollision> truth_collisions() const { return {}; }
 };
 
 }  // namespace gs::record

@@ -123,6 +123,7 @@ struct Recorder::State {
     // The writer's frame index, predicted by its own rule (the first IDR starts the video).
     bool seen_idr = false;
     std::int64_t next_index = 0;
+    std::vector<TimeNs> frame_capture_ns;  // per written frame (ground truth only): collisions.csv
     struct TapFrame {
         std::int64_t index;
         TimeNs recv_ns;
@@ -213,6 +214,30 @@ RecorderStatus Recorder::status() const {
     return status_.latest().value_or(RecorderStatus{});
 }
 
+// collisions.csv (docs/dataset.md "collisions.csv"): the contacts the ground truth reports during
+// the recording, each with the last frame captured at or before it.
+void Recorder::write_collisions(const std::filesystem::path& dir, TimeNs start, TimeNs end,
+                                const std::vector<TimeNs>& frame_capture_ns) const {
+    std::FILE* f = std::fopen((dir / "collisions.csv").c_str(), "w");
+    if (f == nullptr) return;  // the dataset stays valid without it
+    std::fprintf(f, "t_ms,frame,crash,kind,what,x_m,y_m,z_m,speed_mps,approach_mps\n");
+    for (const TruthCollision& c : truth_->truth_collisions()) {
+        if (c.t_ns < start || c.t_ns > end) continue;
+        const auto it = std::upper_bound(frame_capture_ns.begin(), frame_capture_ns.end(), c.t_ns);
+        const std::string frame = it == frame_capture_ns.begin()
+                                      ? std::string()
+                                      : std::to_string(it - frame_capture_ns.begin() - 1);
+        std::string what = c.what;
+        std::replace(what.begin(), what.end(), ',', ' ');
+        std::replace(what.begin(), what.end(), '"', ' ');
+        std::fprintf(f, "%.3f,%s,%d,%s,%s,%.4f,%.4f,%.4f,%.4f,%.4f\n",
+                     static_cast<double>(c.t_ns - start) * 1e-6, frame.c_str(), c.crash ? 1 : 0,
+                     c.kind.c_str(), what.c_str(), c.pose.x_m, c.pose.y_m, c.pose.z_m, c.speed_mps,
+                     c.approach_mps);
+    }
+    std::fclose(f);
+}
+
 void Recorder::run() {
     State& s = *state_;
     dataset::DatasetWriter& w = *s.writer;
@@ -280,6 +305,7 @@ void Recorder::run() {
         if (!s.seen_idr && !idr) return;  // the writer skips it too (and counts it)
         s.seen_idr = true;
         const std::int64_t index = s.next_index++;
+        if (truth_ != nullptr) s.frame_capture_ns.push_back(e.capture_ns);
         if (tap_) {
             s.tap_pending.push_back({index, e.recv_ns, e.frame_number, std::move(image)});
             if (s.tap_pending.size() > kTapPending) {
@@ -437,6 +463,7 @@ void Recorder::run() {
     const TimeNs end = clock.now_ns();
     w.close();  // settles every row
     drain_rows();
+    if (truth_ != nullptr) write_collisions(s.dir, w.start_ns(), end, s.frame_capture_ns);
     if (tap_) tap_->close();
     publish(end, false);
 }

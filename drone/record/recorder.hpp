@@ -31,6 +31,7 @@
 #include <optional>
 #include <string>
 #include <thread>
+#include <vector>
 
 namespace gs::record {
 
@@ -116,6 +117,8 @@ public:
 private:
     struct State;
     void run();
+    void write_collisions(const std::filesystem::path& dir, TimeNs start, TimeNs end,
+                          const std::vector<TimeNs>& frame_capture_ns) const;
 
     link::DroneLink& link_;
     const GroundTruthSource* truth_;

@@ -423,6 +423,7 @@ void DroneCore::advance(TimeNs now, std::vector<OutDatagram>& out) {
             calibration_yaw_left_deg_ -= std::abs(model_.state().yaw_rate_deg_s) * kStepS;
         }
         model_.step(in, kStepS);
+        collide();
         update_bits();
 
         if (!navdata_client_) continue;
@@ -433,6 +434,40 @@ void DroneCore::advance(TimeNs now, std::vector<OutDatagram>& out) {
             emit_navdata(out);
         }
     }
+}
+
+void DroneCore::collide() {
+    if (!options_.collider) return;
+    const FlightState& s = model_.state();
+    const auto c = options_.collider->contact(s.x_m, s.y_m, s.z_m, s.yaw_deg);
+    if (!c || c->kind == ContactKind::Floor) {  // the flight model lands on the floor
+        in_contact_ = false;
+        return;
+    }
+    const double approach = -(s.vx_world_mps * c->nx + s.vy_world_mps * c->ny + s.vz_mps * c->nz);
+    const bool crash = approach >= options_.collider->params().crash_speed_mps;
+    // A drone whose motors are already cut (falling after a crash) only slides off the surface.
+    const bool counted = !in_contact_ && s.motors_on;
+    in_contact_ = true;
+    if (counted) {
+        CollisionEvent e;
+        e.t_ns = sim_ns_;
+        e.t_s = s.t_s;
+        e.crash = crash;
+        e.kind = c->kind;
+        e.what = c->what;
+        e.x_m = s.x_m;
+        e.y_m = s.y_m;
+        e.z_m = s.z_m;
+        e.speed_mps = std::sqrt(s.vx_world_mps * s.vx_world_mps + s.vy_world_mps * s.vy_world_mps +
+                                s.vz_mps * s.vz_mps);
+        e.approach_mps = approach;
+        ++(crash ? counters_.collisions : counters_.bumps);
+        if (collisions_.size() == kMaxCollisionEvents) collisions_.erase(collisions_.begin());
+        collisions_.push_back(std::move(e));
+        if (crash) autopilot_yield("collision");
+    }
+    model_.touch(c->nx, c->ny, c->nz, c->depth_m, crash && counted);
 }
 
 void DroneCore::update_bits() {
@@ -452,7 +487,11 @@ void DroneCore::update_bits() {
     b.set(B::ComLost, com_lost_);
     b.set(B::VbatLow, s.battery_low);
     b.set(B::Emergency, s.emergency);
-    b.set(B::Cutout, s.emergency);
+    // A user's emergency sets USER_EL; a crash the cut-out cause: CUTOUT and MOTORS (a blocked
+    // propeller), as a real drone reports them (docs/protocol.md section 3.2).
+    b.set(B::Cutout, s.cutout);
+    b.set(B::Motors, s.cutout);
+    b.set(B::UserEl, s.emergency && !s.cutout);
     b.set(B::ComWatchdog, com_watchdog_);
     state_bits_ = b.raw;
 }

@@ -12,6 +12,7 @@
 #include "drone/protocol/config.hpp"
 #include "drone/protocol/navdata.hpp"
 #include "drone/sim/at_parser.hpp"
+#include "drone/sim/collision.hpp"
 #include "drone/sim/flight_model.hpp"
 #include "drone/sim/scene.hpp"
 #include "drone/transport/endpoint.hpp"
@@ -47,6 +48,9 @@ struct DroneCoreOptions {
     TimeNs full_period_ns = ms_to_ns(5);        // full navdata 200 Hz
     double battery_pct = 100.0;
     int video_bitrate_kbps = 1000;  // what video:bitrate reports at boot (the encoder's rate)
+    // The scene's geometry the body is tested against each physics step; none: it flies through
+    // everything (a drone in an empty infinite space).
+    std::optional<Collider> collider;
 };
 
 struct OutDatagram {
@@ -75,6 +79,8 @@ struct DroneCoreCounters {
     std::uint64_t configs_clamped = 0, configs_refused = 0;
     std::uint64_t configs_without_ids = 0;  // AT*CONFIG not right after an AT*CONFIG_IDS
     std::uint64_t autopilot_yields = 0;     // 1 once the pilot took over
+    std::uint64_t collisions = 0;  // crashes: contacts at or above the crash speed (motors cut)
+    std::uint64_t bumps = 0;       // gentle contacts
 };
 
 class DroneCore {
@@ -115,6 +121,9 @@ public:
     }
     const protocol::ConfigMap& config() const { return config_; }
     const DroneCoreCounters& counters() const { return counters_; }
+    // Crashes and bumps, oldest first (the newest kMaxCollisionEvents; counters() has the totals).
+    const std::vector<CollisionEvent>& collisions() const { return collisions_; }
+    static constexpr std::size_t kMaxCollisionEvents = 256;
     std::optional<transport::Endpoint> navdata_client() const { return navdata_client_; }
     std::uint32_t navdata_sequence() const { return seq_; }
     TimeNs now() const { return now_; }
@@ -130,6 +139,7 @@ private:
     void emit_navdata(std::vector<OutDatagram>& out);
     void send(std::vector<std::uint8_t> bytes, std::vector<OutDatagram>& out);
     FlightInput autopilot_input();
+    void collide();  // after each physics step
     void autopilot_yield(const char* reason);
     bool booting(TimeNs now) const { return now < booted_at_ns_; }
 
@@ -171,6 +181,8 @@ private:
     bool ap_active_ = false;
     std::string ap_yield_reason_;
     DroneCoreCounters counters_;
+    std::vector<CollisionEvent> collisions_;
+    bool in_contact_ = false;         // a contact lasting several steps is one event
     protocol::navdata::Navdata nav_;  // reused packet contents
 };
 

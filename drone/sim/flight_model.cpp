@@ -58,7 +58,7 @@ void FlightModel::update_mode(const FlightInput& in, double dt) {
     prev_emergency_input_ = in.emergency;
     if (edge) {
         if (s_.emergency) {
-            if (s_.z_m <= 0.0) s_.emergency = false;
+            if (s_.z_m <= 0.0) s_.emergency = s_.cutout = false;
         } else {
             s_.emergency = true;
             s_.motors_on = false;
@@ -229,6 +229,24 @@ void FlightModel::step(const FlightInput& raw, double dt) {
                                     : params_.battery_drain_idle_pct_per_s) *
                       dt;
     s_.battery_pct = std::max(0.0, s_.battery_pct);
+}
+
+void FlightModel::touch(double nx, double ny, double nz, double depth_m, bool crash) {
+    s_.x_m += nx * depth_m;
+    s_.y_m += ny * depth_m;
+    s_.z_m = std::max(0.0, s_.z_m + nz * depth_m);
+    const double into = s_.vx_world_mps * nx + s_.vy_world_mps * ny + s_.vz_mps * nz;
+    if (into < 0) {
+        s_.vx_world_mps -= into * nx;
+        s_.vy_world_mps -= into * ny;
+        s_.vz_mps -= into * nz;
+    }
+    if (!crash || s_.emergency) return;
+    s_.emergency = s_.cutout = true;
+    s_.motors_on = false;
+    s_.major = CtrlMajor::Landed;
+    s_.minor = 0;
+    mode_time_s_ = 0;
 }
 
 const char* to_string(CtrlMajor m) {

@@ -75,6 +75,7 @@ struct FlightState {
     bool emergency = false;    // drone_state bit 31
     bool battery_low = false;  // drone_state bit 15
     bool user_start = false;   // drone_state bit 5 (start as seen by the drone)
+    bool cutout = false;       // motors cut by a collision (drone_state CUTOUT and MOTORS)
 
     bool flying() const {
         return major == CtrlMajor::Flying || major == CtrlMajor::Hovering ||
@@ -100,6 +101,10 @@ public:
     // Advances by dt_s (the virtual drone steps at 200 Hz, dt 5 ms).
     void step(const FlightInput& in, double dt_s);
     const FlightState& state() const { return s_; }
+    // A contact with the scene (drone/sim/collision.hpp): the body moves out along the unit
+    // normal (world x, y, z) by depth_m and loses its speed into the surface; a crash also cuts
+    // the motors as a hit propeller does (emergency with the cut-out cause), and it falls.
+    void touch(double nx, double ny, double nz, double depth_m, bool crash);
 
 private:
     void update_mode(const FlightInput& in, double dt_s);

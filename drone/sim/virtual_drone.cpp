@@ -67,6 +67,19 @@ std::optional<record::TargetOffset> VirtualDrone::target_offset(const record::Tr
     return record::TargetOffset{hit.distance_m, hit.lateral_m};
 }
 
+std::vector<record::TruthCollision> VirtualDrone::truth_collisions() const {
+    std::vector<record::TruthCollision> out;
+    for (const CollisionEvent& e : status().collisions)
+        out.push_back({e.t_ns,
+                       e.crash,
+                       to_string(e.kind),
+                       e.what,
+                       {e.x_m, e.y_m, e.z_m, 0, 0, 0},
+                       e.speed_mps,
+                       e.approach_mps});
+    return out;
+}
+
 VirtualDrone::~VirtualDrone() {
     stop();
 }
@@ -137,6 +150,7 @@ void VirtualDrone::core_loop() {
     co.autopilot = options_.scene.autopilot;
     co.autopilot_enabled = options_.autopilot;
     if (!options_.autopilot) co.start.z_m = 0;  // a pilot takes off from the ground
+    if (options_.collisions) co.collider.emplace(options_.scene, options_.collision);
     DroneCore core(co);
     std::vector<OutDatagram> out;
     std::array<std::uint8_t, 2048> buf{};
@@ -213,6 +227,7 @@ void VirtualDrone::core_loop() {
             st.encode_ms_last = report.encode_ms;
             st.autopilot_done = core.autopilot_done();
             st.autopilot_active = core.autopilot_active();
+            st.collisions = core.collisions();
             st.last_error = report.error;
             status_.publish(std::move(st));
             truth_.publish({now, core.pose(), report.frame_number});

@@ -28,7 +28,11 @@ struct VirtualDroneOptions {
     std::uint16_t at_port = 5556, navdata_port = 5554, video_port = 5555, control_port = 5559;
     Scene scene;             // the world (its start pose and autopilot are used)
     bool autopilot = false;  // fly the scene's script after boot
-    DroneCoreOptions core;   // start/autopilot are taken from the scene
+    // The drone is a body of its real size in the scene and can crash (drone/sim/collision.hpp).
+    // Off: it flies through everything, as the virtual drone did before it had a body.
+    bool collisions = true;
+    CollisionParams collision;
+    DroneCoreOptions core;  // start/autopilot are taken from the scene
     bool video = true;
     int fps = 30;
     int gop = 15;
@@ -75,7 +79,8 @@ struct VirtualDroneStatus {
     bool booting = false;             // down after a reboot: ports closed, nothing sent
     double render_ms_last = 0, encode_ms_last = 0;
     bool autopilot_done = false;
-    bool autopilot_active = false;  // flying its script (false once a pilot took over)
+    bool autopilot_active = false;           // flying its script (false once a pilot took over)
+    std::vector<CollisionEvent> collisions;  // crashes and bumps, oldest first (counters: totals)
     std::string last_error;
 };
 
@@ -130,6 +135,7 @@ public:
     record::TruthScene truth_scene() const override;
     record::TruthSample truth_sample() const override;
     std::optional<record::TargetOffset> target_offset(const record::TruthPose& p) const override;
+    std::vector<record::TruthCollision> truth_collisions() const override;
 
 private:
     void core_loop();

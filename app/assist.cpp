@@ -1,0 +1,206 @@
+#include "app/assist.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace gs::app {
+namespace {
+
+bool known(double v) {
+    return std::isfinite(v);
+}
+
+double heading_change_deg(double from, double to) {
+    return std::abs(std::remainder(to - from, 360.0));
+}
+
+std::string contact_text(const RegionEvidence& e) {
+    if (!known(e.ttc_s) || e.ttc_s <= 0) return "";
+    char buf[48];
+    std::snprintf(buf, sizeof buf, ", contact in %.1f s", e.ttc_s);
+    return buf;
+}
+
+}  // namespace
+
+const char* to_string(RegionState s) {
+    switch (s) {
+        case RegionState::Unknown:
+            return "unknown";
+        case RegionState::Clear:
+            return "clear";
+        case RegionState::Unsafe:
+            return "unsafe";
+        case RegionState::Stale:
+            return "stale";
+    }
+    return "?";
+}
+
+const char* to_string(AssistAction a) {
+    switch (a) {
+        case AssistAction::Off:
+            return "OFF";
+        case AssistAction::Override:
+            return "OVERRIDE";
+        case AssistAction::Watching:
+            return "WATCHING";
+        case AssistAction::Braking:
+            return "BRAKING";
+        case AssistAction::Holding:
+            return "HOLDING";
+        case AssistAction::LimitLeft:
+            return "LIMIT LEFT";
+        case AssistAction::LimitRight:
+            return "LIMIT RIGHT";
+        case AssistAction::LimitSides:
+            return "LIMIT SIDES";
+    }
+    return "?";
+}
+
+RegionState Assist::effective(const RegionEvidence& e) const {
+    if (e.state == RegionState::Stale) return RegionState::Stale;
+    if (e.state != RegionState::Unknown && known(e.age_s) && e.age_s > p_.stale_after_s)
+        return RegionState::Stale;
+    return e.state;
+}
+
+AssistOutput Assist::step(const AssistInput& in) {
+    AssistOutput out;
+    out.command = in.pilot;
+    using Phase = State::Phase;
+    auto finish = [&](AssistOutput& o) -> AssistOutput {
+        o.intervened = !(o.command == in.pilot);
+        o.changed = st_.first || o.action != st_.last_action || o.region != st_.last_region;
+        st_.first = false;
+        st_.last_action = o.action;
+        st_.last_region = o.region;
+        return o;
+    };
+    if (!in.enabled || in.override || !in.flying) {
+        // Whatever was going on is forgotten: switching it back on starts afresh.
+        st_.phase = Phase::Free;
+        out.action = !in.enabled   ? AssistAction::Off
+                     : in.override ? AssistAction::Override
+                                   : AssistAction::Watching;
+        out.reason = !in.enabled   ? "assist off"
+                     : in.override ? "override held: commands pass unchanged"
+                                   : "on the ground";
+        return finish(out);
+    }
+
+    const RegionState left = effective(in.regions[0]);
+    const RegionState centre = effective(in.regions[1]);
+    const RegionState right = effective(in.regions[2]);
+    const RegionEvidence& c = in.regions[1];
+    const bool vx_known = known(in.vx_mps);
+    const bool moving_forward = vx_known && in.vx_mps > p_.moving_forward_mps;
+    const bool pilot_forward = in.pilot.progressive && in.pilot.pitch < 0;
+
+    // Forward travel since the brake (navdata velocity integrated over the caller's clock).
+    const double dt = known(st_.last_t_s) ? std::clamp(in.t_s - st_.last_t_s, 0.0, 0.5) : 0.0;
+    st_.last_t_s = in.t_s;
+    if (vx_known) st_.travelled_m += in.vx_mps * dt;
+    auto remember = [&] {
+        const double d =
+            known(c.ttc_s) && vx_known && in.vx_mps > 0.2 ? c.ttc_s * in.vx_mps : kUnknown;
+        const double est = known(d) ? d : p_.default_obstacle_m;
+        const double remaining = known(st_.obstacle_m) ? st_.obstacle_m - st_.travelled_m : 1e9;
+        st_.obstacle_m = std::min(est, remaining);
+        st_.travelled_m = 0;
+        st_.heading_deg = in.yaw_deg;
+        st_.clear_since_s = kUnknown;
+    };
+
+    // Centre: brake, hold, release.
+    if (centre == RegionState::Unsafe && (moving_forward || pilot_forward) &&
+        (st_.phase == Phase::Free || (st_.phase == Phase::Holding && moving_forward))) {
+        remember();
+        st_.phase = moving_forward ? Phase::Braking : Phase::Holding;
+        st_.since_s = in.t_s;
+    } else if (centre == RegionState::Unsafe && st_.phase != Phase::Free) {
+        remember();
+    }
+    if (st_.phase != Phase::Free) {
+        const bool turned = known(st_.heading_deg) && known(in.yaw_deg) &&
+                            heading_change_deg(st_.heading_deg, in.yaw_deg) >= p_.release_turn_deg;
+        if (centre == RegionState::Clear && moving_forward) {
+            if (!known(st_.clear_since_s)) st_.clear_since_s = in.t_s;
+        } else if (centre != RegionState::Clear) {
+            st_.clear_since_s = kUnknown;
+        }
+        const bool forgotten =
+            known(st_.clear_since_s) && in.t_s - st_.clear_since_s >= p_.forget_after_clear_s;
+        if (turned || forgotten) {
+            st_.phase = Phase::Free;
+            st_.obstacle_m = kUnknown;
+        }
+    }
+    if (st_.phase == Phase::Braking) {
+        const bool slow = vx_known && in.vx_mps < p_.brake_release_mps;
+        if (slow || !vx_known || in.t_s - st_.since_s > p_.max_brake_s) st_.phase = Phase::Holding;
+    }
+    // Holding: forward allowed while the remembered obstacle is more than the gap away.
+    const double remaining = known(st_.obstacle_m) ? st_.obstacle_m - st_.travelled_m : kUnknown;
+    const bool room_ahead = st_.phase == Phase::Holding && vx_known && known(remaining) &&
+                            remaining > p_.hold_gap_m && centre != RegionState::Unsafe;
+
+    FlightCommand& cmd = out.command;
+    const bool pilot_backing = in.pilot.progressive && in.pilot.pitch > 0;
+    if (st_.phase == Phase::Braking) {
+        // Full nose-up, yaw and climb kept; backing away harder than that is the pilot's.
+        cmd.progressive = true;
+        cmd.pitch = 1.0f;
+        if (!in.pilot.progressive) cmd.roll = cmd.gaz = cmd.yaw = 0;
+        out.action = AssistAction::Braking;
+        out.reason = "BRAKING: obstacle ahead" + contact_text(c);
+    } else if (st_.phase == Phase::Holding && room_ahead) {
+        char buf[96];
+        std::snprintf(buf, sizeof buf, "APPROACHING: obstacle remembered %.1f m ahead", remaining);
+        out.action = AssistAction::Watching;
+        out.reason = buf;
+    } else if (st_.phase == Phase::Holding) {
+        if (!vx_known && !pilot_backing) {
+            cmd = FlightCommand{};  // no velocity to hold against: the drone's own hover
+        } else if (cmd.progressive && cmd.pitch < 0) {
+            cmd.pitch = 0;
+        }
+        out.action = AssistAction::Holding;
+        out.reason = centre == RegionState::Unsafe
+                         ? "HOLDING: obstacle ahead, forward held at zero" + contact_text(c)
+                         : std::string("HOLDING: centre ") + to_string(centre) +
+                               " since the brake, forward held at zero until it is clear";
+    }
+
+    // Sides: zero the roll toward an unsafe side.
+    const bool limit_left = left == RegionState::Unsafe && cmd.progressive && cmd.roll < 0;
+    const bool limit_right = right == RegionState::Unsafe && cmd.progressive && cmd.roll > 0;
+    if (limit_left || limit_right) {
+        cmd.roll = 0;
+        if (st_.phase == Phase::Free) {
+            out.action = limit_left ? AssistAction::LimitLeft : AssistAction::LimitRight;
+            out.region = limit_left ? vision::Region::Left : vision::Region::Right;
+            out.reason = std::string("LIMITING: obstacle ") + (limit_left ? "left" : "right") +
+                         ", no movement toward it" + contact_text(in.regions[limit_left ? 0 : 2]);
+        }
+    }
+    // A move with nothing left in it is a hover: the drone holds its position itself.
+    if (cmd.progressive && cmd.roll == 0 && cmd.pitch == 0 && cmd.gaz == 0 && cmd.yaw == 0 &&
+        !(in.pilot == cmd))
+        cmd.progressive = false;
+
+    if (out.action == AssistAction::Watching && !room_ahead) {
+        // Say what is not known: an unknown region is never a reason to brake.
+        if (pilot_forward && (centre == RegionState::Unknown || centre == RegionState::Stale))
+            out.reason = std::string("centre ") + to_string(centre) + ": no evidence, not braking";
+        else if (!vx_known)
+            out.reason = "watching (no velocity from navdata)";
+        else
+            out.reason = "watching";
+    }
+    return finish(out);
+}
+
+}  // namespace gs::app

@@ -1,0 +1,124 @@
+#pragma once
+// The collision-prevention assist (issue 16): between the pilot's inputs and the AT sender, it
+// limits the commands that would fly the drone into a region the obstacle classifier reports
+// unsafe. A pure unit: no sockets, no clock (times come in with the input), no threads; the
+// session calls it on every pilot change and classifier decision, the evaluation on every step.
+//
+// Rules:
+//  - Centre unsafe while the drone moves forward: BRAKE. With a navdata velocity: full nose-up
+//    pitch until the forward speed is under `brake_release_mps`, then the drone's own hover (on
+//    the AR.Drone's dynamics this stops shorter than hover alone: the hover controller tilts in
+//    proportion to the residual speed, so its last half metre per second decays slowly; see
+//    tests/app/assist_test.cpp, which measures both on the virtual drone's flight model). Without a
+//    velocity: hover at once. Then HOLD: the forward command stays at zero until the centre is
+//    clear (a valid, safe decision) or the drone has turned away (`release_turn_deg`).
+//  - Left / right unsafe: the roll command toward that side is zeroed.
+//  - Never limited: yaw, climb and descent, backing away (nose-up pitch), roll away from a side.
+//  - Unknown or stale regions (no evidence) never brake; the output says so.
+//  - Emergency and landing are not commands the assist sees: they go straight to the link. The
+//    override (a held key) passes the pilot's command through unchanged; so does the assist
+//    switched off.
+
+#include "drone/core/unknown.hpp"
+#include "vision/classifier.hpp"
+
+#include <array>
+#include <cstdint>
+#include <string>
+
+namespace gs::app {
+
+// What the pilot asks for: a progressive move (fractions of the configured maxima, link::Move
+// conventions: pitch < 0 forward, roll > 0 right, gaz > 0 up, yaw > 0 clockwise) or hover.
+struct FlightCommand {
+    bool progressive = false;  // false: hover (the drone holds its position)
+    float roll = 0, pitch = 0, gaz = 0, yaw = 0;
+    bool operator==(const FlightCommand&) const = default;
+};
+
+enum class RegionState : std::uint8_t { Unknown, Clear, Unsafe, Stale };
+const char* to_string(RegionState s);  // "unknown", "clear", "unsafe", "stale"
+
+// The classifier's latest decision on one region as the assist sees it.
+struct RegionEvidence {
+    RegionState state = RegionState::Unknown;
+    double age_s = kUnknown;  // since the frame it was made on
+    double ttc_s = kUnknown;  // time to contact, when the classifier estimates one
+};
+
+struct AssistInput {
+    double t_s = 0;  // the caller's clock, seconds (only differences matter)
+    FlightCommand pilot;
+    std::array<RegionEvidence, 3> regions{};  // vision::Region order: left, centre, right
+    // Navdata: body velocity (forward, right; m/s) and heading; NaN = unknown.
+    double vx_mps = kUnknown, vy_mps = kUnknown, yaw_deg = kUnknown;
+    bool flying = true;     // airborne (navdata FLY); on the ground nothing is limited
+    bool enabled = true;    // the toggle
+    bool override = false;  // the override key is held
+};
+
+enum class AssistAction : std::uint8_t {
+    Off,         // switched off: everything passes
+    Override,    // the pilot holds the override key
+    Watching,    // on, nothing to limit
+    Braking,     // stopping forward motion (centre unsafe)
+    Holding,     // forward held at zero (centre was unsafe, not yet clear)
+    LimitLeft,   // lateral command toward the left zeroed
+    LimitRight,  // toward the right
+    LimitSides,  // both
+};
+const char* to_string(AssistAction a);  // "OFF", "OVERRIDE", "WATCHING", "BRAKING" ...
+
+struct AssistParams {
+    double moving_forward_mps = 0.15;  // faster than this forward = moving forward
+    double brake_release_mps = 0.25;   // full nose-up until the forward speed is under this
+    double max_brake_s = 2.0;          // the braking pitch never lasts longer (then hover)
+    double release_turn_deg = 45.0;    // turned this far from the braking heading: hold released
+    double stale_after_s = 0.5;        // an older decision is stale (no evidence)
+    // The obstacle a brake was for is remembered ahead (at time-to-contact x speed, or this far
+    // when no time to contact is known) and the drone is let forward only while it stays more
+    // than `hold_gap_m` from it: a drone that has stopped sees no expansion, so "clear" from the
+    // classifier alone would let it creep into what it just braked for.
+    double default_obstacle_m = 1.5;
+    double hold_gap_m = 1.0;
+    double forget_after_clear_s = 1.5;  // clear this long while moving forward: forgotten
+};
+
+struct AssistOutput {
+    FlightCommand command;  // what goes to the drone
+    AssistAction action = AssistAction::Watching;
+    bool intervened = false;  // command differs from the pilot's
+    // The region acted on (for the record), Centre when braking or holding.
+    vision::Region region = vision::Region::Centre;
+    // One line for the status bar and the HUD: "BRAKING: obstacle ahead, contact in 1.8 s",
+    // "HOLDING: obstacle ahead, forward held at zero", "centre unknown: no evidence, not braking".
+    std::string reason;
+    bool changed = false;  // action or region changed since the previous step: log it
+};
+
+class Assist {
+public:
+    explicit Assist(AssistParams p = {}) : p_(p) {}
+    AssistOutput step(const AssistInput& in);
+    void reset() { st_ = {}; }
+    const AssistParams& params() const { return p_; }
+
+private:
+    struct State {
+        enum class Phase : std::uint8_t { Free, Braking, Holding } phase = Phase::Free;
+        double since_s = 0;
+        double heading_deg = kUnknown;
+        double last_t_s = kUnknown;
+        double obstacle_m = kUnknown;  // remembered obstacle ahead, from the brake's position
+        double travelled_m = 0;        // forward since then
+        double clear_since_s = kUnknown;
+        AssistAction last_action = AssistAction::Watching;
+        vision::Region last_region = vision::Region::Centre;
+        bool first = true;
+    };
+    RegionState effective(const RegionEvidence& e) const;
+    AssistParams p_;
+    State st_;
+};
+
+}  // namespace gs::app

@@ -1,0 +1,278 @@
+// The collision-prevention assist as a pure unit: braking, holding, releasing, side limits, what is
+// never limited, unknown and stale evidence, override and off; and its braking against the
+// drone's own hover on the virtual drone's flight model.
+
+#include "app/assist.hpp"
+#include "drone/sim/flight_model.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace gs::app {
+namespace {
+
+FlightCommand forward(float pitch = -0.5f) {
+    return {true, 0, pitch, 0, 0};
+}
+
+RegionEvidence unsafe(double ttc = kUnknown) {
+    return {RegionState::Unsafe, 0.05, ttc};
+}
+RegionEvidence clear() {
+    return {RegionState::Clear, 0.05, kUnknown};
+}
+
+AssistInput flying_forward(double vx, RegionEvidence centre) {
+    AssistInput in;
+    in.pilot = forward();
+    in.regions = {clear(), centre, clear()};
+    in.vx_mps = vx;
+    in.vy_mps = 0;
+    in.yaw_deg = 10;
+    return in;
+}
+
+TEST(Assist, ClearPathPassesThePilotUnchanged) {
+    Assist a;
+    const AssistOutput o = a.step(flying_forward(1.0, clear()));
+    EXPECT_EQ(o.command, forward());
+    EXPECT_EQ(o.action, AssistAction::Watching);
+    EXPECT_FALSE(o.intervened);
+}
+
+TEST(Assist, CentreUnsafeWhileMovingForwardBrakesThenHoldsUntilClear) {
+    Assist a;
+    AssistInput in = flying_forward(1.5, unsafe(1.8));
+    AssistOutput o = a.step(in);
+    EXPECT_EQ(o.action, AssistAction::Braking);
+    EXPECT_TRUE(o.intervened);
+    EXPECT_TRUE(o.changed);
+    EXPECT_EQ(o.region, vision::Region::Centre);
+    EXPECT_EQ(o.reason, "BRAKING: obstacle ahead, contact in 1.8 s");
+    EXPECT_TRUE(o.command.progressive);
+    EXPECT_FLOAT_EQ(o.command.pitch, 1.0f);  // full nose-up
+
+    in.t_s = 0.3;
+    in.vx_mps = 0.6;
+    o = a.step(in);
+    EXPECT_EQ(o.action, AssistAction::Braking);
+    EXPECT_FALSE(o.changed);
+
+    in.t_s = 0.6;
+    in.vx_mps = 0.2;  // slow: the drone's own hover from here
+    o = a.step(in);
+    EXPECT_EQ(o.action, AssistAction::Holding);
+    EXPECT_TRUE(o.changed);
+    EXPECT_FALSE(o.command.progressive);  // forward zeroed, nothing else asked: hover
+
+    // The centre turns unknown once the drone is stopped: still held (unknown is not clear).
+    in.t_s = 1.0;
+    in.regions[1] = {RegionState::Unknown, kUnknown, kUnknown};
+    o = a.step(in);
+    EXPECT_EQ(o.action, AssistAction::Holding);
+    EXPECT_FALSE(o.command.progressive);
+    EXPECT_NE(o.reason.find("until it is clear"), std::string::npos);
+
+    // One clear decision does not release it: a slowed drone sees less expansion.
+    in.t_s = 1.5;
+    in.regions[1] = clear();
+    o = a.step(in);
+    EXPECT_EQ(o.action, AssistAction::Holding);
+    // Clear for 1.5 s while still drifting forward: the obstacle is forgotten.
+    in.t_s = 3.1;
+    o = a.step(in);
+    EXPECT_EQ(o.action, AssistAction::Watching);
+    EXPECT_EQ(o.command, forward());
+}
+
+TEST(Assist, AfterABrakeItLetsTheDroneOnlyUpToAGapBeforeTheRememberedObstacle) {
+    Assist a;
+    // Unsafe with 3 s to contact at 1.2 m/s: the obstacle is 3.6 m ahead.
+    AssistInput in = flying_forward(1.2, unsafe(3.0));
+    ASSERT_EQ(a.step(in).action, AssistAction::Braking);
+    in.t_s = 0.5;
+    in.vx_mps = 0.1;
+    in.regions[1] = {RegionState::Unknown, kUnknown, kUnknown};
+    AssistOutput o = a.step(in);
+    EXPECT_EQ(o.action, AssistAction::Watching);  // 3.6 m - travelled: room to go on
+    EXPECT_EQ(o.command, forward());
+    EXPECT_NE(o.reason.find("APPROACHING: obstacle remembered"), std::string::npos) << o.reason;
+    // Creeping on at 0.5 m/s for 6 s: 3 m more, under 1 m left: held.
+    for (int i = 1; i <= 60; ++i) {
+        in.t_s = 0.5 + 0.1 * i;
+        in.vx_mps = 0.5;
+        o = a.step(in);
+    }
+    EXPECT_EQ(o.action, AssistAction::Holding);
+    EXPECT_FALSE(o.command.progressive);
+}
+
+TEST(Assist, YawClimbAndBackingAwayAreNeverLimited) {
+    Assist a;
+    AssistInput in = flying_forward(1.2, unsafe());
+    in.pilot = {true, 0, -0.5f, 0.6f, -0.7f};
+    AssistOutput o = a.step(in);
+    ASSERT_EQ(o.action, AssistAction::Braking);
+    EXPECT_FLOAT_EQ(o.command.gaz, 0.6f);
+    EXPECT_FLOAT_EQ(o.command.yaw, -0.7f);
+    in.vx_mps = 0.05;
+    in.t_s = 1;
+    o = a.step(in);
+    ASSERT_EQ(o.action, AssistAction::Holding);
+    EXPECT_TRUE(o.command.progressive);
+    EXPECT_FLOAT_EQ(o.command.pitch, 0.0f);
+    EXPECT_FLOAT_EQ(o.command.gaz, 0.6f);
+    EXPECT_FLOAT_EQ(o.command.yaw, -0.7f);
+    in.pilot = {true, 0, 0.4f, 0, 0};  // backing away
+    o = a.step(in);
+    EXPECT_EQ(o.command, in.pilot);
+    EXPECT_FALSE(o.intervened);
+}
+
+TEST(Assist, TurningAwayReleasesTheHold) {
+    AssistParams p;
+    p.default_obstacle_m = 0.8;  // no time to contact: remembered closer than the gap
+    Assist a(p);
+    AssistInput in = flying_forward(0.0, unsafe());
+    AssistOutput o = a.step(in);
+    EXPECT_EQ(o.action, AssistAction::Holding);  // the pilot pushes forward while stopped
+    in.yaw_deg = 40;  // turning, the centre still unsafe: held (and the heading followed)
+    in.t_s = 1;
+    EXPECT_EQ(a.step(in).action, AssistAction::Holding);
+    in.regions[1] = {RegionState::Unknown, kUnknown, kUnknown};
+    in.yaw_deg = 70;  // 30 degrees further: not yet
+    in.t_s = 2;
+    EXPECT_EQ(a.step(in).action, AssistAction::Holding);
+    in.yaw_deg = 95;  // 55 degrees from where the obstacle was last seen ahead
+    in.t_s = 3;
+    o = a.step(in);
+    EXPECT_EQ(o.action, AssistAction::Watching);
+    EXPECT_EQ(o.command, forward());
+}
+
+TEST(Assist, UnsafeSidesZeroOnlyTheRollTowardThem) {
+    Assist a;
+    AssistInput in = flying_forward(1.0, clear());
+    in.regions[0] = unsafe(2.5);
+    in.pilot = {true, -0.4f, -0.3f, 0.1f, 0.2f};
+    AssistOutput o = a.step(in);
+    EXPECT_EQ(o.action, AssistAction::LimitLeft);
+    EXPECT_EQ(o.region, vision::Region::Left);
+    EXPECT_FLOAT_EQ(o.command.roll, 0.0f);
+    EXPECT_FLOAT_EQ(o.command.pitch, -0.3f);  // forward is not the left's business
+    EXPECT_FLOAT_EQ(o.command.gaz, 0.1f);
+    EXPECT_FLOAT_EQ(o.command.yaw, 0.2f);
+    EXPECT_EQ(o.reason, "LIMITING: obstacle left, no movement toward it, contact in 2.5 s");
+    in.pilot.roll = 0.4f;  // away from it
+    o = a.step(in);
+    EXPECT_EQ(o.action, AssistAction::Watching);
+    EXPECT_FLOAT_EQ(o.command.roll, 0.4f);
+
+    in.regions = {clear(), clear(), unsafe()};
+    in.pilot = {true, 0.5f, 0, 0, 0};
+    o = a.step(in);
+    EXPECT_EQ(o.action, AssistAction::LimitRight);
+    EXPECT_FALSE(o.command.progressive);  // nothing left in the move: hover
+}
+
+TEST(Assist, UnknownAndStaleEvidenceNeverBrakesAndSaysSo) {
+    Assist a;
+    AssistOutput o = a.step(flying_forward(1.5, {RegionState::Unknown, kUnknown, kUnknown}));
+    EXPECT_EQ(o.action, AssistAction::Watching);
+    EXPECT_EQ(o.command, forward());
+    EXPECT_EQ(o.reason, "centre unknown: no evidence, not braking");
+    // An unsafe decision older than the staleness limit is no evidence either.
+    o = a.step(flying_forward(1.5, {RegionState::Unsafe, 0.8, 1.0}));
+    EXPECT_EQ(o.action, AssistAction::Watching);
+    EXPECT_EQ(o.command, forward());
+    EXPECT_EQ(o.reason, "centre stale: no evidence, not braking");
+}
+
+TEST(Assist, OverrideOffAndGroundPassThrough) {
+    Assist a;
+    AssistInput in = flying_forward(1.5, unsafe());
+    in.override = true;
+    AssistOutput o = a.step(in);
+    EXPECT_EQ(o.action, AssistAction::Override);
+    EXPECT_EQ(o.command, forward());
+    in.override = false;
+    in.enabled = false;
+    o = a.step(in);
+    EXPECT_EQ(o.action, AssistAction::Off);
+    EXPECT_EQ(o.command, forward());
+    in.enabled = true;
+    in.flying = false;
+    EXPECT_EQ(a.step(in).command, forward());
+    // Back on and flying: it brakes at once.
+    in.flying = true;
+    EXPECT_EQ(a.step(in).action, AssistAction::Braking);
+}
+
+TEST(Assist, WithoutNavdataVelocityItHoversRatherThanGuessing) {
+    Assist a;
+    AssistInput in = flying_forward(kUnknown, unsafe());
+    const AssistOutput o = a.step(in);
+    EXPECT_EQ(o.action, AssistAction::Holding);
+    EXPECT_EQ(o.command, FlightCommand{});  // hover: the drone's own velocity loop stops it
+}
+
+TEST(Assist, BrakingNeverLastsLongerThanItsLimit) {
+    Assist a;
+    AssistInput in = flying_forward(2.0, unsafe());
+    EXPECT_EQ(a.step(in).action, AssistAction::Braking);
+    in.t_s = 2.5;  // a velocity that never drops (a broken estimate): hover after max_brake_s
+    EXPECT_EQ(a.step(in).action, AssistAction::Holding);
+}
+
+// On the virtual drone's flight model: from each of the thesis' speeds, the assist's brake (full
+// nose-up, then hover) stops at least as short as the drone's own hover, and within the thesis'
+// measured stopping distance of the AR.Drone (under 0.7 m up to 2 m/s) plus the attitude lag.
+double stopping_distance(double v0, bool assist) {
+    sim::FlightModel m;
+    m.set_pose(0, 0, 1.0, 0);
+    sim::FlightInput in;
+    in.start = true;
+    in.progressive = true;
+    // Reach v0 with the tilt that holds it.
+    const double tilt = std::atan(0.55 * v0 / 9.81) * 180 / M_PI;
+    in.pitch = -tilt / (m.limits().euler_angle_max_rad * 180 / M_PI);
+    for (int i = 0; i < 2000 && m.state().vx_body_mps() < v0; ++i) {
+        sim::FlightInput boost = in;
+        boost.pitch = -1;
+        m.step(boost, 0.005);
+    }
+    for (int i = 0; i < 400; ++i) m.step(in, 0.005);  // settle at v0
+    const double x0 = m.state().x_m;
+    Assist a;
+    AssistInput ai;
+    ai.pilot = {true, 0, static_cast<float>(in.pitch), 0, 0};
+    ai.regions = {clear(), unsafe(), clear()};
+    for (int i = 0; i < 1000; ++i) {
+        ai.t_s = i * 0.005;
+        ai.vx_mps = m.state().vx_body_mps();
+        ai.yaw_deg = m.state().yaw_deg;
+        sim::FlightInput cmd;
+        cmd.start = true;
+        if (assist) {
+            const FlightCommand c = a.step(ai).command;
+            cmd.progressive = c.progressive;
+            cmd.pitch = c.pitch;
+        }  // else: hover
+        m.step(cmd, 0.005);
+    }
+    return m.state().x_m - x0;
+}
+
+TEST(Assist, BrakingStopsNoLongerThanHoverOnTheFlightModel) {
+    for (double v : {0.6, 1.0, 1.5, 2.0}) {
+        const double hover = stopping_distance(v, false);
+        const double brake = stopping_distance(v, true);
+        EXPECT_LE(brake, hover + 1e-3) << v << " m/s";
+        EXPECT_LT(brake, 0.7 + 0.3 * v) << v << " m/s";
+        EXPECT_GT(brake, 0.05) << v << " m/s";
+    }
+}
+
+}  // namespace
+}  // namespace gs::app
