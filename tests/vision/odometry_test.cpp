@@ -40,7 +40,8 @@ BodyMotion motion(double forward_m, double right_m, double yaw_deg) {
     m.forward_m = forward_m;
     m.right_m = right_m;
     m.yaw_deg = yaw_deg;
-    m.r_body = rot2(-yaw_deg);  // the body-axes point motion of a yaw (see body_motion_from_...)
+    m.r_body = geom::from_cv(
+        rot2(-yaw_deg));  // the body-axes point motion of a yaw (see body_motion_from_...)
     return m;
 }
 
@@ -314,8 +315,8 @@ TEST(OdometryCombine, RotationMatricesAreAveragedThenAtan2) {
     // The matrices are averaged, not the angles: 2 I and R(90°) average to [1 -0.5; 0.5 1],
     // atan2(0.5, 1) = 26.565°, not 45°.
     BodyMotion a, b;
-    a.r_body = cv::Matx22d::eye() * 2.0;
-    b.r_body = rot2(90);
+    a.r_body = geom::Mat2::Identity() * 2.0;
+    b.r_body = geom::from_cv(rot2(90));
     const BodyMotion c = combine_motions(a, b);
     EXPECT_NEAR(c.r_body(0, 0), 1.0, 1e-12);
     EXPECT_NEAR(c.r_body(0, 1), -0.5, 1e-12);
@@ -851,7 +852,7 @@ namespace {
 // The bottom camera's view when the body is tilted by roll and pitch (FRD, aerospace ZYX: level
 // from body = Ry(pitch) Rx(roll); pitch up lifts the nose, so the belly and the camera look
 // forward). Built from the level view by the pure-rotation homography K B^T R B K^-1 (tilted
-// pixel -> level pixel), B the camera's axes in the body: x right, y backward, z down.
+// pixel -> level pixel), B the camera's axes in the body (geom::body_from_camera).
 cv::Mat tilted_bottom_view(const PlanarPose& pose, double roll_deg, double pitch_deg) {
     const CameraCalibration cal = synthetic_camera();
     // A level view with a margin, so the tilted view does not reach past its border.
@@ -862,14 +863,13 @@ cv::Mat tilted_bottom_view(const PlanarPose& pose, double roll_deg, double pitch
     wide.cy += 100;
     const cv::Mat level =
         render_view(floor_texture(), wide, CameraMount::Bottom, kFloorDistance_m, pose);
-    const double cr = std::cos(roll_deg * kDeg), sr = std::sin(roll_deg * kDeg);
-    const double cp = std::cos(pitch_deg * kDeg), sp = std::sin(pitch_deg * kDeg);
-    const cv::Matx33d ry{cp, 0, sp, 0, 1, 0, -sp, 0, cp};
-    const cv::Matx33d rx{1, 0, 0, 0, cr, -sr, 0, sr, cr};
-    const cv::Matx33d b{0, -1, 0, 1, 0, 0, 0, 0, 1};  // columns: camera x, y, z in body FRD
-    const cv::Matx33d k_in{cal.fx, 0, cal.cx, 0, cal.fy, cal.cy, 0, 0, 1};
-    const cv::Matx33d k_wide{wide.fx, 0, wide.cx, 0, wide.fy, wide.cy, 0, 0, 1};
-    const cv::Matx33d m = k_wide * b.t() * ry * rx * b * k_in.inv();
+    const geom::Mat3 k_in = geom::from_cv(cal.camera_matrix());
+    const geom::Mat3 k_wide = geom::from_cv(wide.camera_matrix());
+    const cv::Matx33d m =
+        geom::to_cv(k_wide *
+                    geom::camera_rotation(CameraMount::Bottom,
+                                          geom::level_from_body_matrix(roll_deg, pitch_deg)) *
+                    k_in.inverse());
     cv::Mat img;
     cv::warpPerspective(level, img, cv::Mat(m), cv::Size(cal.width, cal.height),
                         cv::INTER_LINEAR | cv::WARP_INVERSE_MAP, cv::BORDER_REPLICATE);
