@@ -20,6 +20,7 @@
 
 using namespace gs::vision;
 using gs::CameraCalibration;
+namespace geom = gs::geom;
 
 namespace {
 
