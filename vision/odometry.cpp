@@ -244,6 +244,7 @@ public:
                            double pitch_deg) {
         CameraEstimate e;
         auto t0 = std::chrono::steady_clock::now();
+        double level_roll = roll_deg, level_pitch = pitch_deg;  // this frame's levelling
         if (image.channels() == 3)
             cv::cvtColor(image, grey_, cv::COLOR_BGR2GRAY);
         else if (image.channels() == 4)
@@ -270,7 +271,7 @@ public:
             e.tracked = static_cast<int>(src_.size());
             e.track_ms = ms_since(t0);
             t0 = std::chrono::steady_clock::now();
-            estimate(e, distance_m, roll_deg, pitch_deg);
+            estimate(e, distance_m, level_roll, level_pitch);
             e.homography_ms = ms_since(t0);
         } else {
             // A previous frame without corners (textureless, dark) is no estimate, not a start.
@@ -283,8 +284,8 @@ public:
                                 p_.min_corner_distance_px, cv::noArray(), p_.block_size);
         e.track_ms += ms_since(td);
         std::swap(prev_grey_, grey_);
-        prev_roll_ = roll_deg;
-        prev_pitch_ = pitch_deg;
+        prev_roll_ = level_roll;
+        prev_pitch_ = level_pitch;
         have_prev_ = true;
         return e;
     }
@@ -312,7 +313,9 @@ private:
         }
     }
 
-    void estimate(CameraEstimate& e, double distance_m, double roll_deg, double pitch_deg) {
+    // roll_deg / pitch_deg: the navdata's for this frame on entry; on return the attitude its
+    // points were levelled with (the image tilt may correct it, see correct_tilt).
+    void estimate(CameraEstimate& e, double distance_m, double& roll_deg, double& pitch_deg) {
         if (e.tracked < std::max(4, p_.min_inliers)) {
             e.status = CameraStatus::TooFewPoints;
             return;
@@ -343,16 +346,23 @@ private:
     }
 
     // Tilt from the images. Over a planar floor the points map by H = R (I + t n^T / d), n the
-    // floor's normal: once the points are levelled (by the navdata roll and pitch) n is the
-    // optical axis and I + t n^T / d has no projective part, so H's third row is R's: the tilt
-    // change the levelling missed (-h31 = its y rotation, h32 its x rotation, in normalised
-    // coordinates). It is taken off the destination side, H' = R^T H, which also removes the
-    // translation it would read (d x angle: 2 mm per 0.1 degree at 1.2 m). Fused with the
-    // navdata's change (inverse variances); without levelling it is the whole tilt change.
-    // Off by default: on the generated hover it cuts the per-sample error eightfold but adds a
-    // steady drift (2.3 cm in 20 s) whose cause is not found yet (README, odometry under IMU
-    // noise).
-    void correct_tilt(CameraEstimate& e, double roll_deg, double pitch_deg) const {
+    // floor's normal: once the points are levelled (by an attitude) n is the optical axis and
+    // I + t n^T / d has no projective part, so H's third row is R's: the tilt change the
+    // levelling missed (-h31 = its y rotation, h32 its x rotation, in normalised coordinates).
+    // It is taken off the destination side, H' = R^T H, which also removes the translation it
+    // would read (d x angle: 2 mm per 0.1 degree at 1.2 m), fused with the navdata's change by
+    // their standard errors (w = the image's share).
+    //
+    // The current frame's levelling attitude moves by what was taken off, and the next sample
+    // levels this frame with that corrected attitude, not the navdata's: a complementary filter
+    // (L_k = nav_k - w x seen_k; the images' tilt changes at high frequency, the navdata's
+    // attitude at low frequency). The levelling error then enters the translation only through
+    // its change from one frame to the next, which telescopes over the flight: a small
+    // systematic error of the projective part (about 0.004 degree per sample on the generated
+    // flights) shifts the levelling by a constant instead of drifting the path, and the
+    // navdata's noise reaches the translation attenuated by 1 - w. Without levelling (no
+    // navdata attitude) the whole measured change is taken off per sample, as before.
+    void correct_tilt(CameraEstimate& e, double& roll_deg, double& pitch_deg) const {
         if (!p_.image_tilt || !p_.centre_on_principal_point) return;
         const double h33 = e.h_px(2, 2);
         if (!finite(h33) || h33 == 0.0) return;
@@ -362,12 +372,19 @@ private:
         const double vi = std::pow(p_.image_tilt_sigma_deg, 2);
         const double vn = std::pow(p_.nav_tilt_sigma_deg, 2);
         const double w = levelled ? vn / (vn + vi) : 1.0;
-        const geom::Vec3 d(w * dx, w * dy, 0);
-        if (d.norm() > p_.image_tilt_max_deg * kRadPerDeg) return;  // not a floor
+        const geom::Vec3 seen(dx, dy, 0);                              // camera axes, radians
+        if (seen.norm() > p_.image_tilt_max_deg * kRadPerDeg) return;  // not a floor
+        const geom::Vec3 d = w * seen;
         const geom::Mat3 r = geom::rotation_from_vector(d);
         const geom::Mat3 k0 = focal_scale(calib_.fx, calib_.fy);
         e.h_px = geom::to_cv(k0 * r.transpose() * k0.inverse() * geom::from_cv(e.h_px));
         e.tilt_correction_deg = {d.x() / kRadPerDeg, d.y() / kRadPerDeg};
+        if (levelled) {
+            // d in body axes: its x and y parts are the roll and pitch the levelling missed.
+            const geom::Vec3 missed = geom::body_from_camera(mount_) * d;
+            roll_deg -= missed.x() / kRadPerDeg;
+            pitch_deg -= missed.y() / kRadPerDeg;
+        }
     }
 
     CameraCalibration calib_;

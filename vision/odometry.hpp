@@ -151,9 +151,10 @@ struct OdometryParams : OdometryFilterParams {
     // carried level; on a flying drone a 1° pitch change is 2 cm of false motion at 1.2 m).
     bool tilt_compensation = true;
     // Tilt from the images: the homography's projective part (over a floor, the tilt change the
-    // levelling missed), fused with the navdata's change by their standard errors per sample.
-    // Not the thesis' (`--thesis` turns it off with the centring it needs). Off by default: it
-    // cuts the per-sample error under IMU noise but adds a steady drift (see correct_tilt).
+    // levelling missed), fused with the navdata's change by their standard errors per sample, and
+    // carried into the next sample's levelling (a complementary filter, see correct_tilt). Not
+    // the thesis' (`--thesis` turns it off with the centring it needs). Off by default until it is
+    // measured on full-length flights (README, odometry under IMU noise).
     bool image_tilt = false;
     double image_tilt_sigma_deg = 0.02;
     double nav_tilt_sigma_deg = 0.1;
