@@ -2,6 +2,7 @@
 // Small things every part of vision/ uses: the "unknown" value (the base's) and a stopwatch for
 // the per-stage timings the classifiers and odometry report.
 
+#include "drone/core/geometry.hpp"
 #include "drone/core/unknown.hpp"
 
 #include <chrono>
@@ -10,7 +11,7 @@
 
 namespace gs::vision {
 
-inline constexpr double kRadPerDeg = std::numbers::pi / 180.0;
+using geom::kRadPerDeg;
 
 using StageClock = std::chrono::steady_clock;
 

@@ -1,7 +1,6 @@
 #include "vision/geometry.hpp"
 #include "vision/common.hpp"
 
-#include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include <array>
@@ -10,48 +9,42 @@
 namespace gs::vision {
 
 namespace {
-// camera <- body: x_c = y_b, y_c = z_b, z_c = x_b.
-const cv::Matx33d kCamFromBody(0, 1, 0, 0, 0, 1, 1, 0, 0);
+
+geom::Mat3 camera_matrix(const CameraCalibration& calib) {
+    return geom::from_cv(calib.camera_matrix());
+}
+
 }  // namespace
-
-const cv::Matx33d& camera_from_body() {
-    return kCamFromBody;
-}
-
-cv::Matx33d body_rotation(double roll_deg, double pitch_deg, double yaw_deg) {
-    const double cr = std::cos(roll_deg * kRadPerDeg), sr = std::sin(roll_deg * kRadPerDeg);
-    const double cp = std::cos(pitch_deg * kRadPerDeg), sp = std::sin(pitch_deg * kRadPerDeg);
-    const double cy = std::cos(yaw_deg * kRadPerDeg), sy = std::sin(yaw_deg * kRadPerDeg);
-    const cv::Matx33d rz(cy, -sy, 0, sy, cy, 0, 0, 0, 1);
-    const cv::Matx33d ry(cp, 0, sp, 0, 1, 0, -sp, 0, cp);
-    const cv::Matx33d rx(1, 0, 0, 0, cr, -sr, 0, sr, cr);
-    return rz * ry * rx;
-}
 
 cv::Matx33d rotation_homography(const CameraCalibration& calib, const Attitude& prev,
                                 const Attitude& cur) {
     if (!prev.complete() || !cur.complete()) return cv::Matx33d::eye();
     // Only the yaw difference matters; taking it wrapped keeps 359 -> 1 a 2 degree turn.
-    double dyaw = std::remainder(cur.yaw_deg - prev.yaw_deg, 360.0);
-    const cv::Matx33d rp = body_rotation(prev.roll_deg, prev.pitch_deg, 0);
-    const cv::Matx33d rc = body_rotation(cur.roll_deg, cur.pitch_deg, dyaw);
-    const cv::Matx33d k = calib.camera_matrix();
-    const cv::Matx33d r = kCamFromBody * rc.t() * rp * kCamFromBody.t();
-    cv::Matx33d h = k * r * k.inv();
-    return h * (1.0 / h(2, 2));
+    const double dyaw = std::remainder(cur.yaw_deg - prev.yaw_deg, 360.0);
+    const geom::Mat3 world_from_prev =
+        geom::world_from_body_matrix(prev.roll_deg, prev.pitch_deg, 0);
+    const geom::Mat3 world_from_cur =
+        geom::world_from_body_matrix(cur.roll_deg, cur.pitch_deg, dyaw);
+    // Points of the previous camera frame in the current one (a far point moves by this alone).
+    const geom::Mat3 cur_from_prev =
+        geom::camera_rotation(geom::Mount::Front, world_from_cur.transpose() * world_from_prev);
+    return geom::to_cv(geom::rotation_homography(camera_matrix(calib), cur_from_prev));
 }
 
 cv::Vec3d camera_velocity(double roll_deg, double pitch_deg, double v_forward, double v_right,
                           double v_down) {
     const double r = std::isnan(roll_deg) ? 0.0 : roll_deg;
     const double p = std::isnan(pitch_deg) ? 0.0 : pitch_deg;
-    return kCamFromBody * (body_rotation(r, p, 0).t() * cv::Vec3d(v_forward, v_right, v_down));
+    const geom::Vec3 v_body =
+        geom::level_from_body_matrix(r, p).transpose() * geom::Vec3(v_forward, v_right, v_down);
+    return geom::to_cv(geom::body_from_camera(geom::Mount::Front).transpose() * v_body);
 }
 
 cv::Matx33d level_from_camera(double roll_deg, double pitch_deg) {
     const double r = std::isnan(roll_deg) ? 0.0 : roll_deg;
     const double p = std::isnan(pitch_deg) ? 0.0 : pitch_deg;
-    return body_rotation(r, p, 0) * kCamFromBody.t();
+    return geom::to_cv(geom::level_from_body_matrix(r, p) *
+                       geom::body_from_camera(geom::Mount::Front));
 }
 
 cv::Point2f focus_of_expansion(const CameraCalibration& calib, double roll_deg, double pitch_deg,
@@ -69,11 +62,8 @@ cv::Point2f focus_of_expansion(const CameraCalibration& calib, double roll_deg, 
 }
 
 cv::Matx33d small_rotation_homography(const CameraCalibration& calib, const cv::Vec3d& omega_rad) {
-    cv::Matx33d r;
-    cv::Rodrigues(omega_rad, r);
-    const cv::Matx33d k = calib.camera_matrix();
-    cv::Matx33d h = k * r * k.inv();
-    return h * (1.0 / h(2, 2));
+    return geom::to_cv(geom::rotation_homography(
+        camera_matrix(calib), geom::rotation_from_vector(geom::from_cv(omega_rad))));
 }
 
 void detection_mask(const CameraCalibration& calib, const RollStabiliser& stab, double margin_px,

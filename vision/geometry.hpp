@@ -3,11 +3,11 @@
 // image motion a pure attitude change causes (infinite homography K R K^-1), the focus of
 // expansion, and the detection mask that keeps corners out of what roll stabilisation would crop.
 //
-// Conventions (drone/sample.hpp): roll positive = right side down, pitch positive = nose up, yaw
-// positive = clockwise seen from above. Body axes x forward, y right, z down; camera axes x right,
-// y down, z forward (the front camera looks along body x).
+// Conventions and frames: drone/core/geometry.hpp (the front camera, geom::Mount::Front). The
+// functions here turn its rotations into the classifiers' OpenCV types.
 
 #include "drone/core/camera_calibration.hpp"
+#include "drone/core/geometry.hpp"
 #include "drone/core/unknown.hpp"
 
 #include <opencv2/core.hpp>
@@ -26,12 +26,6 @@ struct Attitude {
         return !std::isnan(roll_deg) && !std::isnan(pitch_deg) && !std::isnan(yaw_deg);
     }
 };
-
-// Camera-from-body axes permutation (x_c = y_b, y_c = z_b, z_c = x_b).
-const cv::Matx33d& camera_from_body();
-
-// World-from-body rotation, ZYX (yaw, pitch, roll).
-cv::Matx33d body_rotation(double roll_deg, double pitch_deg, double yaw_deg);
 
 // Maps an undistorted pixel of the frame taken at `prev` to where the same (infinitely far) point
 // appears at `cur`: K M R_cur^T R_prev M^T K^-1. Identity when either attitude is incomplete.

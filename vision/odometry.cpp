@@ -17,18 +17,15 @@ bool finite(double v) {
     return std::isfinite(v);
 }
 
-cv::Matx22d mount_axes(CameraMount m) {
-    const cv::Matx33d b = body_from_camera(m);
-    return {b(0, 0), b(0, 1), b(1, 0), b(1, 1)};
+// The image axes (x right, y down) on the body's horizontal axes (forward, right): the top-left
+// block of body_from_camera, exact for cameras looking straight down or up.
+geom::Mat2 mount_axes(CameraMount m) {
+    return geom::body_from_camera(m).topLeftCorner<2, 2>();
 }
 
-// Level-frame rotation for roll and pitch (FRD, as the renderer and navdata define them).
-cv::Matx33d tilt_rotation(double roll_deg, double pitch_deg) {
-    const double cr = std::cos(roll_deg * kRadPerDeg), sr = std::sin(roll_deg * kRadPerDeg);
-    const double cp = std::cos(pitch_deg * kRadPerDeg), sp = std::sin(pitch_deg * kRadPerDeg);
-    const cv::Matx33d ry{cp, 0, sp, 0, 1, 0, -sp, 0, cp};
-    const cv::Matx33d rx{1, 0, 0, 0, cr, -sr, 0, sr, cr};
-    return ry * rx;
+// Pixel space of the focal length: H_n = F^-1 H F (eq. 3.14 on the whole mapping).
+geom::Mat3 focal_scale(double fx_px, double fy_px) {
+    return geom::Vec3(fx_px, fy_px, 1).asDiagonal();
 }
 
 }  // namespace
@@ -66,30 +63,32 @@ double focal_length_px(double focal_length, double sensor_size, int resolution_p
 }
 
 const char* to_string(CameraMount m) {
-    return m == CameraMount::Top ? "top" : "bottom";
-}
-
-cv::Matx33d body_from_camera(CameraMount m) {
-    // Columns: camera x (image right), y (image down), z (optical axis) in body FRD.
-    if (m == CameraMount::Top) return {0, -1, 0, -1, 0, 0, 0, 0, -1};
-    return {0, -1, 0, 1, 0, 0, 0, 0, 1};
+    switch (m) {
+        case CameraMount::Front:
+            return "front";
+        case CameraMount::Bottom:
+            return "bottom";
+        case CameraMount::Top:
+            return "top";
+    }
+    return "?";
 }
 
 BodyMotion body_motion_from_homography(const cv::Matx33d& h_px, double fx_px, double fy_px,
                                        double distance_m, CameraMount mount) {
     // Normalised image coordinates: H_n = F^-1 H F (eq. 3.14 applied to the whole mapping, so the
     // rotation block is free of the pixel aspect ratio too).
-    const cv::Matx33d f{fx_px, 0, 0, 0, fy_px, 0, 0, 0, 1};
-    const cv::Matx33d f_inv{1 / fx_px, 0, 0, 0, 1 / fy_px, 0, 0, 0, 1};
-    const HomographyParts p = decompose_homography(f_inv * h_px * f);
+    const geom::Mat3 f = focal_scale(fx_px, fy_px);
+    const geom::Mat3 f_inv = focal_scale(1 / fx_px, 1 / fy_px);
+    const HomographyParts p = decompose_homography(geom::to_cv(f_inv * geom::from_cv(h_px) * f));
     BodyMotion m;
     if (!p.ok) return m;
-    const cv::Matx22d a = mount_axes(mount);
-    m.r_body = a * p.r * a.t();
-    const cv::Vec2d t_body = a * (p.t * distance_m);
+    const geom::Mat2 a = mount_axes(mount);
+    m.r_body = a * geom::from_cv(p.r) * a.transpose();
+    const geom::Vec2 t_body = a * (geom::Vec2(p.t[0], p.t[1]) * distance_m);
     // Floor points move by the inverse of the camera's motion: x_i = R x_{i-1} - R_i^T dC.
-    m.forward_m = -t_body[0];
-    m.right_m = -t_body[1];
+    m.forward_m = -t_body.x();
+    m.right_m = -t_body.y();
     m.yaw_deg = -std::atan2(m.r_body(1, 0), m.r_body(0, 0)) / kRadPerDeg;
     return m;
 }
@@ -134,9 +133,10 @@ FilteredMotion OdometryFilter::apply(double forward_m, double right_m, double ya
 
 const PlanarPose& TrajectoryIntegrator::add(double forward_m, double right_m, double yaw_deg) {
     pose_.yaw_deg += yaw_deg;
-    const double c = std::cos(pose_.yaw_deg * kRadPerDeg), s = std::sin(pose_.yaw_deg * kRadPerDeg);
-    pose_.x_m += c * forward_m - s * right_m;
-    pose_.y_m += s * forward_m + c * right_m;
+    const geom::Vec2 step =
+        geom::world_from_heading(pose_.yaw_deg) * geom::Vec2(forward_m, right_m);
+    pose_.x_m += step.x();
+    pose_.y_m += step.y();
     return pose_;
 }
 
@@ -244,6 +244,7 @@ public:
                            double pitch_deg) {
         CameraEstimate e;
         auto t0 = std::chrono::steady_clock::now();
+        double level_roll = roll_deg, level_pitch = pitch_deg;  // this frame's levelling
         if (image.channels() == 3)
             cv::cvtColor(image, grey_, cv::COLOR_BGR2GRAY);
         else if (image.channels() == 4)
@@ -270,7 +271,7 @@ public:
             e.tracked = static_cast<int>(src_.size());
             e.track_ms = ms_since(t0);
             t0 = std::chrono::steady_clock::now();
-            estimate(e, distance_m, roll_deg, pitch_deg);
+            estimate(e, distance_m, level_roll, level_pitch);
             e.homography_ms = ms_since(t0);
         } else {
             // A previous frame without corners (textureless, dark) is no estimate, not a start.
@@ -283,8 +284,8 @@ public:
                                 p_.min_corner_distance_px, cv::noArray(), p_.block_size);
         e.track_ms += ms_since(td);
         std::swap(prev_grey_, grey_);
-        prev_roll_ = roll_deg;
-        prev_pitch_ = pitch_deg;
+        prev_roll_ = level_roll;
+        prev_pitch_ = level_pitch;
         have_prev_ = true;
         return e;
     }
@@ -294,24 +295,27 @@ private:
     void prepare(std::vector<cv::Point2f>& pts, double roll_deg, double pitch_deg) const {
         if (p_.undistort && calib_.has_distortion()) calib_.undistort_points(pts, pts);
         const bool level = p_.tilt_compensation && finite(roll_deg) && finite(pitch_deg);
-        const cv::Matx33d b = body_from_camera(mount_);
-        const cv::Matx33d r =
-            level ? b.t() * tilt_rotation(roll_deg, pitch_deg) * b : cv::Matx33d::eye();
+        // The camera's rays as a level camera at the same place would see them.
+        const geom::Mat3 r =
+            level ? geom::camera_rotation(mount_, geom::level_from_body_matrix(roll_deg, pitch_deg))
+                  : geom::Mat3::Identity();
         const double ox = p_.centre_on_principal_point ? calib_.cx : 0.0;
         const double oy = p_.centre_on_principal_point ? calib_.cy : 0.0;
         for (cv::Point2f& q : pts) {
             double x = static_cast<double>(q.x), y = static_cast<double>(q.y);
             if (level) {
-                const cv::Vec3d ray =
-                    r * cv::Vec3d((x - calib_.cx) / calib_.fx, (y - calib_.cy) / calib_.fy, 1.0);
-                x = ray[0] / ray[2] * calib_.fx + calib_.cx;
-                y = ray[1] / ray[2] * calib_.fy + calib_.cy;
+                const geom::Vec3 ray =
+                    r * geom::Vec3((x - calib_.cx) / calib_.fx, (y - calib_.cy) / calib_.fy, 1.0);
+                x = ray.x() / ray.z() * calib_.fx + calib_.cx;
+                y = ray.y() / ray.z() * calib_.fy + calib_.cy;
             }
             q = {static_cast<float>(x - ox), static_cast<float>(y - oy)};
         }
     }
 
-    void estimate(CameraEstimate& e, double distance_m, double roll_deg, double pitch_deg) {
+    // roll_deg / pitch_deg: the navdata's for this frame on entry; on return the attitude its
+    // points were levelled with (the image tilt may correct it, see correct_tilt).
+    void estimate(CameraEstimate& e, double distance_m, double& roll_deg, double& pitch_deg) {
         if (e.tracked < std::max(4, p_.min_inliers)) {
             e.status = CameraStatus::TooFewPoints;
             return;
@@ -342,16 +346,23 @@ private:
     }
 
     // Tilt from the images. Over a planar floor the points map by H = R (I + t n^T / d), n the
-    // floor's normal: once the points are levelled (by the navdata roll and pitch) n is the
-    // optical axis and I + t n^T / d has no projective part, so H's third row is R's: the tilt
-    // change the levelling missed (-h31 = its y rotation, h32 its x rotation, in normalised
-    // coordinates). It is taken off the destination side, H' = R^T H, which also removes the
-    // translation it would read (d x angle: 2 mm per 0.1 degree at 1.2 m). Fused with the
-    // navdata's change (inverse variances); without levelling it is the whole tilt change.
-    // Off by default: on the generated hover it cuts the per-sample error eightfold but adds a
-    // steady drift (2.3 cm in 20 s) whose cause is not found yet (README, odometry under IMU
-    // noise).
-    void correct_tilt(CameraEstimate& e, double roll_deg, double pitch_deg) const {
+    // floor's normal: once the points are levelled (by an attitude) n is the optical axis and
+    // I + t n^T / d has no projective part, so H's third row is R's: the tilt change the
+    // levelling missed (-h31 = its y rotation, h32 its x rotation, in normalised coordinates).
+    // It is taken off the destination side, H' = R^T H, which also removes the translation it
+    // would read (d x angle: 2 mm per 0.1 degree at 1.2 m), fused with the navdata's change by
+    // their standard errors (w = the image's share).
+    //
+    // The current frame's levelling attitude moves by what was taken off, and the next sample
+    // levels this frame with that corrected attitude, not the navdata's: a complementary filter
+    // (L_k = nav_k - w x seen_k; the images' tilt changes at high frequency, the navdata's
+    // attitude at low frequency). The levelling error then enters the translation only through
+    // its change from one frame to the next, which telescopes over the flight: a small
+    // systematic error of the projective part (about 0.004 degree per sample on the generated
+    // flights) shifts the levelling by a constant instead of drifting the path, and the
+    // navdata's noise reaches the translation attenuated by 1 - w. Without levelling (no
+    // navdata attitude) the whole measured change is taken off per sample, as before.
+    void correct_tilt(CameraEstimate& e, double& roll_deg, double& pitch_deg) const {
         if (!p_.image_tilt || !p_.centre_on_principal_point) return;
         const double h33 = e.h_px(2, 2);
         if (!finite(h33) || h33 == 0.0) return;
@@ -361,13 +372,19 @@ private:
         const double vi = std::pow(p_.image_tilt_sigma_deg, 2);
         const double vn = std::pow(p_.nav_tilt_sigma_deg, 2);
         const double w = levelled ? vn / (vn + vi) : 1.0;
-        const cv::Vec3d d(w * dx, w * dy, 0);
-        if (cv::norm(d) > p_.image_tilt_max_deg * kRadPerDeg) return;  // not a floor
-        cv::Matx33d r;
-        cv::Rodrigues(d, r);
-        const cv::Matx33d k0(calib_.fx, 0, 0, 0, calib_.fy, 0, 0, 0, 1);
-        e.h_px = k0 * r.t() * k0.inv() * e.h_px;
-        e.tilt_correction_deg = {d[0] / kRadPerDeg, d[1] / kRadPerDeg};
+        const geom::Vec3 seen(dx, dy, 0);                              // camera axes, radians
+        if (seen.norm() > p_.image_tilt_max_deg * kRadPerDeg) return;  // not a floor
+        const geom::Vec3 d = w * seen;
+        const geom::Mat3 r = geom::rotation_from_vector(d);
+        const geom::Mat3 k0 = focal_scale(calib_.fx, calib_.fy);
+        e.h_px = geom::to_cv(k0 * r.transpose() * k0.inverse() * geom::from_cv(e.h_px));
+        e.tilt_correction_deg = {d.x() / kRadPerDeg, d.y() / kRadPerDeg};
+        if (levelled) {
+            // d in body axes: its x and y parts are the roll and pitch the levelling missed.
+            const geom::Vec3 missed = geom::body_from_camera(mount_) * d;
+            roll_deg -= missed.x() / kRadPerDeg;
+            pitch_deg -= missed.y() / kRadPerDeg;
+        }
     }
 
     CameraCalibration calib_;
@@ -476,9 +493,9 @@ const OdometrySample& VisualOdometry::update(const OdometryInput& in) {
         const double vx = finite(m.prev_vx) ? (m.prev_vx + in.vx_mps) / 2 : in.vx_mps;
         const double vy = finite(m.prev_vy) ? (m.prev_vy + in.vy_mps) / 2 : in.vy_mps;
         const double head = m.start.yaw_deg + wrap_deg(in.yaw_deg - m.nav_yaw0);
-        const double c = std::cos(head * kRadPerDeg), sn = std::sin(head * kRadPerDeg);
-        m.nav_pose.x_m += (c * vx - sn * vy) * dt;
-        m.nav_pose.y_m += (sn * vx + c * vy) * dt;
+        const geom::Vec2 v_world = geom::world_from_heading(head) * geom::Vec2(vx, vy);
+        m.nav_pose.x_m += v_world.x() * dt;
+        m.nav_pose.y_m += v_world.y() * dt;
         m.nav_pose.yaw_deg = head;
         m.nav_valid = true;
     }
@@ -530,11 +547,9 @@ ErrorStats error_stats(std::span<const double> e) {
 std::vector<SampleTruth> truth_from_poses(std::span<const PlanarPose> poses) {
     std::vector<SampleTruth> out(poses.size());
     for (std::size_t i = 1; i < poses.size(); ++i) {
-        const double dx = poses[i].x_m - poses[i - 1].x_m, dy = poses[i].y_m - poses[i - 1].y_m;
-        const double c = std::cos(poses[i].yaw_deg * kRadPerDeg),
-                     s = std::sin(poses[i].yaw_deg * kRadPerDeg);
-        out[i] = {c * dx + s * dy, -s * dx + c * dy,
-                  wrap_deg(poses[i].yaw_deg - poses[i - 1].yaw_deg)};
+        const geom::Vec2 d_world(poses[i].x_m - poses[i - 1].x_m, poses[i].y_m - poses[i - 1].y_m);
+        const geom::Vec2 d_body = geom::world_from_heading(poses[i].yaw_deg).inverse() * d_world;
+        out[i] = {d_body.x(), d_body.y(), wrap_deg(poses[i].yaw_deg - poses[i - 1].yaw_deg)};
     }
     return out;
 }

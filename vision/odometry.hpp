@@ -17,6 +17,7 @@
 // rotation.
 
 #include "drone/core/camera_calibration.hpp"
+#include "drone/core/geometry.hpp"
 #include "drone/core/unknown.hpp"
 #include "vision/params.hpp"
 
@@ -52,20 +53,17 @@ struct HomographyParts {
 // common unit) and the image resolution.
 [[nodiscard]] double focal_length_px(double focal_length, double sensor_size, int resolution_px);
 
-// Where a camera looks and how its image axes lie on the body (forward, right) axes.
-enum class CameraMount {
-    Bottom,  // looks down; image right = body right, image up = body forward (AR.Drone)
-    Top,     // looks up; image up = body forward, image right = body LEFT (the view from below)
-};
+// Where a camera looks and how its image axes lie on the body (forward, right) axes: Bottom looks
+// down (image right = body right, image up = body forward; the AR.Drone's), Top looks up (image
+// up = body forward, image right = body LEFT, the view from below). Axes: geom::body_from_camera.
+using CameraMount = geom::Mount;
 const char* to_string(CameraMount m);
-// Body-from-camera rotation (camera x right, y down, z optical; body forward, right, down).
-[[nodiscard]] cv::Matx33d body_from_camera(CameraMount m);
 
 // A camera's frame-to-frame motion as the drone's, in the body frame.
 struct BodyMotion {
-    cv::Matx22d r_body = cv::Matx22d::eye();  // rotation block of the point motion, body axes
-    double forward_m = 0, right_m = 0;        // camera displacement, current body frame
-    double yaw_deg = 0;                       // heading change, clockwise seen from above
+    geom::Mat2 r_body = geom::Mat2::Identity();  // rotation block of the point motion, body axes
+    double forward_m = 0, right_m = 0;           // camera displacement, current body frame
+    double yaw_deg = 0;                          // heading change, clockwise seen from above
 };
 // From a homography in pixels relative to (cx, cy) (or to the pixel origin, the thesis' way):
 // normalise by F (eq. 3.14), move the image axes onto the body axes of the mount, and turn the
@@ -153,9 +151,10 @@ struct OdometryParams : OdometryFilterParams {
     // carried level; on a flying drone a 1° pitch change is 2 cm of false motion at 1.2 m).
     bool tilt_compensation = true;
     // Tilt from the images: the homography's projective part (over a floor, the tilt change the
-    // levelling missed), fused with the navdata's change by their standard errors per sample.
-    // Not the thesis' (`--thesis` turns it off with the centring it needs). Off by default: it
-    // cuts the per-sample error under IMU noise but adds a steady drift (see correct_tilt).
+    // levelling missed), fused with the navdata's change by their standard errors per sample, and
+    // carried into the next sample's levelling (a complementary filter, see correct_tilt). Not
+    // the thesis' (`--thesis` turns it off with the centring it needs). Off by default until it is
+    // measured on full-length flights (README, odometry under IMU noise).
     bool image_tilt = false;
     double image_tilt_sigma_deg = 0.02;
     double nav_tilt_sigma_deg = 0.1;

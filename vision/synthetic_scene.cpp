@@ -50,9 +50,11 @@ void render_scene(const std::vector<TexturedPlane>& planes, const CameraCalibrat
                   const CameraPose& pose, cv::Mat& out) {
     out.create(calib.height, calib.width, CV_8UC1);
     out.setTo(128);
-    const cv::Matx33d& m = camera_from_body();
-    const cv::Matx33d r_cw =
-        m * body_rotation(pose.roll_deg, pose.pitch_deg, pose.yaw_deg).t() * m.t();
+    // The scene's world has the camera's axes at zero attitude: its rotation to the camera is
+    // the body's inverse attitude seen through the front mount.
+    const cv::Matx33d r_cw = geom::to_cv(geom::camera_rotation(
+        geom::Mount::Front,
+        geom::world_from_body_matrix(pose.roll_deg, pose.pitch_deg, pose.yaw_deg).transpose()));
     const cv::Matx33d k = calib.camera_matrix();
     for (const TexturedPlane& p : planes) {
         const cv::Vec3d o = p.origin - pose.position;

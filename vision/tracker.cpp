@@ -145,9 +145,8 @@ void TrajectoryTracker::update(const cv::Mat& image, std::int64_t t_ns, double r
     cv::Matx33d base_h = base_h_in;
     cv::Vec3d base_rot(0, 0, 0);
     if (prior.rotation) {
-        const cv::Matx33d k = calib_.camera_matrix();
-        cv::Matx33d r = k.inv() * base_h * k;
-        cv::Rodrigues(r * (1.0 / std::cbrt(cv::determinant(r))), base_rot);
+        const geom::Mat3 k = geom::from_cv(calib_.camera_matrix());
+        base_rot = geom::to_cv(geom::vector_from_rotation(k.inverse() * geom::from_cv(base_h) * k));
     } else if (p_.ego_motion && p_.predict_rotation && have_rotation_) {
         // The camera's inertia: its rotation changes little from one frame to the next, so the
         // last one predicts this one, a prior as the navdata's would be (looser).

@@ -1,4 +1,5 @@
 #include "drone/sim/flight_model.hpp"
+#include "drone/core/geometry.hpp"
 #include "drone/sim/units.hpp"
 
 #include <algorithm>
@@ -8,7 +9,7 @@
 namespace gs::sim {
 namespace {
 constexpr double kG = 9.81;
-constexpr double kRad = std::numbers::pi / 180.0;
+constexpr double kRad = geom::kRadPerDeg;
 
 // First-order lag of `v` toward `target` with time constant tau over dt (exact discretisation).
 double approach(double v, double target, double tau, double dt) {
@@ -20,13 +21,19 @@ double clamp1(double v) {
 }
 }  // namespace
 
+namespace {
+// The horizontal velocity along the heading (forward, right).
+geom::Vec2 level_velocity(const FlightState& s) {
+    return geom::world_from_heading(s.yaw_deg).inverse() *
+           geom::Vec2(s.vx_world_mps, s.vy_world_mps);
+}
+}  // namespace
+
 double FlightState::vx_body_mps() const {
-    const double c = std::cos(yaw_deg * kRad), s = std::sin(yaw_deg * kRad);
-    return vx_world_mps * c + vy_world_mps * s;
+    return level_velocity(*this).x();
 }
 double FlightState::vy_body_mps() const {
-    const double c = std::cos(yaw_deg * kRad), s = std::sin(yaw_deg * kRad);
-    return -vx_world_mps * s + vy_world_mps * c;
+    return level_velocity(*this).y();
 }
 
 FlightModel::FlightModel(FlightParams params, FlightLimits limits)
@@ -186,15 +193,15 @@ void FlightModel::step(const FlightInput& raw, double dt) {
 
     // Horizontal: tilt accelerates the body; drag acts on the speed relative to the air (wind).
     if (airborne) {
-        const double a_fwd = -kG * std::tan(s_.pitch_deg * kRad);
-        const double a_right = kG * std::tan(s_.roll_deg * kRad);
-        const double c = std::cos(s_.yaw_deg * kRad), s = std::sin(s_.yaw_deg * kRad);
-        const double ax = a_fwd * c - a_right * s;
-        const double ay = a_fwd * s + a_right * c;
+        // Thrust tilted by pitch (nose up brakes) and roll (right side down goes right), along
+        // the heading, then turned into the world.
+        const geom::Vec2 a_level(-kG * std::tan(s_.pitch_deg * kRad),
+                                 kG * std::tan(s_.roll_deg * kRad));
+        const geom::Vec2 a_world = geom::world_from_heading(s_.yaw_deg) * a_level;
         s_.vx_world_mps +=
-            (ax - params_.drag_per_s * (s_.vx_world_mps - params_.wind_forward_mps)) * dt;
+            (a_world.x() - params_.drag_per_s * (s_.vx_world_mps - params_.wind_forward_mps)) * dt;
         s_.vy_world_mps +=
-            (ay - params_.drag_per_s * (s_.vy_world_mps - params_.wind_right_mps)) * dt;
+            (a_world.y() - params_.drag_per_s * (s_.vy_world_mps - params_.wind_right_mps)) * dt;
     } else {
         s_.vx_world_mps = s_.vy_world_mps = 0;
     }

@@ -1,4 +1,5 @@
 #include "drone/sim/odometry_flights.hpp"
+#include "drone/core/geometry.hpp"
 #include "drone/sim/units.hpp"
 
 #include "drone/dataset/writer.hpp"
@@ -203,7 +204,9 @@ std::vector<OdometryFlightSample> odometry_flight_samples(const OdometryFlightPa
         const Pose q = pose_at(tk);
         const double cam_z = q.z_m + (sensor == 1 ? kTopAboveBottom_m : 0.0);
         // Along the sensor axis (tilted with the plate) to the horizontal plane.
-        const double tilt = std::cos(q.roll_deg * kRadPerDeg) * std::cos(q.pitch_deg * kRadPerDeg);
+        const double tilt =
+            (geom::level_from_body_matrix(q.roll_deg, q.pitch_deg) * geom::Vec3::UnitZ())
+                .z();  // the body's down axis, vertical part
         const double d = (sensor == 1 ? p.ceiling_m - cam_z : cam_z) / std::max(tilt, 0.5);
         Rng r(mix_seed(seed, sensor * 1'000'003ULL + k));
         return quantise(d + p.distance_noise_m * gaussian(r), p.distance_resolution_m);
@@ -230,9 +233,8 @@ std::vector<OdometryFlightSample> odometry_flight_samples(const OdometryFlightPa
         // Velocity by a central difference of the true path, into the body frame.
         const double h = 1e-3;
         const Pose a = pose_at(s.t_s - h), b = pose_at(s.t_s + h);
-        const double vxw = (b.x_m - a.x_m) / (2 * h), vyw = (b.y_m - a.y_m) / (2 * h);
-        const double c = std::cos(s.bottom.yaw_deg * kRadPerDeg),
-                     sn = std::sin(s.bottom.yaw_deg * kRadPerDeg);
+        const geom::Vec2 v_world((b.x_m - a.x_m) / (2 * h), (b.y_m - a.y_m) / (2 * h));
+        const geom::Vec2 v_level = geom::world_from_heading(s.bottom.yaw_deg).inverse() * v_world;
         NavState& nav = s.nav;
         nav.t_ns = static_cast<TimeNs>(std::llround(s.t_s * 1e9));
         if (i > 0) {
@@ -244,8 +246,8 @@ std::vector<OdometryFlightSample> odometry_flight_samples(const OdometryFlightPa
             s.bottom.pitch_deg + bias_pitch + p.nav_attitude_noise_deg * gaussian(nav_rng);
         nav.yaw_deg = s.bottom.yaw_deg + p.nav_yaw_drift_dps * s.t_s +
                       p.nav_attitude_noise_deg * gaussian(nav_rng);
-        nav.vx_mps = c * vxw + sn * vyw + p.nav_velocity_noise_mps * gaussian(nav_rng);
-        nav.vy_mps = -sn * vxw + c * vyw + p.nav_velocity_noise_mps * gaussian(nav_rng);
+        nav.vx_mps = v_level.x() + p.nav_velocity_noise_mps * gaussian(nav_rng);
+        nav.vy_mps = v_level.y() + p.nav_velocity_noise_mps * gaussian(nav_rng);
         nav.vz_mps = (b.z_m - a.z_m) / (2 * h);
         nav.altitude_m = s.bottom_distance_m;
         out.push_back(s);

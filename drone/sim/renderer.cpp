@@ -1,4 +1,5 @@
 #include "drone/sim/renderer.hpp"
+#include "drone/core/geometry.hpp"
 #include "drone/sim/units.hpp"
 
 #include <algorithm>
@@ -17,10 +18,9 @@ constexpr int kBlock = 8;
 constexpr double kNear = 0.01;
 constexpr std::uint16_t kNoPrim = 0xffff;
 
-// Internal frame: x forward, y right, z DOWN (right-handed, aerospace FRD). The scene's z-up
-// world maps to it by negating z.
+// Internal frame: world FRD (drone/core/geometry.hpp); the scene's z-up heights map to it.
 cv::Vec3d frd(double x, double y, double z_up) {
-    return {x, y, -z_up};
+    return geom::to_cv(geom::world_point(x, y, z_up));
 }
 const cv::Vec3d kDown{0, 0, 1};
 
@@ -43,36 +43,27 @@ struct PrimFrame {
     float abs_d;           // |n . P0| (distance of the plane from the camera)
 };
 
-cv::Matx33d rot_x(double a) {
-    const double c = std::cos(a), s = std::sin(a);
-    return {1, 0, 0, 0, c, -s, 0, s, c};
-}
-cv::Matx33d rot_y(double a) {
-    const double c = std::cos(a), s = std::sin(a);
-    return {c, 0, s, 0, 1, 0, -s, 0, c};
-}
-cv::Matx33d rot_z(double a) {
-    const double c = std::cos(a), s = std::sin(a);
-    return {c, -s, 0, s, c, 0, 0, 0, 1};
-}
-
-// Camera axes (x right, y down, z optical) expressed in the body frame, as columns.
-cv::Matx33d body_from_camera(CameraKind k) {
-    if (k == CameraKind::Front) return {0, 0, 1, 1, 0, 0, 0, 1, 0};
-    if (k == CameraKind::Top) return {0, -1, 0, -1, 0, 0, 0, 0, -1};
-    return {0, -1, 0, 1, 0, 0, 0, 0, 1};
-}
-
+// The camera for one frame: its pose in the world (FRD), and world points and directions in
+// camera axes (x right, y down, z optical). The scene's primitives stay OpenCV vectors; they are
+// converted here, per primitive, never per pixel.
 struct CameraFrame {
-    cv::Matx33d r_cw;  // world (FRD) -> camera
-    cv::Vec3d centre;  // camera centre, FRD
+    geom::Pose3 world_from_camera;
+    geom::Mat3 camera_from_world;  // the rotation part of the inverse pose
+
+    cv::Vec3d point(const cv::Vec3d& p_world) const {
+        return geom::to_cv(camera_from_world *
+                           (geom::from_cv(p_world) - world_from_camera.translation()));
+    }
+    cv::Vec3d direction(const cv::Vec3d& d_world) const {
+        return geom::to_cv(camera_from_world * geom::from_cv(d_world));
+    }
 };
 
 CameraFrame camera_frame(const Pose& p, CameraKind k) {
-    const cv::Matx33d r_wb = rot_z(p.yaw_deg * kRadPerDeg) * rot_y(p.pitch_deg * kRadPerDeg) *
-                             rot_x(p.roll_deg * kRadPerDeg);
-    const cv::Matx33d r_wc = r_wb * body_from_camera(k);
-    return {r_wc.t(), frd(p.x_m, p.y_m, p.z_m)};
+    const geom::Pose3 world_from_body = geom::world_from_body_pose(
+        geom::world_point(p.x_m, p.y_m, p.z_m), p.roll_deg, p.pitch_deg, p.yaw_deg);
+    const geom::Pose3 world_from_camera = geom::world_from_camera(world_from_body, k);
+    return {world_from_camera, world_from_camera.linear().transpose()};
 }
 
 // log2 from the float's bits, mantissa linear: within 0.09 of the true value, plenty to pick a
@@ -344,14 +335,14 @@ struct Renderer::Impl {
     // Visibility of one primitive: clip to z > near, project, cull blocks, cast pixel rays.
     void draw_prim(std::size_t pi, const CameraFrame& cf) {
         const Prim& p = prims[pi];
-        const cv::Vec3d P0 = cf.r_cw * (p.p0 - cf.centre);
-        const cv::Vec3d n = cf.r_cw * p.n;
+        const cv::Vec3d P0 = cf.point(p.p0);
+        const cv::Vec3d n = cf.direction(p.n);
         const double d = n.dot(P0);
         if (d >= -1e-9) return;  // seen from behind (or edge-on)
         // Clip the culling polygon against the near plane.
         std::array<cv::Vec3d, 8> poly{}, clipped{};
         int np = 0, nc = 0;
-        for (const auto& c : p.corners) poly[std::size_t(np++)] = cf.r_cw * (c - cf.centre);
+        for (const auto& c : p.corners) poly[std::size_t(np++)] = cf.point(c);
         for (int k = 0; k < np; ++k) {
             const cv::Vec3d& a = poly[std::size_t(k)];
             const cv::Vec3d& b = poly[std::size_t((k + 1) % np)];
@@ -396,7 +387,7 @@ struct Renderer::Impl {
 
         PrimFrame& f = frames[pi];
         const cv::Vec3d a = n * (1.0 / d);
-        const cv::Vec3d bu = cf.r_cw * p.eu, bv = cf.r_cw * p.ev;
+        const cv::Vec3d bu = cf.direction(p.eu), bv = cf.direction(p.ev);
         f = {float(a[0]),  float(a[1]),  float(a[2]),       float(bu[0]),
              float(bu[1]), float(bu[2]), float(bu.dot(P0)), float(bv[0]),
              float(bv[1]), float(bv[2]), float(bv.dot(P0)), float(-d)};
@@ -555,7 +546,7 @@ void Renderer::render(const Pose& pose, cv::Mat& out) {
 std::optional<cv::Point2d> Renderer::project(const Pose& pose, double x_m, double y_m,
                                              double z_m) const {
     const CameraFrame cf = camera_frame(pose, impl_->camera);
-    const cv::Vec3d c = cf.r_cw * (frd(x_m, y_m, z_m) - cf.centre);
+    const cv::Vec3d c = cf.point(frd(x_m, y_m, z_m));
     if (c[2] <= 1e-9) return std::nullopt;
     return distort_to_pixel(impl_->calib, {c[0] / c[2], c[1] / c[2]});
 }

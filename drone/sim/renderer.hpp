@@ -9,6 +9,7 @@
 
 #include "drone/core/camera_calibration.hpp"
 #include "drone/core/expected.hpp"
+#include "drone/core/geometry.hpp"
 #include "drone/sim/scene.hpp"
 
 #include <opencv2/core.hpp>
@@ -20,12 +21,10 @@
 
 namespace gs::sim {
 
-enum class CameraKind {
-    Front,   // looks along the body x axis; image right = body right
-    Bottom,  // looks down; image right = body right, image top = body forward
-    Top,     // looks up at the ceiling; image top = body forward, image right = body LEFT (the
-             // view from below: mounted back to back with Bottom, as in the thesis' rig)
-};
+// Front looks along the body x axis (image right = body right); Bottom looks down (image top =
+// body forward); Top looks up at the ceiling (image top = body forward, image right = body LEFT:
+// mounted back to back with Bottom, as in the thesis' rig). Axes: geom::body_from_camera.
+using CameraKind = geom::Mount;
 
 enum class RenderError { InvalidCalibration, CalibrationNotInvertible };
 std::string to_string(RenderError e);

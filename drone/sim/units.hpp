@@ -1,12 +1,12 @@
 #pragma once
 // Angle conversions shared by the virtual drone's code (one name per direction: no file can
-// mistake one for the other).
+// mistake one for the other): the geometry vocabulary's (drone/core/geometry.hpp).
 
-#include <numbers>
+#include "drone/core/geometry.hpp"
 
 namespace gs::sim {
 
-inline constexpr double kRadPerDeg = std::numbers::pi / 180.0;
-inline constexpr double kDegPerRad = 180.0 / std::numbers::pi;
+using geom::kDegPerRad;
+using geom::kRadPerDeg;
 
 }  // namespace gs::sim
