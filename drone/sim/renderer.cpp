@@ -556,7 +556,7 @@ std::span<const float> Renderer::inverse_depth() const {
 }
 
 cv::Matx33d world_from_camera(const Pose& pose, CameraKind camera) {
-    return camera_frame(pose, camera).r_cw.t();
+    return geom::to_cv(camera_frame(pose, camera).world_from_camera.linear());
 }
 
 const CameraCalibration& Renderer::calibration() const {
