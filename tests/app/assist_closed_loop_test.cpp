@@ -9,9 +9,9 @@
 #include "drone/core/camera_calibration.hpp"
 #include "drone/link/drone_link.hpp"
 #include "drone/sim/collision.hpp"
+#include "drone/sim/loopback.hpp"
 #include "drone/sim/scenarios.hpp"
 #include "drone/sim/virtual_drone.hpp"
-#include "support/virtual_drone.hpp"
 
 #include <gtest/gtest.h>
 
@@ -41,11 +41,11 @@ PillarFlight fly_at_the_pillar(bool assist_on) {
     EXPECT_TRUE(scene);
     if (!scene) return res;
     const sim::Collider collider(*scene);
-    sim::VirtualDroneOptions vo = test::loopback_drone_options(*scene);
+    sim::VirtualDroneOptions vo = sim::loopback_options(*scene);
     vo.clock = &clock;
     sim::VirtualDrone drone(std::move(vo));
     EXPECT_TRUE(drone.start());
-    link::DroneLink link(test::link_config_for(drone), clock);
+    link::DroneLink link(sim::link_config(drone), clock);
     EXPECT_TRUE(link.start());
     auto frames = link.subscribe_frames(64);
     const auto deadline = std::chrono::steady_clock::now() + 10s;
