@@ -2,7 +2,7 @@
 # Installs what is missing, builds, and runs every test through CTest:
 #   build/       Release (GCC), warnings as errors: the whole suite;
 #   build-asan/  clang 14, ASan+UBSan, -O1, no GUI: the drone/ tests, then every libFuzzer target
-#                of tests/fuzz for GS_FUZZ_SECONDS (default 15) each, seeded from ../shared/fixtures
+#                of tests/fuzz for GS_FUZZ_SECONDS (default 10) each, seeded from ../shared/fixtures
 #                (scripts/fuzz.sh; the long run is `scripts/fuzz.sh long`);
 #   build-tsan/  GCC, ThreadSanitizer, -O1, no GUI: the threaded parts (the link against the
 #                virtual drone, the recorder, the video receiver's frame pool, the queues, and
@@ -33,7 +33,7 @@ if [[ -f build-asan/CMakeCache.txt ]] &&
 fi
 CC=clang-14 CXX=clang++-14 GS_TARGETS="drone_tests fuzzers" scripts/build.sh build-asan \
   "${sanitizer_flags[@]}" -DGS_SANITIZE=address,undefined -DGS_FUZZ=ON \
-  -DGS_FUZZ_SECONDS="${GS_FUZZ_SECONDS:-15}"
+  -DGS_FUZZ_SECONDS="${GS_FUZZ_SECONDS:-10}"
 stage "build (ASan+UBSan, fuzzers)"
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 ctest --test-dir build-asan --output-on-failure -j 2 --timeout 600 -L drone
