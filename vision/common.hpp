@@ -2,7 +2,7 @@
 // Small things every part of vision/ uses: the "unknown" value (the base's) and a stopwatch for
 // the per-stage timings the classifiers and odometry report.
 
-#include "drone/core/geometry.hpp"
+#include "drone/core/geometry_fwd.hpp"
 #include "drone/core/unknown.hpp"
 
 #include <chrono>

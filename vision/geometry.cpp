@@ -1,4 +1,5 @@
 #include "vision/geometry.hpp"
+#include "drone/core/geometry.hpp"
 #include "vision/common.hpp"
 
 #include <opencv2/imgproc.hpp>

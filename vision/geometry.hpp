@@ -7,7 +7,6 @@
 // functions here turn its rotations into the classifiers' OpenCV types.
 
 #include "drone/core/camera_calibration.hpp"
-#include "drone/core/geometry.hpp"
 #include "drone/core/unknown.hpp"
 
 #include <opencv2/core.hpp>

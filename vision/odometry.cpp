@@ -1,4 +1,5 @@
 #include "vision/odometry.hpp"
+#include "drone/core/geometry.hpp"
 #include "vision/common.hpp"
 
 #include <opencv2/calib3d.hpp>
@@ -84,7 +85,7 @@ BodyMotion body_motion_from_homography(const cv::Matx33d& h_px, double fx_px, do
     BodyMotion m;
     if (!p.ok) return m;
     const geom::Mat2 a = mount_axes(mount);
-    m.r_body = a * geom::from_cv(p.r) * a.transpose();
+    m.r_body = geom::to_cv(a * geom::from_cv(p.r) * a.transpose());
     const geom::Vec2 t_body = a * (geom::Vec2(p.t[0], p.t[1]) * distance_m);
     // Floor points move by the inverse of the camera's motion: x_i = R x_{i-1} - R_i^T dC.
     m.forward_m = -t_body.x();

@@ -17,7 +17,7 @@
 // rotation.
 
 #include "drone/core/camera_calibration.hpp"
-#include "drone/core/geometry.hpp"
+#include "drone/core/geometry_fwd.hpp"
 #include "drone/core/unknown.hpp"
 #include "vision/params.hpp"
 
@@ -61,9 +61,11 @@ const char* to_string(CameraMount m);
 
 // A camera's frame-to-frame motion as the drone's, in the body frame.
 struct BodyMotion {
-    geom::Mat2 r_body = geom::Mat2::Identity();  // rotation block of the point motion, body axes
-    double forward_m = 0, right_m = 0;           // camera displacement, current body frame
-    double yaw_deg = 0;                          // heading change, clockwise seen from above
+    // Rotation block of the point motion, body axes (computed as geom::Mat2 in odometry.cpp; an
+    // OpenCV matrix here so this widely included header needs no Eigen).
+    cv::Matx22d r_body = cv::Matx22d::eye();
+    double forward_m = 0, right_m = 0;  // camera displacement, current body frame
+    double yaw_deg = 0;                 // heading change, clockwise seen from above
 };
 // From a homography in pixels relative to (cx, cy) (or to the pixel origin, the thesis' way):
 // normalise by F (eq. 3.14), move the image axes onto the body axes of the mount, and turn the

@@ -1,5 +1,6 @@
 #include "vision/synthetic_scene.hpp"
 
+#include "drone/core/geometry.hpp"
 #include "vision/geometry.hpp"
 
 #include <opencv2/imgproc.hpp>

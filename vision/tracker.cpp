@@ -1,4 +1,5 @@
 #include "vision/tracker.hpp"
+#include "drone/core/geometry.hpp"
 #include "vision/common.hpp"
 
 #include <opencv2/calib3d.hpp>

@@ -13,16 +13,14 @@
 // positive = clockwise seen from above; world_from_body = Rz(yaw) Ry(pitch) Rx(roll) (ZYX).
 // tests/drone/core/geometry_test.cpp pins every one of these conventions.
 
+#include "drone/core/geometry_fwd.hpp"  // kRadPerDeg, kDegPerRad, Mount
+
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
 
 #include <cmath>
-#include <numbers>
 
 namespace gs::geom {
-
-inline constexpr double kRadPerDeg = std::numbers::pi / 180.0;
-inline constexpr double kDegPerRad = 180.0 / std::numbers::pi;
 
 using Vec2 = Eigen::Vector2d;
 using Vec3 = Eigen::Vector3d;
@@ -85,10 +83,6 @@ inline Eigen::Rotation2Dd world_from_heading(double yaw_deg) {
 }
 
 // ---- Cameras on the body --------------------------------------------------------------------
-
-// Where a camera is mounted: the AR.Drone's front and bottom cameras, and the upward camera of
-// the thesis' rig (image up = body forward, image right = body left, the view from below).
-enum class Mount { Front, Bottom, Top };
 
 // body_from_camera: the camera's axes (x right, y down, z optical) as columns in body FRD.
 const Mat3& body_from_camera(Mount m);

@@ -9,7 +9,7 @@
 
 #include "drone/core/camera_calibration.hpp"
 #include "drone/core/expected.hpp"
-#include "drone/core/geometry.hpp"
+#include "drone/core/geometry_fwd.hpp"
 #include "drone/sim/scene.hpp"
 
 #include <opencv2/core.hpp>

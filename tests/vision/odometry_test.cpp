@@ -8,6 +8,7 @@
 // body right and image up = body forward; an upward camera has image up = body forward and image
 // right = body left.
 #include "vision/odometry.hpp"
+#include "drone/core/geometry.hpp"
 
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
@@ -42,8 +43,7 @@ BodyMotion motion(double forward_m, double right_m, double yaw_deg) {
     m.forward_m = forward_m;
     m.right_m = right_m;
     m.yaw_deg = yaw_deg;
-    m.r_body = geom::from_cv(
-        rot2(-yaw_deg));  // the body-axes point motion of a yaw (see body_motion_from_...)
+    m.r_body = rot2(-yaw_deg);  // the body-axes point motion of a yaw (see body_motion_from_...)
     return m;
 }
 
@@ -317,8 +317,8 @@ TEST(OdometryCombine, RotationMatricesAreAveragedThenAtan2) {
     // The matrices are averaged, not the angles: 2 I and R(90°) average to [1 -0.5; 0.5 1],
     // atan2(0.5, 1) = 26.565°, not 45°.
     BodyMotion a, b;
-    a.r_body = geom::Mat2::Identity() * 2.0;
-    b.r_body = geom::from_cv(rot2(90));
+    a.r_body = cv::Matx22d::eye() * 2.0;
+    b.r_body = rot2(90);
     const BodyMotion c = combine_motions(a, b);
     EXPECT_NEAR(c.r_body(0, 0), 1.0, 1e-12);
     EXPECT_NEAR(c.r_body(0, 1), -0.5, 1e-12);
