@@ -24,7 +24,7 @@
 #include <string>
 #include <vector>
 
-namespace gs::app {
+namespace gs::app::cmd_calibrate {
 namespace {
 
 namespace fs = std::filesystem;
@@ -426,4 +426,4 @@ CommandRegistration reg(70, [](CLI::App& root) {
 });
 
 }  // namespace
-}  // namespace gs::app
+}  // namespace gs::app::cmd_calibrate

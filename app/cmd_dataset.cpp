@@ -18,7 +18,7 @@
 #include <iostream>
 #include <memory>
 
-namespace gs::app {
+namespace gs::app::cmd_dataset {
 namespace {
 namespace fs = std::filesystem;
 
@@ -253,4 +253,4 @@ CommandRegistration reg_import_video(
     });
 
 }  // namespace
-}  // namespace gs::app
+}  // namespace gs::app::cmd_dataset

@@ -27,7 +27,7 @@
 
 #include <unistd.h>
 
-namespace gs::app {
+namespace gs::app::cmd_eval {
 namespace {
 namespace fs = std::filesystem;
 
@@ -723,4 +723,4 @@ CommandRegistration reg(31, [](CLI::App& root) {
 });
 
 }  // namespace
-}  // namespace gs::app
+}  // namespace gs::app::cmd_eval

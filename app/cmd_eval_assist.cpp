@@ -24,7 +24,7 @@
 #include <sstream>
 #include <thread>
 
-namespace gs::app {
+namespace gs::app::cmd_eval_assist {
 namespace {
 namespace fs = std::filesystem;
 
@@ -391,4 +391,4 @@ CommandRegistration reg(47, [](CLI::App& root) {
 });
 
 }  // namespace
-}  // namespace gs::app
+}  // namespace gs::app::cmd_eval_assist

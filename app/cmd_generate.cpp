@@ -18,7 +18,7 @@
 #include <mutex>
 #include <thread>
 
-namespace gs::app {
+namespace gs::app::cmd_generate {
 namespace {
 namespace fs = std::filesystem;
 
@@ -184,4 +184,4 @@ CommandRegistration reg(45, [](CLI::App& root) {
 });
 
 }  // namespace
-}  // namespace gs::app
+}  // namespace gs::app::cmd_generate

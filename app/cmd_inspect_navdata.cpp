@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-namespace gs::app {
+namespace gs::app::cmd_inspect_navdata {
 namespace {
 
 using namespace gs::protocol::navdata;
@@ -182,4 +182,4 @@ const CommandRegistration reg(
     });
 
 }  // namespace
-}  // namespace gs::app
+}  // namespace gs::app::cmd_inspect_navdata

@@ -20,7 +20,7 @@
 #include <string>
 #include <vector>
 
-namespace gs::app {
+namespace gs::app::cmd_inspect_pave {
 namespace {
 
 struct Opts {
@@ -212,4 +212,4 @@ const CommandRegistration reg(
     });
 
 }  // namespace
-}  // namespace gs::app
+}  // namespace gs::app::cmd_inspect_pave

@@ -25,7 +25,7 @@
 #include <memory>
 #include <sstream>
 
-namespace gs::app {
+namespace gs::app::cmd_odometry {
 namespace {
 namespace fs = std::filesystem;
 
@@ -360,4 +360,4 @@ CommandRegistration reg(60, [](CLI::App& root) {
 });
 
 }  // namespace
-}  // namespace gs::app
+}  // namespace gs::app::cmd_odometry

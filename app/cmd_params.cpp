@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-namespace gs::app {
+namespace gs::app::cmd_params {
 namespace {
 
 struct Opts {
@@ -68,4 +68,4 @@ const CommandRegistration reg(70, [](CLI::App& root) {
 });
 
 }  // namespace
-}  // namespace gs::app
+}  // namespace gs::app::cmd_params

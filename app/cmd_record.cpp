@@ -27,7 +27,7 @@
 #include <memory>
 #include <thread>
 
-namespace gs::app {
+namespace gs::app::cmd_record {
 namespace {
 
 std::atomic<bool> g_stop{false};
@@ -337,4 +337,4 @@ CommandRegistration reg(45, [](CLI::App& root) {
 });
 
 }  // namespace
-}  // namespace gs::app
+}  // namespace gs::app::cmd_record

@@ -17,7 +17,7 @@
 #include <iostream>
 #include <memory>
 
-namespace gs::app {
+namespace gs::app::cmd_replay {
 namespace {
 namespace fs = std::filesystem;
 
@@ -151,4 +151,4 @@ CommandRegistration reg(30, [](CLI::App& root) {
 });
 
 }  // namespace
-}  // namespace gs::app
+}  // namespace gs::app::cmd_replay

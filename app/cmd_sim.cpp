@@ -22,7 +22,7 @@
 #include <utility>
 #include <vector>
 
-namespace gs::app {
+namespace gs::app::cmd_sim {
 namespace {
 
 std::atomic<bool> g_stop{false};
@@ -298,4 +298,4 @@ CommandRegistration reg(40, [](CLI::App& root) {
 });
 
 }  // namespace
-}  // namespace gs::app
+}  // namespace gs::app::cmd_sim
