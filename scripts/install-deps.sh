@@ -5,7 +5,7 @@ set -euo pipefail
 mode=${1:-build}
 cd "$(dirname "$0")/.."
 
-pkgs=(cmake ninja-build g++ pkg-config
+pkgs=(cmake ninja-build g++ lld pkg-config
       libopencv-dev libavcodec-dev libavformat-dev libavutil-dev libswscale-dev libx264-dev
       libimgui-dev libstb-dev libglfw3-dev libgl-dev libeigen3-dev
       libcli11-dev nlohmann-json3-dev help2man)
