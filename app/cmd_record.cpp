@@ -8,6 +8,7 @@
 #include "app/replay_run.hpp"
 #include "drone/dataset/csv.hpp"
 #include "drone/link/drone_link.hpp"
+#include "drone/protocol/ports.hpp"
 #include "drone/record/recorder.hpp"
 #include "drone/sim/loopback.hpp"
 #include "drone/sim/scenarios.hpp"
@@ -164,12 +165,7 @@ int run(const Opts& o) {
         lc = sim::link_config(*drone);
     } else {
         lc.drone_address = o.drone;
-        if (o.port_base != 0) {
-            lc.navdata_port = static_cast<std::uint16_t>(o.port_base);
-            lc.video_port = static_cast<std::uint16_t>(o.port_base + 1);
-            lc.at_port = static_cast<std::uint16_t>(o.port_base + 2);
-            lc.control_port = static_cast<std::uint16_t>(o.port_base + 5);
-        }
+        if (o.port_base != 0) protocol::DronePorts::from_base(o.port_base).apply_to(lc);
     }
     lc.setup.navdata_demo = o.navdata == "demo";
     std::signal(SIGINT, on_record_signal);

@@ -3,6 +3,7 @@
 // it: this ground station, node-ar-drone, the official SDK examples.
 #include "app/cli_options.hpp"
 #include "app/command.hpp"
+#include "drone/protocol/ports.hpp"
 #include "drone/sim/scenarios.hpp"
 #include "drone/sim/virtual_drone.hpp"
 
@@ -130,12 +131,7 @@ int run(const Opts& o) {
     vo.autopilot = o.autopilot;
     vo.core.faults = o.navdata;
     vo.core.seed = o.seed;
-    if (o.port_base != 0) {
-        vo.navdata_port = static_cast<std::uint16_t>(o.port_base);
-        vo.video_port = static_cast<std::uint16_t>(o.port_base + 1);
-        vo.at_port = static_cast<std::uint16_t>(o.port_base + 2);
-        vo.control_port = static_cast<std::uint16_t>(o.port_base + 5);
-    }
+    if (o.port_base != 0) protocol::DronePorts::from_base(o.port_base).apply_to(vo);
     sim::VirtualDrone drone(std::move(vo));
     auto started = drone.start();
     if (!started) throw fail("cannot start the virtual drone: " + started.error().message);

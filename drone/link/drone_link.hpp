@@ -16,6 +16,7 @@
 #include "drone/protocol/config.hpp"
 #include "drone/protocol/navdata.hpp"
 #include "drone/protocol/pave.hpp"
+#include "drone/protocol/ports.hpp"
 #include "drone/video/receiver.hpp"
 
 #include <array>
@@ -33,10 +34,10 @@ namespace gs::link {
 
 struct LinkConfig {
     std::string drone_address = "192.168.1.1";
-    std::uint16_t at_port = 5556;
-    std::uint16_t navdata_port = 5554;
-    std::uint16_t video_port = 5555;
-    std::uint16_t control_port = 5559;
+    std::uint16_t at_port = protocol::DronePorts{}.at;
+    std::uint16_t navdata_port = protocol::DronePorts{}.navdata;
+    std::uint16_t video_port = protocol::DronePorts{}.video;
+    std::uint16_t control_port = protocol::DronePorts{}.control;
     std::string bind_address = "0.0.0.0";  // local address for the UDP sockets
     LinkSetup setup;                       // navdata mode, ids, timing of the state machine
     TimeNs at_period_ns = ms_to_ns(30);

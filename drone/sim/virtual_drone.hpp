@@ -6,6 +6,7 @@
 // serves the control port; they share data only through latest-value slots and bounded queues.
 
 #include "drone/core/sync.hpp"
+#include "drone/protocol/ports.hpp"
 #include "drone/record/ground_truth.hpp"
 #include "drone/sim/drone_core.hpp"
 #include "drone/sim/renderer.hpp"
@@ -25,7 +26,10 @@ namespace gs::sim {
 
 struct VirtualDroneOptions {
     std::string bind_address = "127.0.0.1";
-    std::uint16_t at_port = 5556, navdata_port = 5554, video_port = 5555, control_port = 5559;
+    std::uint16_t at_port = protocol::DronePorts{}.at;
+    std::uint16_t navdata_port = protocol::DronePorts{}.navdata;
+    std::uint16_t video_port = protocol::DronePorts{}.video;
+    std::uint16_t control_port = protocol::DronePorts{}.control;
     Scene scene;             // the world (its start pose and autopilot are used)
     bool autopilot = false;  // fly the scene's script after boot
     // The drone is a body of its real size in the scene and can crash (drone/sim/collision.hpp).

@@ -3,6 +3,8 @@
 // error of the drone's (issue 14 point 9).
 #include "cli_test_util.hpp"
 #include "drone/link/drone_link.hpp"
+#include "drone/protocol/ports.hpp"
+#include "support/wait.hpp"
 
 #include <gtest/gtest.h>
 
@@ -21,15 +23,6 @@ namespace {
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
 
-bool wait_until(const std::function<bool()>& pred, std::chrono::milliseconds limit) {
-    const auto t0 = std::chrono::steady_clock::now();
-    while (std::chrono::steady_clock::now() - t0 < limit) {
-        if (pred()) return true;
-        std::this_thread::sleep_for(10ms);
-    }
-    return pred();
-}
-
 TEST(SimCli, FaultKnobsFromTheCommandLineReachTheLink) {
     const auto dir = scratch_dir("sim_faults", "run");
     // Below Linux's ephemeral range (32768-60999), where the other tests' sockets take theirs.
@@ -43,16 +36,13 @@ TEST(SimCli, FaultKnobsFromTheCommandLineReachTheLink) {
         ::dup2(fd, STDOUT_FILENO);
         ::dup2(fd, STDERR_FILENO);
         ::execl(GS_BINARY, GS_BINARY, "sim", "--port-base", base_s.c_str(), "--seconds", "16",
-                "--loss", "0.3", "--reboot-at", "10", "--boot-ms", "400", "--video-reset-every", "2",
-                static_cast<char*>(nullptr));
+                "--loss", "0.3", "--reboot-at", "10", "--boot-ms", "400", "--video-reset-every",
+                "2", static_cast<char*>(nullptr));
         ::_exit(127);
     }
     link::LinkConfig lc;
     lc.drone_address = lc.bind_address = "127.0.0.1";
-    lc.navdata_port = static_cast<std::uint16_t>(base);
-    lc.video_port = static_cast<std::uint16_t>(base + 1);
-    lc.at_port = static_cast<std::uint16_t>(base + 2);
-    lc.control_port = static_cast<std::uint16_t>(base + 5);
+    protocol::DronePorts::from_base(base).apply_to(lc);  // the layout `sim --port-base` serves
     {
         link::DroneLink link(lc);
         ASSERT_TRUE(link.start());
