@@ -17,6 +17,7 @@
 #include <cstdio>
 #include <cstring>
 #include <deque>
+#include <utility>
 
 namespace gs::dataset {
 namespace fs = std::filesystem;
@@ -60,23 +61,45 @@ std::string flight_json_text(const DatasetInfo& info) {
     return j.dump(2) + "\n";
 }
 
+namespace {
+
+// The navdata columns frames.csv and navdata.csv share, in their order (docs/dataset.md): one
+// list for both files' headers and rows.
+constexpr std::pair<const char*, double NavState::*> kNavColumns[] = {
+    {"roll_deg", &NavState::roll_deg},    {"pitch_deg", &NavState::pitch_deg},
+    {"yaw_deg", &NavState::yaw_deg},      {"vx_mps", &NavState::vx_mps},
+    {"vy_mps", &NavState::vy_mps},        {"vz_mps", &NavState::vz_mps},
+    {"altitude_m", &NavState::altitude_m}};
+
+// ",roll_deg,pitch_deg,...": the shared columns' names, each after a comma.
+std::string nav_column_names() {
+    std::string out;
+    for (const auto& [column, member] : kNavColumns) {
+        out += ',';
+        out += column;
+    }
+    return out;
+}
+
+// The shared columns' values of `s`, each after a comma.
+void append_nav_columns(std::string& out, const NavState& s) {
+    for (const auto& [column, member] : kNavColumns) {
+        out += ',';
+        out += csv::format_number(writable_value(column, s.*member));
+    }
+}
+
+}  // namespace
+
 std::string frames_csv_header() {
-    return "frame,t_ms,roll_deg,pitch_deg,yaw_deg,vx_mps,vy_mps,vz_mps,altitude_m,gt_x_m,gt_y_m,"
-           "gt_z_m,gt_yaw_deg\n";
+    return "frame,t_ms" + nav_column_names() + ",gt_x_m,gt_y_m,gt_z_m,gt_yaw_deg\n";
 }
 
 std::string frames_csv_row(const FrameRow& r) {
-    const NavState& s = r.nav;
     std::string out = std::to_string(r.frame);
-    out += ',' + csv::format_ms(s.t_ns);
-    for (auto [column, v] : {std::pair{"roll_deg", s.roll_deg},
-                             {"pitch_deg", s.pitch_deg},
-                             {"yaw_deg", s.yaw_deg},
-                             {"vx_mps", s.vx_mps},
-                             {"vy_mps", s.vy_mps},
-                             {"vz_mps", s.vz_mps},
-                             {"altitude_m", s.altitude_m},
-                             {"gt_x_m", r.gt.x_m},
+    out += ',' + csv::format_ms(r.nav.t_ns);
+    append_nav_columns(out, r.nav);
+    for (auto [column, v] : {std::pair{"gt_x_m", r.gt.x_m},
                              {"gt_y_m", r.gt.y_m},
                              {"gt_z_m", r.gt.z_m},
                              {"gt_yaw_deg", r.gt.yaw_deg}}) {
@@ -88,22 +111,12 @@ std::string frames_csv_row(const FrameRow& r) {
 }
 
 std::string navdata_csv_header() {
-    return "t_ms,roll_deg,pitch_deg,yaw_deg,vx_mps,vy_mps,vz_mps,altitude_m,seq,state,ctrl_state,"
-           "battery_pct\n";
+    return "t_ms" + nav_column_names() + ",seq,state,ctrl_state,battery_pct\n";
 }
 
 std::string navdata_csv_row(const NavState& s) {
     std::string out = csv::format_ms(s.t_ns);
-    for (auto [column, v] : {std::pair{"roll_deg", s.roll_deg},
-                             {"pitch_deg", s.pitch_deg},
-                             {"yaw_deg", s.yaw_deg},
-                             {"vx_mps", s.vx_mps},
-                             {"vy_mps", s.vy_mps},
-                             {"vz_mps", s.vz_mps},
-                             {"altitude_m", s.altitude_m}}) {
-        out += ',';
-        out += csv::format_number(writable_value(column, v));
-    }
+    append_nav_columns(out, s);
     out += ',';
     if (s.seq) out += std::to_string(*s.seq);
     out += ',';
