@@ -8,7 +8,7 @@
 #include "app/session.hpp"
 #include "calibration_dataset.hpp"
 #include "drone/core/camera_calibration.hpp"
-#include "imgui_fixture.hpp"
+#include "session_fixture.hpp"
 #include "support/wait.hpp"
 
 #include <GLFW/glfw3.h>
@@ -74,19 +74,18 @@ std::vector<cv::Point2f> to_cv(const std::vector<Point2f>& v) {
     return out;
 }
 
-class CalibrationMode : public ImGuiFixture {
+class CalibrationMode : public SessionFixture {
 protected:
     void SetUp() override {
-        ImGuiFixture::SetUp();
+        SessionFixture::SetUp();
+        frame_period = std::chrono::milliseconds(5);
         root = fs::temp_directory_path() / ("gs_calib_mode_" + std::to_string(::getpid()));
         fs::remove_all(root);
         dataset = root / "chessboard";
         calib_file = root / "config" / "calibration_front.json";
     }
     void TearDown() override {
-        adapter.reset();
-        session.reset();
-        ImGuiFixture::TearDown();
+        SessionFixture::TearDown();
         if (!std::getenv("GS_KEEP_TEST_OUTPUT")) fs::remove_all(root);
     }
     void start() {
@@ -94,23 +93,8 @@ protected:
         so.replay_autoplay = false;
         so.calibration_file = calib_file;
         so.calibration_interval_ms = 30;
-        session = std::make_unique<app::Session>(so);
-        adapter = std::make_unique<app::GuiAdapter>(*session);
+        make_session(so);
         ASSERT_TRUE(session->request(app::OpenReplay{dataset.string()}));
-    }
-    // One window frame; `edit` adds to what the window asked for (a test standing in for a click
-    // on a control it does not need to find).
-    Actions step(const InputState& in = {}, const std::function<void(Actions&)>& edit = {}) {
-        adapter->fill(snap);
-        Actions a = frame(gui, snap, in);
-        if (edit) edit(a);
-        adapter->consume(a);
-        return a;
-    }
-    bool run_until(const std::function<bool()>& pred, std::chrono::milliseconds timeout) {
-        return gs::test::wait_until(
-                   pred, timeout, [&] { step(); }, std::chrono::milliseconds(5))
-            .has_value();
     }
     // A left click on a button the window reported in its layout (press, then release).
     Actions click(const char* button) {
@@ -147,10 +131,6 @@ protected:
     }
 
     fs::path root, dataset, calib_file;
-    std::unique_ptr<app::Session> session;
-    std::unique_ptr<app::GuiAdapter> adapter;
-    Gui gui;
-    GuiSnapshot snap;
 };
 
 TEST_F(CalibrationMode, CapturesRealChessboardViewsCalibratesSavesAndAppliesAtOnce) {

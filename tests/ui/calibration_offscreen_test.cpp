@@ -5,12 +5,12 @@
 // shows the undistorted image. Set GS_KEEP_TEST_OUTPUT=1 to keep the PNGs (their folder is
 // printed).
 #include "calibration_dataset.hpp"
+#include "offscreen_shot.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <cstdio>
@@ -25,35 +25,16 @@ namespace {
 
 namespace fs = std::filesystem;
 
-int run(const std::string& cmd, const fs::path& log, std::string& output) {
-    const int st = std::system((cmd + " >" + log.string() + " 2>&1").c_str());
-    std::ifstream in(log);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    output = ss.str();
-    return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-}
-
-struct Shot {
-    cv::Mat png;
-    nlohmann::json layout;
-};
-
 Shot offscreen(const fs::path& dataset, const fs::path& out, const std::string& extra, int frames,
                std::string& output) {
     const std::string cmd =
-        std::string("ASAN_OPTIONS=detect_leaks=0 xvfb-run -a -s '-screen 0 1920x1080x24' ") +
-        GS_BINARY + " --offscreen --width 1600 --height 900 --replay " + dataset.string() +
-        " --frames " + std::to_string(frames) + " --out " + out.string() + " " + extra;
-    const int code = run(cmd, out.parent_path() / (out.filename().string() + ".log"), output);
-    Shot s;
-    EXPECT_EQ(code, 0) << cmd << "\n" << output;
-    char name[32];
-    std::snprintf(name, sizeof name, "frame_%06d", frames);
-    s.png = cv::imread((out / (std::string(name) + ".png")).string(), cv::IMREAD_COLOR);
-    std::ifstream js(out / (std::string(name) + ".json"));
-    if (js) s.layout = nlohmann::json::parse(js, nullptr, false);
-    return s;
+        under_xvfb(std::string(GS_BINARY) + " --offscreen --width 1600 --height 900 --replay " +
+                   dataset.string() + " --frames " + std::to_string(frames) + " --out " +
+                   out.string() + " " + extra);
+    const Proc r = run_logged(cmd, out.parent_path() / (out.filename().string() + ".log"));
+    output = r.output;
+    EXPECT_EQ(r.code, 0) << cmd << "\n" << output;
+    return read_shot(out, frames);
 }
 
 TEST(CalibrationOffscreen, AutoCaptureOnRealChessboardFramesShowsBoardCoverageAndError) {

@@ -3,6 +3,7 @@
 // the source, the flight state, battery, link, REC and the latest message, advice fits the cause
 // and controls that cannot act are disabled with the reason.
 #include "imgui_fixture.hpp"
+#include "support/state_bits.hpp"
 #include "ui/controls.hpp"
 #include "ui/demo_snapshot.hpp"
 
@@ -172,7 +173,9 @@ TEST_F(CockpitIndicators, StatusBarShowsSourceStateBatteryLinkRecAndTheLatestMes
 TEST_F(CockpitIndicators, ACommandedCutOutIsNoMotorFault) {
     GuiSnapshot s;
     make_demo_snapshot(s, 1);
-    const std::uint32_t cut = (1u << 31) | (1u << 22);  // EMERGENCY + CUTOUT, as the drone sets
+    // EMERGENCY + CUTOUT, as the drone sets them.
+    const std::uint32_t cut = gs::test::state_bit(gs::test::DroneStateBit::Emergency) |
+                              gs::test::state_bit(gs::test::DroneStateBit::Cutout);
     s.telemetry.nav.drone_state = cut;
     s.telemetry.state = DroneStateBits::from_raw(cut);
     s.telemetry.emergency_commanded = true;

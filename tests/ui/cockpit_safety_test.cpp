@@ -21,17 +21,8 @@ protected:
     // Hover, press, release at the centre of a reported rectangle; the release frame's actions
     // (with the flight commands of the press frame: those act on the press through a menu).
     Actions click(Gui& gui, const GuiSnapshot& s, const char* button) {
-        const Rect* r = gui.view().layout.button(button);
-        EXPECT_NE(r, nullptr) << button;
-        if (!r) return {};
-        ImGuiIO& io = ImGui::GetIO();
-        io.MousePos = {0.5f * (r->x0 + r->x1), 0.5f * (r->y0 + r->y1)};
-        frame(gui, s);
-        io.MouseDown[0] = true;
-        const Actions press = frame(gui, s);
-        io.MouseDown[0] = false;
-        Actions a = frame(gui, s);
-        io.MousePos = {-FLT_MAX, -FLT_MAX};
+        Actions press;
+        Actions a = ImGuiFixture::click(gui, s, button, &press);
         EXPECT_FALSE((press.emergency && a.emergency) || (press.land && a.land))
             << button << ": acted on both press and release";
         a.emergency = a.emergency || press.emergency;

@@ -15,8 +15,9 @@ protected:
     // Draws one frame of `gui` and returns its actions.
     Actions frame(Gui& gui, const GuiSnapshot& s, InputState in = {}, TextureSource* tex = nullptr);
     // A left click at the centre of a button the window reported in its layout: hover, press,
-    // release (ImGui buttons fire on release). Returns the actions of the release frame.
-    Actions click(Gui& gui, const GuiSnapshot& s, const char* button);
+    // release (ImGui buttons fire on release). Returns the actions of the release frame (and
+    // those of the press frame in `press`, when given).
+    Actions click(Gui& gui, const GuiSnapshot& s, const char* button, Actions* press = nullptr);
     int last_vertices = 0;
 };
 

@@ -21,7 +21,7 @@ void ImGuiFixture::TearDown() {
     ImGui::DestroyContext();
 }
 
-Actions ImGuiFixture::click(Gui& gui, const GuiSnapshot& s, const char* button) {
+Actions ImGuiFixture::click(Gui& gui, const GuiSnapshot& s, const char* button, Actions* press) {
     const Rect* r = gui.view().layout.button(button);
     EXPECT_NE(r, nullptr) << button;
     if (!r) return {};
@@ -29,7 +29,8 @@ Actions ImGuiFixture::click(Gui& gui, const GuiSnapshot& s, const char* button) 
     io.MousePos = {0.5f * (r->x0 + r->x1), 0.5f * (r->y0 + r->y1)};
     frame(gui, s);
     io.MouseDown[0] = true;
-    frame(gui, s);
+    const Actions pressed = frame(gui, s);
+    if (press) *press = pressed;
     io.MouseDown[0] = false;
     const Actions a = frame(gui, s);
     io.MousePos = {-FLT_MAX, -FLT_MAX};

@@ -1,5 +1,6 @@
 // Pure pieces behind the windows: state bits, control-state names, "why not flying", flight path,
 // plot scaling, settings persistence.
+#include "support/state_bits.hpp"
 #include "ui/demo_snapshot.hpp"
 #include "ui/history.hpp"
 #include "ui/plot.hpp"
@@ -63,7 +64,10 @@ TEST(WhyNotFlying, ExplainsFromConnectionAndBits) {
     rs = explain_not_flying(connected_landed(0x0F800080u));
     EXPECT_TRUE(has(rs, "Ready to take off", Severity::Ok));
 
-    rs = explain_not_flying(connected_landed((1u << 31) | (1u << 19) | (1u << 22)));
+    using gs::test::state_bit;
+    rs = explain_not_flying(connected_landed(state_bit(gs::test::DroneStateBit::Emergency) |
+                                             state_bit(gs::test::DroneStateBit::AnglesOutOfRange) |
+                                             state_bit(gs::test::DroneStateBit::Cutout)));
     EXPECT_TRUE(has(rs, "Emergency: motors cut", Severity::Blocker));
     EXPECT_TRUE(has(rs, "Angles out of range", Severity::Blocker));
     EXPECT_TRUE(has(rs, "Motor cut-out", Severity::Blocker));

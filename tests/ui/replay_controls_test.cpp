@@ -5,7 +5,7 @@
 // end. Waits are bounded polls on the snapshot.
 #include "app/gui_adapter.hpp"
 #include "app/session.hpp"
-#include "imgui_fixture.hpp"
+#include "session_fixture.hpp"
 #include "support/dataset_fixtures.hpp"
 #include "support/wait.hpp"
 
@@ -26,36 +26,18 @@ using namespace std::chrono_literals;
 const std::string kFlight = std::string(GS_TEST_DATA_DIR) + "/flights/ci_pillar_left";
 constexpr std::int64_t kFrames = 153;
 
-class ReplayControls : public ImGuiFixture {
+class ReplayControls : public SessionFixture {
 protected:
     void start(bool autoplay, const char* classifier = nullptr,
                const std::string& flight = kFlight) {
         app::SessionOptions so;
         so.replay_autoplay = autoplay;
         if (classifier) so.classifier = classifier;
-        session = std::make_unique<app::Session>(so);
-        adapter = std::make_unique<app::GuiAdapter>(*session);
+        make_session(so);
+        frame_period = std::chrono::milliseconds(5);
         Actions open;
         open.replay_open = flight;
         adapter->consume(open);
-    }
-    void TearDown() override {
-        adapter.reset();
-        session.reset();
-        ImGuiFixture::TearDown();
-    }
-    // One window frame; `edit` sets what the user clicked in the Replay window.
-    Actions step(const std::function<void(Actions&)>& edit = {}) {
-        adapter->fill(snap);
-        Actions a = frame(gui, snap);
-        if (edit) edit(a);
-        adapter->consume(a);
-        return a;
-    }
-    bool run_until(const std::function<bool()>& pred, std::chrono::milliseconds timeout) {
-        return gs::test::wait_until(
-                   pred, timeout, [&] { step(); }, std::chrono::milliseconds(5))
-            .has_value();
     }
     // Runs window frames for `d` and returns how many dataset frames the replay advanced.
     std::int64_t advance_during(std::chrono::milliseconds d) {
@@ -72,11 +54,6 @@ protected:
     bool showing(std::int64_t k) const {
         return snap.replay.frame == k && snap.video.index == k && !snap.video.bgr.empty();
     }
-
-    std::unique_ptr<app::Session> session;
-    std::unique_ptr<app::GuiAdapter> adapter;
-    Gui gui;
-    GuiSnapshot snap;
 };
 
 TEST_F(ReplayControls, PlayPauseStepSeekSpeedAndLoopOnTheShippedFlight) {

@@ -10,12 +10,12 @@
 #include "drone/dataset/video_frames.hpp"
 #include "drone/sim/renderer.hpp"
 #include "drone/sim/scenarios.hpp"
+#include "offscreen_shot.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -30,6 +30,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using namespace gs;
+using namespace gs::ui::test;
 
 constexpr double kFps = 30.0;
 constexpr double kStartX = 2.5;  // m along the flight line (the pillar's near face is at 7 m)
@@ -96,15 +97,6 @@ std::vector<std::array<bool, 3>> classify(const fs::path& dir) {
     return out;
 }
 
-int run(const std::string& cmd, const fs::path& log, std::string& output) {
-    const int st = std::system((cmd + " >" + log.string() + " 2>&1").c_str());
-    std::ifstream in(log);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    output = ss.str();
-    return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-}
-
 TEST(ReplayWindow, OffscreenReplayOfALeftPillarFlightShowsTheLeftBarRedAndTheOthersGreen) {
     const fs::path root =
         fs::temp_directory_path() / ("gs_replay_window_" + std::to_string(getpid()));
@@ -134,39 +126,13 @@ TEST(ReplayWindow, OffscreenReplayOfALeftPillarFlightShowsTheLeftBarRedAndTheOth
     const fs::path out = root / "shots";
     const int n = k + 1;  // window frame k (0-based) shows dataset frame k
     const std::string cmd =
-        std::string("ASAN_OPTIONS=detect_leaks=0 xvfb-run -a -s '-screen 0 1920x1080x24' ") +
-        GS_BINARY + " --offscreen --width 1280 --height 720 --replay " + flight.string() +
-        " --frames " + std::to_string(n) + " --out " + out.string();
-    std::string output;
-    const int code = run(cmd, root / "log.txt", output);
-    ASSERT_EQ(code, 0) << cmd << "\n" << output;
-    char name[32];
-    std::snprintf(name, sizeof name, "frame_%06d", n);
-    const cv::Mat img = cv::imread((out / (std::string(name) + ".png")).string());
-    ASSERT_FALSE(img.empty()) << output;
-    std::ifstream js(out / (std::string(name) + ".json"));
-    const nlohmann::json layout = nlohmann::json::parse(js);
-    const auto& bars = layout.at("region_bars");
-    ASSERT_EQ(bars.size(), 3u);
-    for (const auto& b : bars) {
-        const auto rc = b.at("rect");
-        const double x0 = rc[0], y0 = rc[1], x1 = rc[2], y1 = rc[3];
-        ASSERT_GT(x1 - x0, 20.0);
-        int red = 0, green = 0;
-        for (double x = x0 + 3; x < x0 + 13; x += 2) {
-            const cv::Vec3b p =
-                img.at<cv::Vec3b>(static_cast<int>(0.5 * (y0 + y1)), static_cast<int>(x));
-            if (p[2] > 170 && p[1] < 90 && p[0] < 90) ++red;
-            if (p[1] > 150 && p[2] < 110 && p[0] < 130) ++green;
-        }
-        if (b.at("name") == "left") {
-            EXPECT_TRUE(b.at("flagged").get<bool>());
-            EXPECT_EQ(red, 5) << "left bar not red";
-        } else {
-            EXPECT_FALSE(b.at("flagged").get<bool>()) << b.at("name");
-            EXPECT_EQ(green, 5) << b.at("name") << " bar not green";
-        }
-    }
+        under_xvfb(std::string(GS_BINARY) + " --offscreen --width 1280 --height 720 --replay " +
+                   flight.string() + " --frames " + std::to_string(n) + " --out " + out.string());
+    const Proc r = run_logged(cmd, root / "log.txt");
+    ASSERT_EQ(r.code, 0) << cmd << "\n" << r.output;
+    const Shot shot = read_shot(out, n);
+    ASSERT_FALSE(shot.png.empty()) << r.output;
+    expect_left_bar_red_others_green(shot, 20.0);
     if (!std::getenv("GS_KEEP_TEST_OUTPUT")) fs::remove_all(root);
 }
 

@@ -20,9 +20,14 @@ namespace gs::ui::test {
 
 class SessionFixture : public ImGuiFixture {
 protected:
-    void start(app::SessionOptions so, const std::string& scenario) {
+    // A session with `so` and the window's adapter on it.
+    void make_session(const app::SessionOptions& so) {
         session = std::make_unique<app::Session>(so);
         adapter = std::make_unique<app::GuiAdapter>(*session);
+    }
+    // ... flying the virtual drone in `scenario`.
+    void start(app::SessionOptions so, const std::string& scenario) {
+        make_session(so);
         ASSERT_TRUE(session->request(app::StartSim{scenario, false}));
     }
     void TearDown() override {
@@ -30,19 +35,22 @@ protected:
         session.reset();
         ImGuiFixture::TearDown();
     }
-    // One window frame: snapshot from the session, draw, hand the actions back.
-    Actions step(const InputState& in = {}) {
+    // One window frame: snapshot from the session, draw, hand the actions back; `edit` adds to
+    // what the window asked for (a test standing in for a click on a control it need not find).
+    Actions step(const InputState& in = {}, const std::function<void(Actions&)>& edit = {}) {
         adapter->fill(snap);
         Actions a = frame(gui, snap, in);
+        if (edit) edit(a);
         adapter->consume(a);
         last = a;
         return a;
     }
-    // Window frames (~100 per second) until `pred` holds or `timeout` passes.
+    Actions step(const std::function<void(Actions&)>& edit) { return step({}, edit); }
+    // Window frames (one per `frame_period`) until `pred` holds or `timeout` passes.
     bool run_until(const std::function<bool()>& pred, std::chrono::milliseconds timeout,
                    const InputState& in = {}) {
         return gs::test::wait_until(
-                   pred, timeout, [&] { step(in); }, std::chrono::milliseconds(10))
+                   pred, timeout, [&] { step(in); }, frame_period)
             .has_value();
     }
     static InputState key(PilotKey k) {
@@ -56,6 +64,7 @@ protected:
     Gui gui;
     GuiSnapshot snap;
     Actions last;  // what the last frame asked for
+    std::chrono::milliseconds frame_period{10};
 };
 
 }  // namespace gs::ui::test
