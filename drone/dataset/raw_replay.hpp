@@ -4,7 +4,8 @@
 // the parsers, and each frame gets its attitude by the same NavAligner the recorder uses.
 //
 // The parsers are passed in (tests use stand-ins); make_protocol_replay_decoders() binds the real
-// ones: navdata::parse_navdata, and PaveFramer -> H264Decoder as the live link runs them.
+// ones: navdata::parse_navdata, and the one video receiver (video::VideoReceiver: PaVE framer ->
+// H.264 decoder) as the live link runs it.
 
 #include "drone/dataset/dataset.hpp"
 

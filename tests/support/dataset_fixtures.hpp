@@ -46,7 +46,7 @@ void make_assets(const std::filesystem::path& dir);
 std::vector<std::uint8_t> fake_access_unit(bool idr, int payload, std::uint8_t fill);
 
 // Copies the dataset `from` to `to` keeping only frame,t_ms,roll_deg in frames.csv (the columns
-// DATASET.md requires) and no navdata.csv: a flight whose classifier lacks velocity, altitude,
+// docs/dataset.md requires) and no navdata.csv: a flight whose classifier lacks velocity, altitude,
 // pitch and yaw (issue 14 point 7).
 void copy_attitude_only(const std::filesystem::path& from, const std::filesystem::path& to);
 
