@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs what is missing, builds, and runs every test through CTest:
-#   build/       Release (GCC), warnings as errors: the whole suite;
+#   build/       Release (GCC), warnings as errors: the whole suite, each test program run as a
+#                few GoogleTest shards (GS_TEST_SHARDS: one process start per shard, not per test);
 #   build-asan/  clang 14, ASan+UBSan, -O1, no GUI: the drone/ tests, then every libFuzzer target
 #                of tests/fuzz for GS_FUZZ_SECONDS (default 10) each, seeded from ../shared/fixtures
 #                (scripts/fuzz.sh; the long run is `scripts/fuzz.sh long`);
@@ -18,7 +19,7 @@ stage() {  # NAME: closes the stage that ran since the last call
 }
 scripts/install-deps.sh test
 stage "packages"
-scripts/build.sh build -DCMAKE_BUILD_TYPE=Release -DGS_WERROR=ON
+scripts/build.sh build -DCMAKE_BUILD_TYPE=Release -DGS_WERROR=ON -DGS_TEST_SHARDS=ON
 stage "build (Release)"
 ctest --test-dir build --output-on-failure -j 2 --timeout 300
 stage "tests (Release)"
