@@ -170,8 +170,13 @@ AssistOutput Assist::step(const AssistInput& in) {
         out.action = AssistAction::Holding;
         out.reason = centre == RegionState::Unsafe
                          ? "HOLDING: obstacle ahead, forward held at zero" + contact_text(c)
+                     : centre == RegionState::Clear
+                         ? std::string(
+                               "HOLDING: stopped short of the obstacle, forward held at "
+                               "zero (turn away, back off or override)")
                          : std::string("HOLDING: centre ") + to_string(centre) +
-                               " since the brake, forward held at zero until it is clear";
+                               " since the brake (no evidence), forward held at zero until it "
+                               "is seen clear";
     }
 
     // Sides: zero the roll toward an unsafe side.

@@ -16,10 +16,12 @@ std::array<RegionEvidence, 3> evidence_of(const vision::FrameResult& r, bool flo
     return e;
 }
 
-void AssistGate::on_decision(const vision::FrameResult& r, TimeNs capture_ns, bool flow) {
+void AssistGate::on_decision(const vision::FrameResult& r, TimeNs capture_ns, bool flow,
+                             std::optional<std::uint32_t> pave_frame) {
     regions_ = evidence_of(r, flow);
     decision_capture_ns_ = capture_ns;
     decision_frame_ = r.frame_index;
+    decision_pave_ = pave_frame;
 }
 
 void AssistGate::on_navdata(const NavState& nav, bool flying) {
@@ -32,6 +34,7 @@ void AssistGate::reset() {
     regions_ = {};
     decision_capture_ns_ = -1;
     decision_frame_ = -1;
+    decision_pave_.reset();
     nav_ = NavState{};
     flying_ = false;
     last_ = AssistOutput{};
@@ -58,8 +61,9 @@ AssistOutput AssistGate::apply(const FlightCommand& pilot, TimeNs now_ns) {
                         a == AssistAction::LimitSides;
     if (last_.changed && acting) {
         ++count_;
-        log_.push_back(
-            {now_ns, decision_frame_, a, last_.region, last_.reason, pilot, last_.command});
+        log_.push_back({now_ns, decision_frame_, decision_pave_,
+                        decision_capture_ns_ < 0 ? 0 : decision_capture_ns_, a, last_.region,
+                        last_.reason, pilot, last_.command});
         if (log_.size() > kLogSize) log_.pop_front();
     }
     return last_;

@@ -13,6 +13,7 @@
 #include <array>
 #include <cstdint>
 #include <deque>
+#include <optional>
 #include <string>
 
 namespace gs::app {
@@ -24,6 +25,10 @@ std::array<RegionEvidence, 3> evidence_of(const vision::FrameResult& r, bool flo
 struct Intervention {
     TimeNs t_ns = 0;
     std::int64_t frame = -1;  // the newest classified frame then (-1: none yet)
+    // That frame's PaVE frame number (live) and receive time (the link's clock; 0: none): a
+    // recording maps them to its own frame index (app/session_recording.cpp).
+    std::optional<std::uint32_t> pave_frame;
+    TimeNs decision_ns = 0;
     AssistAction action = AssistAction::Watching;
     vision::Region region = vision::Region::Centre;
     std::string reason;
@@ -35,7 +40,8 @@ public:
     explicit AssistGate(AssistParams p = {}) : assist_(p) {}
 
     // The classifier's newest result, made on the frame captured at capture_ns (link clock).
-    void on_decision(const vision::FrameResult& r, TimeNs capture_ns, bool flow);
+    void on_decision(const vision::FrameResult& r, TimeNs capture_ns, bool flow,
+                     std::optional<std::uint32_t> pave_frame = std::nullopt);
     // The newest navdata (NaN fields unknown); `flying`: drone_state FLY.
     void on_navdata(const NavState& nav, bool flying);
 
@@ -59,6 +65,7 @@ private:
     std::array<RegionEvidence, 3> regions_{};
     TimeNs decision_capture_ns_ = -1;
     std::int64_t decision_frame_ = -1;
+    std::optional<std::uint32_t> decision_pave_;
     NavState nav_;
     bool flying_ = false;
     bool enabled_ = true;

@@ -38,6 +38,8 @@ struct GuiOpts {
     bool auto_capture = false;
     bool undistort_preview = false;
     std::string layout;
+    std::string assist = "on";
+    float hold_forward = 0;
 };
 
 GuiOpts& opts() {
@@ -83,6 +85,17 @@ CommandRegistration reg(-1000, [](CLI::App& root) {
                     "Start in this layout: flight (the video fills the window) or engineering "
                     "(every panel); F2 switches. Default: the one used last")
         ->check(CLI::IsMember({"flight", "engineering"}));
+    root.add_option("--assist", o.assist,
+                    "The collision-prevention assist between the pilot and the drone: on (the "
+                    "default) or off; B (gamepad right bumper) switches it in the window, Left "
+                    "Shift (left bumper) held bypasses it")
+        ->check(CLI::IsMember({"on", "off"}));
+    root.add_option(
+            "--hold-forward", o.hold_forward,
+            "Virtual drone, tests: a scripted pilot takes off and holds forward at this "
+            "fraction of the maximum tilt (0.3 ~ 1.1 m/s), through the assist like the keys")
+        ->check(CLI::Range(0.0f, 1.0f))
+        ->excludes("--replay");
     root.add_option("--width", o.width, "Offscreen window width")
         ->check(CLI::Range(320, 8192))
         ->group("");
@@ -252,6 +265,8 @@ int run_gui() {
     Session session(so, clock);
     GuiAdapter adapter(session, clock);
     adapter.set_sim_autopilot(o.autopilot);
+    adapter.set_assist(o.assist != "off");
+    adapter.set_hold_forward(o.hold_forward);
     if (o.camera == "bottom") adapter.set_start_camera(1);
     if (!o.demo) {
         if (!o.replay.empty())

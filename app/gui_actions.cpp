@@ -89,13 +89,43 @@ void GuiAdapter::send_due() {
     }
 }
 
-// The pilot's stick input to the AT sender (app/pilot_commands.hpp): a filter between the two
-// (a collision-prevention assist) goes between `input` and pilot_.next().
+// The pilot's stick input to the AT sender through the assist (app/pilot_path.hpp), every frame
+// (also when the input did not change: a new obstacle brakes a held "forward"). A replay runs
+// the assist dry: shown, nothing sent. Every intervention goes to the log and, while recording,
+// to the dataset's assist.csv.
 void GuiAdapter::send_pilot(const ui::Actions& a) {
-    if (!source_.link) return;
+    if (a.assist_toggle) {
+        path_.set_enabled(!path_.enabled());
+        note(path_.enabled() ? "assist ON: moves toward obstacles are limited"
+                             : "assist OFF: commands pass unchanged",
+             path_.enabled() ? ui::LogLevel::Ok : ui::LogLevel::Warn);
+    }
+    path_.set_override(a.assist_override);
     std::optional<link::Move> input;
     if (a.manual) input = link::Move{a.pilot.roll, a.pilot.pitch, a.pilot.gaz, a.pilot.yaw};
-    if (auto c = pilot_.next(input)) (void)source_.link->submit(std::move(*c));
+    if (hold_forward_ != 0 && source_.link && link_connected_) {
+        // The scripted pilot: take off once, then hold forward once flying.
+        // Forward once the take-off is over (ctrl_state major flying 3 or hovering 4).
+        const bool flying = nav_valid_ && nav_.state.drone_state && (*nav_.state.drone_state & 1u);
+        const std::uint32_t major = nav_.state.ctrl_state ? *nav_.state.ctrl_state >> 16 : 0;
+        if (!hold_forward_takeoff_sent_ && !flying) {
+            hold_forward_takeoff_sent_ = true;
+            command(link::Takeoff{}, false, "take-off sent (scripted pilot)");
+        }
+        input.reset();
+        if (flying && (major == 3 || major == 4)) input = link::Move{0, -hold_forward_, 0, 0};
+    }
+    if (source_.kind == SessionSource::Replay) {
+        path_.dry_run(input);
+    } else if (source_.link) {
+        if (auto c = path_.step(input, clock_.now_ns())) (void)source_.link->submit(std::move(*c));
+    }
+    for (Intervention& i : path_.take_new()) {
+        note((source_.kind == SessionSource::Replay ? "dry run: " : "") + describe(i),
+             ui::LogLevel::Warn);
+        if (source_.kind != SessionSource::Replay)
+            (void)session_.request(AssistRecord{std::move(i)});
+    }
 }
 
 void GuiAdapter::consume(const ui::Actions& a) {

@@ -22,7 +22,9 @@ void GuiAdapter::on_source_change() {
     replay_nav_valid_ = false;
     out_.reset();
     shown_out_ = nullptr;
-    pilot_.reset();
+    path_.reset();
+    assist_out_gen_ = assist_nav_gen_ = assist_rnav_gen_ = 0;
+    hold_forward_takeoff_sent_ = false;
     camera_channel_ = 0;
     shown_camera_ = CameraId::Front;
     start_camera_sent_ = false;
@@ -62,6 +64,35 @@ void GuiAdapter::fill_config(ui::GuiSnapshot& s) {
         cv.writes = config_writes_;
         config_dirty_ = false;
     }
+}
+
+// The assist's inputs (the newest classifier output and navdata of this source) and what the
+// window shows of it. Decisions are fed here, once per new output; commands go in consume().
+void GuiAdapter::fill_assist(ui::GuiSnapshot& s) {
+    if (out_ && out_gen_ != assist_out_gen_ && out_->source_id == source_.id) {
+        path_.on_output(*out_);
+        assist_out_gen_ = out_gen_;
+    }
+    if (source_.kind == SessionSource::Replay) {
+        if (replay_nav_valid_ && rnav_gen_ != assist_rnav_gen_) {
+            path_.on_navdata(replay_nav_);
+            assist_rnav_gen_ = rnav_gen_;
+        }
+    } else if (nav_valid_ && nav_gen_ != assist_nav_gen_) {
+        path_.on_navdata(nav_.state);
+        assist_nav_gen_ = nav_gen_;
+    }
+    const AssistStatus st = path_.status();
+    ui::AssistView& a = s.assist;
+    a.available = source_.kind != SessionSource::None;
+    a.enabled = st.enabled;
+    a.override_held = st.override_held;
+    a.dry_run = st.dry_run || source_.kind == SessionSource::Replay;
+    a.acting = st.acting;
+    a.unknown = st.unknown;
+    a.action = st.action;
+    a.line = st.line;
+    a.interventions = st.interventions;
 }
 
 void GuiAdapter::fill(ui::GuiSnapshot& s) {
@@ -115,6 +146,7 @@ void GuiAdapter::fill(ui::GuiSnapshot& s) {
     fill_calibration(s);
     fill_activity(s, opening, opening_pending);
     fill_config(s);
+    fill_assist(s);
 
     session_.replay().read_if_newer(replay_gen_, replay_);
     ui::ReplayStatus& r = s.replay;

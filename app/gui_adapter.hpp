@@ -7,14 +7,14 @@
 //             view, replay and recording status here in gui_adapter.cpp).
 //   consume() turns the window's Actions into typed drone commands (DroneLink::submit, never
 //             blocking) and session requests (app/gui_actions.cpp): the only path that sends.
-//             The pilot's stick input goes through app/pilot_commands.hpp, where a filter between
-//             the pilot and the AT sender (a collision-prevention assist) plugs in.
+//             The pilot's stick input goes through the pilot path (app/pilot_path.hpp): the
+//             collision-prevention assist, then PilotCommands; on a replay the assist runs dry.
 // Results of commands arrive later through their futures and are shown as messages, so a refused
 // take-off says why. Built only with the window (GS_HAVE_GUI).
 #ifdef GS_HAVE_GUI
 
 #include "app/gui_rate.hpp"
-#include "app/pilot_commands.hpp"
+#include "app/pilot_path.hpp"
 #include "app/session.hpp"
 #include "ui/actions.hpp"
 #include "ui/snapshot.hpp"
@@ -47,8 +47,16 @@ public:
     // Adds a line to the window's message log.
     void note(std::string m, ui::LogLevel level = ui::LogLevel::Info);
 
-    std::uint64_t moves_sent() const { return pilot_.moves(); }
-    std::uint64_t hovers_sent() const { return pilot_.hovers(); }
+    std::uint64_t moves_sent() const { return path_.moves(); }
+    std::uint64_t hovers_sent() const { return path_.hovers(); }
+
+    // The collision-prevention assist (on unless switched off: `--assist off`, the toggle).
+    void set_assist(bool on) { path_.set_enabled(on); }
+    const PilotPath& pilot_path() const { return path_; }
+    // Offscreen runs and tests: a scripted pilot that takes off once the drone is connected and
+    // landed, then holds "forward" at this fraction through the same path as the keys (the
+    // window's own stick input is ignored meanwhile). 0: off.
+    void set_hold_forward(float pitch_fraction) { hold_forward_ = pitch_fraction; }
 
 private:
     struct Pending {
@@ -65,6 +73,7 @@ private:
     void fill_output(ui::GuiSnapshot& s);
     void fill_calibration(ui::GuiSnapshot& s);
     void fill_config(ui::GuiSnapshot& s);
+    void fill_assist(ui::GuiSnapshot& s);
     void fill_activity(ui::GuiSnapshot& s, const OpeningInfo& opening, bool opening_pending);
     // Actions (app/gui_actions.cpp).
     void poll_results();
@@ -104,8 +113,11 @@ private:
     std::vector<ui::ConfigWrite> config_writes_;
     bool config_requested_ = false;  // a read-back asked for this source
 
-    // Piloting: manual input is sent as Move while it lasts, then one Hover.
-    PilotCommands pilot_;
+    // Piloting: manual input through the assist, sent as Move while it lasts, then one Hover.
+    PilotPath path_;
+    std::uint64_t assist_out_gen_ = 0, assist_nav_gen_ = 0, assist_rnav_gen_ = 0;
+    float hold_forward_ = 0;
+    bool hold_forward_takeoff_sent_ = false;
     int camera_channel_ = 0;                   // the channel the C key asked for last
     CameraId shown_camera_ = CameraId::Front;  // the camera of the frames shown
     bool sim_autopilot_ = false;

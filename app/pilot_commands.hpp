@@ -1,10 +1,10 @@
 #pragma once
 // The pilot's stick input turned into flight commands for the link's AT sender. The path, in
-// order (GuiAdapter::send_pilot in app/gui_actions.cpp walks it once per window frame):
+// order (PilotPath, app/pilot_path.hpp, walks it once per window frame for GuiAdapter::send_pilot):
 //   1. the input: ui::Actions::manual / pilot, as a link::Move while the pilot steers;
-//   2. filters between the pilot and the AT sender: none yet. A collision-prevention assist goes
-//      here: it sees the input every window frame (also when it did not change, so it can react
-//      to a new obstacle) and returns the Move to send instead;
+//   2. the collision-prevention assist (app/pilot_path.hpp): it sees the input every window frame
+//      (also when it did not change, so it can react to a new obstacle) and returns the command
+//      to send instead;
 //   3. PilotCommands::next(): a Move when what is to be sent changed, one Hover on release;
 //   4. DroneLink::submit (never blocks; the AT sender repeats the current command every 30 ms).
 // No GUI types: the session or a test can drive it the same way.

@@ -152,6 +152,7 @@ void Session::handle(SessionRequest& r) {
             // Recording control (app/session_recording.cpp).
             [&](const RecordStart& q) { record_start(q.dir); },
             [&](const RecordStop&) { record_stop(); },
+            [&](const AssistRecord& q) { record_assist(q.what); },
             // The classifier.
             [&](const SelectClassifier& q) {
                 if (pipeline_.select(q.name)) {

@@ -20,6 +20,7 @@
 // requests, handled by one visitor with a handler per request type (a new type left unhandled
 // does not compile).
 
+#include "app/assist_gate.hpp"
 #include "app/live_odometry.hpp"
 #include "app/pipeline.hpp"
 #include "drone/core/clock.hpp"
@@ -110,12 +111,17 @@ struct ApplyCalibration {
     CameraCalibration camera;
     std::string origin;  // file or description, shown in the window
 };
+// An intervention of the assist on the pilot's path (app/pilot_path.hpp), for the recording in
+// progress: written to its assist.csv when it stops (docs/dataset.md). Ignored when not recording.
+struct AssistRecord {
+    Intervention what;
+};
 using SessionRequest =
     std::variant<ConnectDrone, StartSim, OpenReplay, CloseSource, ReplayPlay, ReplayStep,
                  ReplaySeek, ReplaySpeed, ReplayLoop, SelectClassifier, SetClassifierParam,
                  RecordStart, RecordStop, CalibrationStart, CalibrationStop, CalibrationCapture,
                  CalibrationUndo, CalibrationReset, CalibrationAutoCapture, CalibrationSave,
-                 ApplyCalibration>;
+                 ApplyCalibration, AssistRecord>;
 
 // ---- Published state (session thread -> readers) --------------------------------------------
 
@@ -223,6 +229,11 @@ struct SessionOptions {
     int calibration_auto_interval_ms = 1000;
 };
 
+// Writes <dir>/assist.csv (docs/dataset.md) from a recording's interventions; `start_ns`: the
+// recording's t = 0 on the link's clock. False when the file cannot be written.
+bool write_assist_csv(const std::filesystem::path& dir, TimeNs start_ns,
+                      const std::vector<Intervention>& rows);
+
 // $HOME/ardrone-gs/flights, or ./flights.
 std::filesystem::path default_record_root();
 
@@ -286,6 +297,7 @@ private:
     // Recording control: app/session_recording.cpp.
     void record_start(const std::string& dir);
     void record_stop();
+    void record_assist(const Intervention& i);
     void publish_recording(TimeNs now);
     // Camera tracking and the calibration in use: app/session_camera.cpp.
     void update_camera();
@@ -332,6 +344,10 @@ private:
     std::unique_ptr<vision::CalibrationMode> calibrator_;
     std::unique_ptr<record::Recorder> recorder_;  // session thread only; before the link dies
     std::string last_record_path_;
+    // The assist's interventions during the recording in progress (assist.csv at its stop).
+    std::vector<Intervention> assist_rows_;
+    std::uint64_t assist_rows_dropped_ = 0;
+    static constexpr std::size_t kMaxAssistRows = 100000;
     TimeNs last_record_publish_ = 0, last_space_check_ = 0;
     double disk_free_bytes_ = kUnknown;
     std::atomic<std::uint64_t> processed_{0};

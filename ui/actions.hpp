@@ -33,6 +33,11 @@ struct Actions {
     bool manual = false;
     bool takeoff = false, land = false, emergency = false, flat_trim = false, switch_camera = false;
     bool calibrate_magnetometer = false;  // in flight: the drone turns a full circle
+    // The collision-prevention assist: switch it on/off (an edge: the key, the gamepad button or
+    // the status bar's toggle) and its override, held (level: true while the key or button is
+    // down; commands pass unchanged).
+    bool assist_toggle = false;
+    bool assist_override = false;
 
     // Drone -> Settings: configuration writes (key, value as the drone prints it) and a request
     // to read the whole configuration back.

@@ -161,7 +161,11 @@ bool write_screenshot(const std::filesystem::path& png, int w, int h, const Layo
     const LayoutReport::Status& st = layout.status;
     j["status"] = {{"source", st.source},   {"state", st.state},     {"activity", st.activity},
                    {"battery", st.battery}, {"link", st.link},       {"video", st.video},
-                   {"rec", st.rec},         {"message", st.message}, {"banners", st.banners}};
+                   {"rec", st.rec},         {"message", st.message}, {"banners", st.banners},
+                   {"assist", st.assist}};
+    j["assist"] = {{"toggle", layout.assist.toggle},
+                   {"banner", layout.assist.banner},
+                   {"hud", layout.assist.hud}};
     nlohmann::json disabled = nlohmann::json::object();
     for (const auto& [id, why] : layout.disabled) disabled[id] = why;
     j["disabled"] = disabled;

@@ -295,6 +295,8 @@ Actions Gui::frame(const GuiSnapshot& s, InputState input, TextureSource* tex) {
     a.emergency = pf.emergency;
     a.flat_trim = pf.flat_trim;
     a.switch_camera = pf.switch_camera;
+    a.assist_toggle = pf.assist_toggle;
+    a.assist_override = pf.assist_override;
     if (pf.record_toggle) (s.recording.active ? a.record_stop : a.record_start) = true;
     if (pf.calibration_capture && view_.open.calibration) a.calibration_capture = true;
     a.undistort_preview = view_.settings.overlay.undistort;

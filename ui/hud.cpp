@@ -276,6 +276,25 @@ void Hud::draw(ImDrawList* dl, ImVec2 p0, ImVec2 p1, const GuiSnapshot& s, ViewS
         text(dl, {b0.x + 10, b0.y + 2}, col, w.c_str(), big);
         wy = b1.y + 4;
     }
+    // ---- The assist: what it does and why, under the warnings -------------------------------
+    const AssistView& as = s.assist;
+    if (as.available) {
+        const bool say = as.acting || as.unknown || as.override_held || !as.enabled;
+        const std::string msg =
+            say ? as.line : std::string(as.dry_run ? "ASSIST (dry run)" : "ASSIST ON");
+        const std::uint32_t col = as.acting                        ? colors::kBad
+                                  : as.unknown || as.override_held ? colors::kWarn
+                                  : !as.enabled                    ? colors::kWarn
+                                                                   : colors::kGood;
+        const float size = say ? fs * 1.35f : fs * 0.9f;
+        const ImVec2 ts = text_size(msg.c_str(), size);
+        const ImVec2 b0{c.x - ts.x * 0.5f - 8, wy}, b1{c.x + ts.x * 0.5f + 8, wy + ts.y + 4};
+        dl->AddRectFilled(b0, b1, IM_COL32(0, 0, 0, say ? 170 : 110), 3.0f);
+        if (say) dl->AddRect(b0, b1, col, 3.0f, 0, 2.0f);
+        text(dl, {b0.x + 8, b0.y + 2}, col, msg.c_str(), size);
+        v.layout.assist.hud = msg;
+        v.layout.labels.push_back({"hud.assist", {b0.x, b0.y, b1.x, b1.y}});
+    }
     dl->PopClipRect();
 }
 

@@ -42,6 +42,10 @@ const char* to_string(PilotKey k) {
             return "record";
         case PilotKey::CalibrationCapture:
             return "calibration_capture";
+        case PilotKey::AssistToggle:
+            return "assist_toggle";
+        case PilotKey::AssistOverride:
+            return "assist_override";
         case PilotKey::Count:
             break;
     }
@@ -80,6 +84,10 @@ const char* description(PilotKey k) {
             return "Start / stop recording";
         case PilotKey::CalibrationCapture:
             return "Calibration window: capture the view (board found, adds coverage)";
+        case PilotKey::AssistToggle:
+            return "Collision assist on / off";
+        case PilotKey::AssistOverride:
+            return "Hold: collision assist bypassed (commands pass unchanged)";
         case PilotKey::Count:
             break;
     }
@@ -104,6 +112,8 @@ Keymap Keymap::defaults() {
     m.key(PilotKey::SwitchCamera) = GLFW_KEY_C;
     m.key(PilotKey::Record) = GLFW_KEY_R;
     m.key(PilotKey::CalibrationCapture) = GLFW_KEY_K;
+    m.key(PilotKey::AssistToggle) = GLFW_KEY_B;
+    m.key(PilotKey::AssistOverride) = GLFW_KEY_LEFT_SHIFT;
     return m;
 }
 
@@ -289,7 +299,11 @@ PilotFrame PilotMapper::update(const InputState& in, const Keymap& map) {
         out.switch_camera = pressed(PilotKey::SwitchCamera);
         out.record_toggle = pressed(PilotKey::Record);
         out.calibration_capture = pressed(PilotKey::CalibrationCapture);
+        out.assist_toggle = pressed(PilotKey::AssistToggle);
     }
+    // The override is a held key: a text field having the keyboard does not stop it (it types
+    // nothing and moves nothing by itself).
+    out.assist_override = held(PilotKey::AssistOverride);
 
     // Gamepad (mode 2: left stick yaw/climb, right stick roll/pitch). Polled state, so it has no
     // stale-key problem and keeps working without window focus.
@@ -310,6 +324,8 @@ PilotFrame PilotMapper::update(const InputState& in, const Keymap& map) {
         out.flat_trim = out.flat_trim || bpress(GLFW_GAMEPAD_BUTTON_X);
         out.switch_camera = out.switch_camera || bpress(GLFW_GAMEPAD_BUTTON_Y);
         out.record_toggle = out.record_toggle || bpress(GLFW_GAMEPAD_BUTTON_START);
+        out.assist_toggle = out.assist_toggle || bpress(GLFW_GAMEPAD_BUTTON_RIGHT_BUMPER);
+        out.assist_override = out.assist_override || gp.buttons[GLFW_GAMEPAD_BUTTON_LEFT_BUMPER];
         prev_buttons_ = gp.buttons;
     } else {
         prev_buttons_ = {};

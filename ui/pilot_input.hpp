@@ -10,6 +10,8 @@
 //    (F12 by default; only F2..F25 and Pause may be bound to it), so typing never cuts the motors;
 //  - a press is acted on exactly once, even when it is released before the frame that reads it
 //    (InputState::pressed, latched from the key callback by KeyLatch).
+// The assist: its toggle (B, gamepad right bumper) is an edge; its override (Left Shift, gamepad
+// left bumper) acts only while held and is dropped on focus loss like every held key.
 // Escape is never a pilot key: it closes menus and dialogs (ui/gui.cpp) and nothing else.
 // Key codes are GLFW key codes (the ImGui 1.86 GLFW backend indexes io.KeysDown with them).
 
@@ -40,6 +42,8 @@ enum class PilotKey : int {
     SwitchCamera,
     Record,
     CalibrationCapture,  // Calibration window: capture the current view
+    AssistToggle,        // the collision-prevention assist on / off
+    AssistOverride,      // held: the assist lets the pilot's commands pass unchanged
     Count
 };
 inline constexpr std::size_t kPilotKeyCount = static_cast<std::size_t>(PilotKey::Count);
@@ -112,6 +116,8 @@ struct PilotFrame {
     bool manual = false;  // a movement key is held or a stick is outside the dead zone
     bool takeoff = false, land = false, emergency = false, flat_trim = false, switch_camera = false,
          record_toggle = false, calibration_capture = false;
+    bool assist_toggle = false;    // edge: the key or the gamepad's right bumper
+    bool assist_override = false;  // level: the key or the gamepad's left bumper held
 };
 
 // Stateful only for edges and the focus latch; otherwise a pure map from InputState.

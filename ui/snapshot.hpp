@@ -377,6 +377,19 @@ struct LogLine {
 
 // ---- The snapshot ---------------------------------------------------------------------------
 
+// The collision-prevention assist between the pilot and the drone (app/pilot_path.hpp).
+struct AssistView {
+    bool available = false;  // a source is open (live: it filters; replay: a dry run)
+    bool enabled = true;     // ASSIST ON / OFF
+    bool override_held = false;
+    bool dry_run = false;  // a replay: what it would have done, nothing sent
+    bool acting = false;   // braking, holding or blocking a side now
+    bool unknown = false;  // flying forward into a centre with no evidence: not braking
+    std::string action;    // "BRAKING", "HOLDING", "LEFT BLOCKED", "UNKNOWN", "WATCHING" ...
+    std::string line;      // "BRAKING: obstacle ahead, contact in 1.8 s", "ASSIST ON" ...
+    std::uint64_t interventions = 0;
+};
+
 struct GuiSnapshot {
     TimeNs now_ns = 0;  // monotonic time the snapshot was taken (ages and plot history use it)
     ConnectionInfo connection;
@@ -389,6 +402,7 @@ struct GuiSnapshot {
     ReplayStatus replay;
     CalibrationView calibration;
     DroneConfigView config;
+    AssistView assist;
     std::vector<LogLine> messages;  // recent log lines, newest last
 };
 

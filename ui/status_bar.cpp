@@ -182,6 +182,33 @@ void StatusBar::draw(const GuiSnapshot& s, ViewState& v, Actions& a) {
         ImGui::Dummy({ts.x, row_h});
     }
     out.state = fsv.text;
+    // The assist's toggle: always there with a source, one click switches it (and only a click
+    // on it: Escape and clicks elsewhere leave it as it is).
+    if (s.assist.available) {
+        ImGui::SameLine(0, sp * 1.5f);
+        const std::string key = key_name(km.key(PilotKey::AssistToggle));
+        const std::string label = std::string(s.assist.enabled ? "ASSIST ON" : "ASSIST OFF") +
+                                  (key.empty() ? "" : " (" + key + ")");
+        const ImVec4 c =
+            colors::v4(s.assist.enabled ? IM_COL32(30, 120, 60, 255) : IM_COL32(150, 100, 20, 255));
+        ImGui::PushStyleColor(ImGuiCol_Button, c);
+        ImGui::PushStyleColor(ImGuiCol_ButtonHovered,
+                              ImVec4{std::min(1.0f, c.x * 1.25f), std::min(1.0f, c.y * 1.25f),
+                                     std::min(1.0f, c.z * 1.25f), 1.0f});
+        const float y = ImGui::GetCursorPosY();
+        ImGui::SetCursorPosY(y + (row_h - ImGui::GetFrameHeight()) * 0.5f);
+        if (ImGui::Button((label + "##assist").c_str())) a.assist_toggle = true;
+        ImGui::PopStyleColor(2);
+        record_button(v, "status.assist");
+        if (ImGui::IsItemHovered())
+            ImGui::SetTooltip(
+                "Collision assist: brakes and blocks moves toward obstacles the classifier "
+                "reports.\nClick or %s: on / off. Hold %s: bypass it.%s",
+                key.c_str(), key_name(km.key(PilotKey::AssistOverride)).c_str(),
+                s.assist.dry_run ? "\nReplay: a dry run, nothing is sent." : "");
+        out.assist = label;
+        v.layout.assist.toggle = label;
+    }
     if (!s.connection.activity.empty()) {
         ImGui::SameLine(0, sp * 1.5f);
         const std::string act = s.connection.activity;
@@ -316,6 +343,11 @@ void StatusBar::draw(const GuiSnapshot& s, ViewState& v, Actions& a) {
         banners.push_back(
             {t.emergency_commanded ? "EMERGENCY (commanded)" : "EMERGENCY", colors::kBad});
     if (s.video.stale) banners.push_back({"VIDEO STALE", colors::kWarn});
+    if (s.assist.available &&
+        (s.assist.acting || s.assist.unknown || s.assist.override_held || !s.assist.enabled)) {
+        banners.push_back({s.assist.line, s.assist.acting ? colors::kBad : colors::kWarn});
+        v.layout.assist.banner = s.assist.line;
+    }
     if (v.leave_after_landing.pending())
         banners.push_back({std::string("LANDING, THEN ") + leave_verb(v.leave_after_landing.kind),
                            colors::kWarn});

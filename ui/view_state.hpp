@@ -76,10 +76,15 @@ struct LayoutReport {
     std::vector<std::pair<std::string, std::string>> disabled;
     // The status bar as drawn (empty fields were not shown: no room or nothing to say).
     struct Status {
-        std::string source, state, activity, battery, link, video, rec, message;
+        std::string source, state, activity, battery, link, video, rec, message, assist;
         std::uint32_t source_color = 0;
         std::vector<std::string> banners;
     } status;
+    // The assist as drawn: the status bar's toggle ("ASSIST ON (B)"), its row-2 banner when it
+    // acts or says something ("BRAKING: obstacle ahead, contact in 1.8 s"), the HUD's line.
+    struct Assist {
+        std::string toggle, banner, hud;
+    } assist;
     bool messages_at_end = false;  // the Messages window shows the newest line
     float replay_scroll_max = 0;   // > 0: the Replay window's content is taller than the window
     std::string replay_position;   // "frame N / LAST", written beside the seek slider

@@ -384,6 +384,7 @@ void Recorder::run() {
         st.recording = recording;
         st.path = s.dir.string();
         st.duration_s = static_cast<double>(now - w.start_ns()) * 1e-9;
+        st.start_ns = w.start_ns();
         st.frames = ws.frames_written;
         st.navdata = ws.navdata_written;
         st.at = ws.at_records;

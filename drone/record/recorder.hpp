@@ -83,6 +83,7 @@ struct RecorderStatus {
     std::string error;       // the first I/O error, as the pilot reads it
     bool labels = false;     // ground truth is being written
     double cpu_ms = 0;       // CPU time of the recorder's own thread (not the writer's)
+    TimeNs start_ns = 0;     // the link's clock at the dataset's t = 0 (frames.csv t_ms origin)
 };
 
 // Why Recorder::start() failed; `message` is the sentence shown to the user.

@@ -72,7 +72,7 @@ TEST(Assist, CentreUnsafeWhileMovingForwardBrakesThenHoldsUntilClear) {
     o = a.step(in);
     EXPECT_EQ(o.action, AssistAction::Holding);
     EXPECT_FALSE(o.command.progressive);
-    EXPECT_NE(o.reason.find("until it is clear"), std::string::npos);
+    EXPECT_NE(o.reason.find("until it is seen clear"), std::string::npos);
 
     // One clear decision does not release it: a slowed drone sees less expansion.
     in.t_s = 1.5;

@@ -1,0 +1,300 @@
+// The pilot's path through the assist (app/pilot_path.hpp) on synthetic decisions and navdata:
+// what it sends for the pilot's input, the stale-decision rule, the toggle and the override, the
+// replay dry run and the recording's assist.csv. The same path over real sockets, with the
+// window's keys: tests/ui/assist_wiring_test.cpp.
+#include "app/pilot_path.hpp"
+#include "app/session.hpp"
+
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <variant>
+
+namespace gs::app {
+namespace {
+
+constexpr TimeNs kPpMs = 1'000'000;
+
+PipelineOutput pp_decision(RegionState centre, TimeNs recv_ns, std::int64_t index,
+                           RegionState left = RegionState::Clear,
+                           RegionState right = RegionState::Clear) {
+    PipelineOutput o;
+    o.camera = CameraId::Front;
+    o.classifier = "thesis";
+    o.frame.index = index;
+    o.frame.t_ns = recv_ns;
+    o.frame.recv_ns = recv_ns;
+    o.frame.frame_number = static_cast<std::uint32_t>(100 + index);
+    o.result.frame_index = index;
+    const RegionState st[3] = {left, centre, right};
+    for (int i = 0; i < 3; ++i) {
+        auto& d = o.result.regions[static_cast<std::size_t>(i)];
+        d.valid = st[i] == RegionState::Clear || st[i] == RegionState::Unsafe;
+        d.unsafe = st[i] == RegionState::Unsafe;
+        d.score = d.valid ? 0.5 : kUnknown;
+    }
+    return o;
+}
+
+NavState pp_flying_at(double vx) {
+    NavState n;
+    n.vx_mps = vx;
+    n.vy_mps = 0;
+    n.yaw_deg = 0;
+    n.drone_state = 1u;  // FLY
+    return n;
+}
+
+bool pp_is_move(const std::optional<link::Command>& c) {
+    return c && std::holds_alternative<link::Move>(*c);
+}
+// The Move sent (NaN fields when what was sent is not a Move).
+link::Move pp_move(const std::optional<link::Command>& c) {
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    return pp_is_move(c) ? std::get<link::Move>(*c) : link::Move{nan, nan, nan, nan};
+}
+bool pp_is_hover(const std::optional<link::Command>& c) {
+    return c && std::holds_alternative<link::Hover>(*c);
+}
+
+const link::Move kPpForward{0, -0.3f, 0, 0};
+
+TEST(PilotPath, ForwardIntoAnUnsafeCentreIsBrakedThenHeldAtZero) {
+    PilotPath p;
+    p.on_navdata(pp_flying_at(1.2));
+    p.on_output(pp_decision(RegionState::Clear, 0, 0));
+    auto c = p.step(kPpForward, 10 * kPpMs);
+    ASSERT_TRUE(pp_is_move(c));
+    EXPECT_FLOAT_EQ(pp_move(c).pitch, -0.3f) << "clear ahead: the pilot's forward passes";
+    EXPECT_EQ(p.status().line, "ASSIST ON");
+
+    p.on_output(pp_decision(RegionState::Unsafe, 40 * kPpMs, 1));
+    c = p.step(kPpForward, 50 * kPpMs);
+    ASSERT_TRUE(pp_is_move(c));
+    EXPECT_GT(pp_move(c).pitch, 0.0f) << "braking: nose up";
+    EXPECT_EQ(p.status().action, "BRAKING");
+    EXPECT_TRUE(p.status().acting);
+    EXPECT_EQ(p.status().line.rfind("BRAKING: obstacle ahead", 0), 0u) << p.status().line;
+    const auto log = p.take_new();
+    ASSERT_EQ(log.size(), 1u);
+    EXPECT_EQ(log[0].action, AssistAction::Braking);
+    EXPECT_FLOAT_EQ(log[0].before.pitch, -0.3f);
+    EXPECT_GT(log[0].after.pitch, 0.0f);
+    EXPECT_EQ(log[0].pave_frame, 101u);
+    EXPECT_TRUE(p.take_new().empty()) << "each intervention is handed out once";
+
+    // Slowed down: forward held at zero (the drone's hover), the obstacle still there.
+    p.on_navdata(pp_flying_at(0.1));
+    p.on_output(pp_decision(RegionState::Unsafe, 80 * kPpMs, 2));
+    c = p.step(kPpForward, 90 * kPpMs);
+    EXPECT_TRUE(pp_is_hover(c)) << "forward held at zero";
+    EXPECT_EQ(p.status().action, "HOLDING");
+    // Yaw and climb pass while held; forward does not.
+    c = p.step(link::Move{0, -0.3f, 0.4f, 0.5f}, 100 * kPpMs);
+    ASSERT_TRUE(pp_is_move(c));
+    EXPECT_FLOAT_EQ(pp_move(c).pitch, 0.0f);
+    EXPECT_FLOAT_EQ(pp_move(c).gaz, 0.4f);
+    EXPECT_FLOAT_EQ(pp_move(c).yaw, 0.5f);
+    // Backing away is never limited.
+    c = p.step(link::Move{0, 0.4f, 0, 0}, 110 * kPpMs);
+    ASSERT_TRUE(pp_is_move(c));
+    EXPECT_FLOAT_EQ(pp_move(c).pitch, 0.4f);
+}
+
+TEST(PilotPath, SideUnsafeZeroesOnlyTheRollTowardIt) {
+    PilotPath p;
+    p.on_navdata(pp_flying_at(0.0));
+    p.on_output(pp_decision(RegionState::Clear, 0, 0, RegionState::Unsafe, RegionState::Clear));
+    auto c = p.step(link::Move{-0.4f, 0, 0, 0.2f}, 10 * kPpMs);
+    ASSERT_TRUE(pp_is_move(c));
+    EXPECT_FLOAT_EQ(pp_move(c).roll, 0.0f);
+    EXPECT_FLOAT_EQ(pp_move(c).yaw, 0.2f);
+    EXPECT_EQ(p.status().action, "LEFT BLOCKED");
+    EXPECT_EQ(p.status().line.rfind("LEFT BLOCKED", 0), 0u);
+    c = p.step(link::Move{0.4f, 0, 0, 0.2f}, 20 * kPpMs);
+    ASSERT_TRUE(pp_is_move(c));
+    EXPECT_FLOAT_EQ(pp_move(c).roll, 0.4f) << "away from the unsafe side passes";
+}
+
+TEST(PilotPath, UnknownCentreNeverBrakesAndSaysSo) {
+    PilotPath p;
+    p.on_navdata(pp_flying_at(1.0));
+    p.on_output(pp_decision(RegionState::Unknown, 0, 0));
+    auto c = p.step(kPpForward, 10 * kPpMs);
+    ASSERT_TRUE(pp_is_move(c));
+    EXPECT_FLOAT_EQ(pp_move(c).pitch, -0.3f);
+    EXPECT_TRUE(p.status().unknown);
+    EXPECT_EQ(p.status().line, "UNKNOWN: no evidence ahead, not braking");
+}
+
+// The stale rule (app/pilot_path.hpp): a decision older than stale_after_s never starts a brake
+// and never counts as clear; a brake under way ends, then forward stays held.
+TEST(PilotPath, StaleDecisionsNeitherBrakeForeverNorCountAsClear) {
+    const double stale_s = AssistParams{}.stale_after_s;
+    const TimeNs stale_ns = static_cast<TimeNs>(stale_s * 1e9) + 50 * kPpMs;
+    {
+        // An unsafe decision that is already stale: no brake, said as stale.
+        PilotPath p;
+        p.on_navdata(pp_flying_at(1.0));
+        p.on_output(pp_decision(RegionState::Unsafe, 0, 0));
+        auto c = p.step(kPpForward, stale_ns);
+        ASSERT_TRUE(pp_is_move(c));
+        EXPECT_FLOAT_EQ(pp_move(c).pitch, -0.3f);
+        EXPECT_EQ(p.status().line, "UNKNOWN: classifier stale, no evidence ahead, not braking");
+    }
+    // A brake, then the video stalls: the brake ends once slow (and within max_brake_s even if
+    // the drone never slows), forward then stays at zero while the decisions stay stale.
+    PilotPath p;
+    p.on_navdata(pp_flying_at(1.0));
+    p.on_output(pp_decision(RegionState::Unsafe, 0, 0));
+    ASSERT_GT(pp_move(p.step(kPpForward, 10 * kPpMs)).pitch, 0.0f);
+    const TimeNs end = static_cast<TimeNs>((AssistParams{}.max_brake_s + 0.2) * 1e9);
+    std::optional<link::Command> c;
+    for (TimeNs t = 20 * kPpMs; t <= end; t += 30 * kPpMs) c = p.step(kPpForward, t);
+    EXPECT_EQ(p.status().action, "HOLDING") << "braking never outlasts max_brake_s";
+    EXPECT_NE(p.status().line.find("stale"), std::string::npos) << p.status().line;
+    p.on_navdata(pp_flying_at(0.05));
+    for (TimeNs t = end; t <= end + 5'000 * kPpMs; t += 30 * kPpMs) c = p.step(kPpForward, t);
+    EXPECT_EQ(p.status().action, "HOLDING") << "stale is not clear: forward stays held";
+    const auto last = p.last().command;
+    EXPECT_FALSE(last.progressive && last.pitch != 0.0f);
+    // A fresh clear decision with the drone moving again releases the hold after
+    // forget_after_clear_s (the unit's rule), so the hold is not forever either.
+    const TimeNs t0 = end + 5'100 * kPpMs;
+    p.on_navdata(pp_flying_at(0.5));
+    for (TimeNs t = t0; t <= t0 + 2'500 * kPpMs; t += 30 * kPpMs) {
+        p.on_output(pp_decision(RegionState::Clear, t, 10 + t / kPpMs));
+        c = p.step(kPpForward, t + kPpMs);
+    }
+    EXPECT_EQ(p.status().action, "WATCHING") << p.status().line;
+    EXPECT_TRUE(p.last().command.progressive);
+    EXPECT_FLOAT_EQ(p.last().command.pitch, -0.3f) << "forward passes again";
+}
+
+TEST(PilotPath, OffAndOverridePassThePilotsCommandUnchanged) {
+    PilotPath p;
+    p.on_navdata(pp_flying_at(1.2));
+    p.on_output(pp_decision(RegionState::Unsafe, 0, 0));
+    p.set_enabled(false);
+    auto c = p.step(kPpForward, 10 * kPpMs);
+    ASSERT_TRUE(pp_is_move(c));
+    EXPECT_FLOAT_EQ(pp_move(c).pitch, -0.3f);
+    EXPECT_EQ(p.status().line, "ASSIST OFF");
+    EXPECT_TRUE(p.take_new().empty()) << "off is not an intervention";
+    p.set_enabled(true);
+    p.set_override(true);
+    c = p.step(link::Move{0, -0.35f, 0, 0}, 20 * kPpMs);
+    ASSERT_TRUE(pp_is_move(c));
+    EXPECT_FLOAT_EQ(pp_move(c).pitch, -0.35f);
+    EXPECT_EQ(p.status().action, "OVERRIDE");
+    p.set_override(false);
+    c = p.step(link::Move{0, -0.35f, 0, 0}, 30 * kPpMs);
+    ASSERT_TRUE(pp_is_move(c));
+    EXPECT_GT(pp_move(c).pitch, 0.0f) << "released: the assist brakes again";
+}
+
+TEST(PilotPath, OnTheGroundNothingIsLimited) {
+    PilotPath p;
+    NavState n = pp_flying_at(0);
+    n.drone_state = 0u;
+    p.on_navdata(n);
+    p.on_output(pp_decision(RegionState::Unsafe, 0, 0));
+    auto c = p.step(kPpForward, 10 * kPpMs);
+    ASSERT_TRUE(pp_is_move(c));
+    EXPECT_FLOAT_EQ(pp_move(c).pitch, -0.3f);
+}
+
+TEST(PilotPath, ReplayDryRunShowsTheBrakeAndSendsNothing) {
+    PilotPath p;
+    // A replayed frame: no receive time; the dataset's velocity says "moving forward".
+    PipelineOutput o = pp_decision(RegionState::Unsafe, 0, 5);
+    o.frame.recv_ns = 0;
+    o.frame.t_ns = 2'000 * kPpMs;
+    NavState n = pp_flying_at(1.1);
+    n.drone_state.reset();  // a dataset without drone_state counts as flying
+    p.on_navdata(n);
+    p.on_output(o);
+    p.dry_run(std::nullopt);
+    const AssistStatus s = p.status();
+    EXPECT_TRUE(s.dry_run);
+    EXPECT_EQ(s.action, "BRAKING");
+    EXPECT_EQ(s.line.rfind("DRY RUN (replay, nothing sent): BRAKING", 0), 0u) << s.line;
+    EXPECT_EQ(p.moves(), 0u);
+    EXPECT_EQ(p.hovers(), 0u);
+    EXPECT_EQ(p.take_new().size(), 1u);
+}
+
+std::vector<std::vector<std::string>> pp_read_csv(const std::filesystem::path& f) {
+    std::vector<std::vector<std::string>> rows;
+    std::ifstream in(f);
+    std::string line;
+    while (std::getline(in, line)) {
+        std::vector<std::string> cells;
+        std::stringstream ss(line);
+        std::string c;
+        while (std::getline(ss, c, ',')) cells.push_back(c);
+        if (!line.empty() && line.back() == ',') cells.emplace_back();
+        rows.push_back(cells);
+    }
+    return rows;
+}
+
+TEST(PilotPath, AssistCsvMapsEachInterventionToTheDatasetFrame) {
+    namespace fs = std::filesystem;
+    const fs::path dir =
+        fs::temp_directory_path() / ("gs_assist_csv_" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir / "raw");
+    {
+        std::ofstream f(dir / "frames.csv");
+        f << "frame,t_ms,roll_deg\n0,0.000,0\n1,33.333,0\n2,66.667,0\n";
+        std::ofstream c(dir / "raw" / "capture_times.csv");
+        c << "frame_number,timestamp_ms,t_us\n500,10,0\n501,43,33333\n502,77,66667\n";
+    }
+    const TimeNs start = 1'000 * kPpMs;
+    Intervention i;
+    i.t_ns = start + 100 * kPpMs;
+    i.frame = 42;  // the link's index: not the dataset's
+    i.pave_frame = 502;
+    i.decision_ns = start + 80 * kPpMs;
+    i.action = AssistAction::Braking;
+    i.reason = "BRAKING: obstacle ahead, contact in 1.8 s";
+    i.before = FlightCommand{true, 0, -0.3f, 0, 0};
+    i.after = FlightCommand{true, 0, 1.0f, 0, 0};
+    Intervention j = i;
+    j.pave_frame = 999;  // not kept by the recording: no frame
+    j.action = AssistAction::LimitLeft;
+    j.region = vision::Region::Left;
+    ASSERT_TRUE(write_assist_csv(dir, start, {i, j}));
+    const auto rows = pp_read_csv(dir / "assist.csv");
+    ASSERT_EQ(rows.size(), 3u);
+    const auto& h = rows[0];
+    auto col = [&](const std::string& name) {
+        for (std::size_t k = 0; k < h.size(); ++k)
+            if (h[k] == name) return k;
+        ADD_FAILURE() << "no column " << name;
+        return std::size_t{0};
+    };
+    for (const auto& r : rows) ASSERT_EQ(r.size(), h.size());
+    EXPECT_EQ(rows[1][col("t_ms")], "100.000");
+    EXPECT_EQ(rows[1][col("frame")], "2");
+    EXPECT_EQ(rows[1][col("pave_frame")], "502");
+    EXPECT_EQ(rows[1][col("decision_ms")], "80.000");
+    EXPECT_EQ(rows[1][col("action")], "BRAKING");
+    EXPECT_EQ(rows[1][col("region")], "centre");
+    EXPECT_EQ(rows[1][col("reason")], "BRAKING: obstacle ahead; contact in 1.8 s");
+    EXPECT_EQ(rows[1][col("before_pitch")], "-0.300");
+    EXPECT_EQ(rows[1][col("after_pitch")], "1.000");
+    EXPECT_EQ(rows[2][col("frame")], "");
+    EXPECT_EQ(rows[2][col("action")], "LIMIT LEFT");
+    EXPECT_EQ(rows[2][col("region")], "left");
+    fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace gs::app
