@@ -144,8 +144,8 @@ AssistOutput Assist::step(const AssistInput& in) {
         // its time to contact at this speed under the classifier's threshold. A stopped or
         // creeping drone sees no expansion, so its "clear" says nothing about what is ahead.
         const double left_m = known(st_.obstacle_m) ? st_.obstacle_m - st_.travelled_m : kUnknown;
-        const bool in_sight = moving_forward && known(left_m) &&
-                              left_m < p_.detect_ttc_s * in.vx_mps;
+        const bool in_sight =
+            moving_forward && known(left_m) && left_m < p_.detect_ttc_s * in.vx_mps;
         if (centre != RegionState::Clear) {
             st_.clear_seen_s = 0;
         } else if (in_sight) {
@@ -157,22 +157,26 @@ AssistOutput Assist::step(const AssistInput& in) {
             st_.obstacle_m = kUnknown;
         }
     }
-    if (st_.phase == Phase::Holding && vx_known && in.vx_mps > p_.rebrake_mps) {
-        // Held, yet still (or again) moving forward: the hover's slow decay, a gust. Brake again.
-        const double left_m = known(st_.obstacle_m) ? st_.obstacle_m - st_.travelled_m : kUnknown;
-        if (!known(left_m) || left_m <= p_.hold_gap_m) {
-            st_.phase = Phase::Braking;
-            st_.since_s = in.t_s;
-        }
+    // Holding: forward allowed while the remembered obstacle stays more than the gap away once
+    // the drone has stopped from its present speed (reaction time, then the braking deceleration).
+    const double remaining = known(st_.obstacle_m) ? st_.obstacle_m - st_.travelled_m : kUnknown;
+    const double v_fwd = vx_known ? std::max(in.vx_mps, 0.0) : 0.0;
+    const double stop_m = v_fwd * p_.react_s + v_fwd * v_fwd / (2 * p_.brake_decel_mps2);
+    auto room = [&] {
+        return st_.phase == Phase::Holding && vx_known && known(remaining) &&
+               remaining - stop_m > p_.hold_gap_m && centre != RegionState::Unsafe;
+    };
+    if (st_.phase == Phase::Holding && vx_known && in.vx_mps > p_.rebrake_mps && !room()) {
+        // Held, yet still (or again) moving toward it: the hover's slow decay, a gust, the end of
+        // an approach. Brake again.
+        st_.phase = Phase::Braking;
+        st_.since_s = in.t_s;
     }
     if (st_.phase == Phase::Braking) {
         const bool slow = vx_known && in.vx_mps < p_.brake_release_mps;
         if (slow || !vx_known || in.t_s - st_.since_s > p_.max_brake_s) st_.phase = Phase::Holding;
     }
-    // Holding: forward allowed while the remembered obstacle is more than the gap away.
-    const double remaining = known(st_.obstacle_m) ? st_.obstacle_m - st_.travelled_m : kUnknown;
-    const bool room_ahead = st_.phase == Phase::Holding && vx_known && known(remaining) &&
-                            remaining > p_.hold_gap_m && centre != RegionState::Unsafe;
+    const bool room_ahead = room();
 
     FlightCommand& cmd = out.command;
     const bool pilot_backing = in.pilot.progressive && in.pilot.pitch > 0;
@@ -239,17 +243,17 @@ AssistOutput Assist::step(const AssistInput& in) {
         const std::string where = toward_left ? "left" : "right";
         if (nudge_left || nudge_right) {
             out.action = nudge_right ? AssistAction::SteerRight : AssistAction::SteerLeft;
-            out.reason = "STEERING " + std::string(nudge_right ? "right" : "left") +
-                         ": obstacle " + where + contact_text(in.regions[side]);
+            out.reason = "STEERING " + std::string(nudge_right ? "right" : "left") + ": obstacle " +
+                         where + contact_text(in.regions[side]);
         } else {
             out.action = limit_left && limit_right ? AssistAction::LimitSides
-                         : limit_left             ? AssistAction::LimitLeft
-                                                  : AssistAction::LimitRight;
-            out.reason = side_state[toward_left ? 0 : 1] == RegionState::Unsafe
-                             ? "LIMITING: obstacle " + where + ", no movement toward it" +
-                                   contact_text(in.regions[side])
-                             : "LIMITING: passing the obstacle seen " + where +
-                                   ", no movement toward it";
+                         : limit_left              ? AssistAction::LimitLeft
+                                                   : AssistAction::LimitRight;
+            out.reason =
+                side_state[toward_left ? 0 : 1] == RegionState::Unsafe
+                    ? "LIMITING: obstacle " + where + ", no movement toward it" +
+                          contact_text(in.regions[side])
+                    : "LIMITING: passing the obstacle seen " + where + ", no movement toward it";
         }
     }
     // A move with nothing left in it is a hover: the drone holds its position itself.

@@ -98,6 +98,11 @@ struct AssistParams {
     double forget_after_clear_s = 0.7;
     double detect_ttc_s = 3.3;
     double rebrake_mps = 0.35;  // holding and faster than this toward the obstacle: brake again
+    // The stopping distance allowed for when letting a held drone approach: reaction (the video
+    // and decision latency) then this deceleration (full nose-up on the AR.Drone 2 gives about
+    // 2 m/s^2; less is assumed).
+    double react_s = 0.2;
+    double brake_decel_mps2 = 1.5;
     // Sides: the roll away while a side is unsafe (a fraction of the maximum tilt, as commands
     // are), the lateral speed away beyond which it stops pushing, where a side obstacle is
     // assumed to be when its time to contact is unknown, and how far past it the limit lasts.
@@ -134,7 +139,7 @@ private:
         double last_t_s = kUnknown;
         double obstacle_m = kUnknown;  // remembered obstacle ahead, from the brake's position
         double travelled_m = 0;        // forward since then
-        double clear_seen_s = 0;  // clear while the remembered obstacle was in sight
+        double clear_seen_s = 0;       // clear while the remembered obstacle was in sight
         AssistAction last_action = AssistAction::Watching;
         vision::Region last_region = vision::Region::Centre;
         bool first = true;

@@ -147,6 +147,28 @@ TEST(Assist, AfterABrakeItLetsTheDroneOnlyUpToAGapBeforeTheRememberedObstacle) {
     EXPECT_FALSE(o.command.progressive);
 }
 
+TEST(Assist, AnApproachingDroneIsStoppedWithItsStoppingDistanceBeforeTheGap) {
+    Assist a;
+    const AssistParams& p = a.params();
+    AssistInput in = flying_forward(1.0, unsafe(4.05));  // 4 m ahead (frame 50 ms old)
+    ASSERT_EQ(a.step(in).action, AssistAction::Braking);
+    in.regions[1] = {RegionState::Unknown, kUnknown, kUnknown};
+    in.t_s = 0.1;
+    in.vx_mps = 0.0;  // stopped at once: 4 m to go
+    ASSERT_EQ(a.step(in).action, AssistAction::Watching);
+    // Approaching at 0.8 m/s: it must brake while the stopping distance still fits in front of
+    // the gap, not when the gap is reached.
+    in.vx_mps = 0.8;
+    const double stop = 0.8 * p.react_s + 0.8 * 0.8 / (2 * p.brake_decel_mps2);
+    double left = 4.0, braked_at = -1;
+    for (int i = 1; i <= 200 && braked_at < 0; ++i) {
+        in.t_s = 0.1 + 0.03 * i;
+        left -= 0.8 * 0.03;
+        if (a.step(in).action == AssistAction::Braking) braked_at = left;
+    }
+    EXPECT_NEAR(braked_at, p.hold_gap_m + stop, 0.05);
+}
+
 TEST(Assist, YawClimbAndBackingAwayAreNeverLimited) {
     Assist a;
     AssistInput in = flying_forward(1.2, unsafe());
