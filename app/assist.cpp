@@ -116,7 +116,7 @@ AssistOutput Assist::step(const AssistInput& in) {
         // Time to contact at the frame's capture, less what was flown since it was captured.
         const double age = known(c.age_s) ? std::max(c.age_s, 0.0) : 0.0;
         const double d = known(c.ttc_s) && vx_known && in.vx_mps > 0.2
-                             ? std::max(c.ttc_s - age, 0.0) * in.vx_mps
+                             ? p_.ttc_trust * std::max(c.ttc_s - age, 0.0) * in.vx_mps
                              : kUnknown;
         const double est = known(d) ? d : p_.default_obstacle_m;
         const double remaining = known(st_.obstacle_m) ? st_.obstacle_m - st_.travelled_m : 1e9;
@@ -195,6 +195,12 @@ AssistOutput Assist::step(const AssistInput& in) {
     } else if (st_.phase == Phase::Holding) {
         if (!vx_known && !pilot_backing) {
             cmd = FlightCommand{};  // no velocity to hold against: the drone's own hover
+        } else if (!pilot_backing && in.vx_mps > p_.hold_creep_mps) {
+            // Still creeping toward it: the AR.Drone's hover lets a few tenths of a metre per
+            // second decay over seconds (half a metre travelled). Hold the forward speed at zero
+            // with a nose-up in proportion to it; the drone's own hover once it is under the creep.
+            if (!cmd.progressive) cmd = FlightCommand{true, 0, 0, 0, 0};
+            cmd.pitch = static_cast<float>(std::clamp(p_.hold_gain * in.vx_mps, 0.0, 1.0));
         } else if (cmd.progressive && cmd.pitch < 0) {
             cmd.pitch = 0;
         }

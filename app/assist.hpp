@@ -103,6 +103,15 @@ struct AssistParams {
     // 2 m/s^2; less is assumed).
     double react_s = 0.2;
     double brake_decel_mps2 = 1.5;
+    // Holding: faster than this forward, a nose-up of hold_gain x speed (fraction of the maximum
+    // tilt per m/s) instead of the drone's hover, whose last few tenths of a metre per second
+    // decay over seconds.
+    double hold_creep_mps = 0.05;
+    double hold_gain = 2.0;
+    // The flow classifier's time to contact reads long while the obstacle grows (a fit over past
+    // frames): 3.1 s for a true 2.45 s, 2.4 s for 1.74 s on the suite's ahead flights. The
+    // remembered distance is this fraction of time to contact x speed.
+    double ttc_trust = 0.75;
     // Sides: the roll away while a side is unsafe (a fraction of the maximum tilt, as commands
     // are), the lateral speed away beyond which it stops pushing, where a side obstacle is
     // assumed to be when its time to contact is unknown, and how far past it the limit lasts.

@@ -43,7 +43,7 @@ TEST(Assist, ClearPathPassesThePilotUnchanged) {
 
 TEST(Assist, CentreUnsafeWhileMovingForwardBrakesThenHoldsUntilClear) {
     Assist a;
-    // 0.8 s to contact at 1.5 m/s on a frame 50 ms old: the obstacle is 1.125 m ahead.
+    // 0.8 s to contact at 1.5 m/s on a frame 50 ms old: 1.125 m, remembered at 0.84 m (ttc_trust).
     AssistInput in = flying_forward(1.5, unsafe(0.8));
     AssistOutput o = a.step(in);
     EXPECT_EQ(o.action, AssistAction::Braking);
@@ -61,11 +61,12 @@ TEST(Assist, CentreUnsafeWhileMovingForwardBrakesThenHoldsUntilClear) {
     EXPECT_FALSE(o.changed);
 
     in.t_s = 0.6;
-    in.vx_mps = 0.2;  // slow: the drone's own hover from here
+    in.vx_mps = 0.2;  // slow: held from here, the creep taken out with a gentle nose-up
     o = a.step(in);
     EXPECT_EQ(o.action, AssistAction::Holding);
     EXPECT_TRUE(o.changed);
-    EXPECT_FALSE(o.command.progressive);  // forward zeroed, nothing else asked: hover
+    EXPECT_TRUE(o.command.progressive);
+    EXPECT_FLOAT_EQ(o.command.pitch, static_cast<float>(a.params().hold_gain * 0.2));
 
     // The centre turns unknown once the drone is stopped: still held (unknown is not clear).
     in.t_s = 1.0;
@@ -73,8 +74,13 @@ TEST(Assist, CentreUnsafeWhileMovingForwardBrakesThenHoldsUntilClear) {
     in.regions[1] = {RegionState::Unknown, kUnknown, kUnknown};
     o = a.step(in);
     EXPECT_EQ(o.action, AssistAction::Holding);
-    EXPECT_FALSE(o.command.progressive);
+    EXPECT_FLOAT_EQ(o.command.pitch, static_cast<float>(a.params().hold_gain * 0.1));
     EXPECT_NE(o.reason.find("until it is clear"), std::string::npos);
+    // Under the creep speed: the drone's own hover.
+    in.vx_mps = 0.03;
+    o = a.step(in);
+    EXPECT_FALSE(o.command.progressive);
+    in.vx_mps = 0.1;
 
     // Clear for 1.6 s while creeping at 0.1 m/s: at that speed an obstacle over 0.33 m ahead
     // shows a time to contact over the classifier's 3.3 s, so "clear" proves nothing: held.
@@ -127,40 +133,40 @@ TEST(Assist, HeldAndStillMovingTowardTheObstacleItBrakesAgain) {
 
 TEST(Assist, AfterABrakeItLetsTheDroneOnlyUpToAGapBeforeTheRememberedObstacle) {
     Assist a;
-    // Unsafe with 3 s to contact at 1.2 m/s, on a frame 50 ms old: the obstacle is 3.54 m ahead.
+    // Unsafe with 3 s to contact at 1.2 m/s, on a frame 50 ms old: 3.54 m, remembered at 2.66 m.
     AssistInput in = flying_forward(1.2, unsafe(3.0));
     ASSERT_EQ(a.step(in).action, AssistAction::Braking);
     in.t_s = 0.5;
     in.vx_mps = 0.1;
     in.regions[1] = {RegionState::Unknown, kUnknown, kUnknown};
     AssistOutput o = a.step(in);
-    EXPECT_EQ(o.action, AssistAction::Watching);  // 3.6 m - travelled: room to go on
+    EXPECT_EQ(o.action, AssistAction::Watching);  // 2.66 m - travelled: room to go on
     EXPECT_EQ(o.command, forward());
     EXPECT_NE(o.reason.find("APPROACHING: obstacle remembered"), std::string::npos) << o.reason;
-    // Creeping on at 0.3 m/s for 10 s: 3 m more, under 1 m left: held.
+    // Creeping on at 0.3 m/s for 10 s: 3 m more, under 1 m left: held, nose-up against the creep.
     for (int i = 1; i <= 100; ++i) {
         in.t_s = 0.5 + 0.1 * i;
         in.vx_mps = 0.3;
         o = a.step(in);
     }
     EXPECT_EQ(o.action, AssistAction::Holding);
-    EXPECT_FALSE(o.command.progressive);
+    EXPECT_FLOAT_EQ(o.command.pitch, static_cast<float>(a.params().hold_gain * 0.3));
 }
 
 TEST(Assist, AnApproachingDroneIsStoppedWithItsStoppingDistanceBeforeTheGap) {
     Assist a;
     const AssistParams& p = a.params();
-    AssistInput in = flying_forward(1.0, unsafe(4.05));  // 4 m ahead (frame 50 ms old)
+    AssistInput in = flying_forward(1.0, unsafe(4.05));  // 4 m ahead (frame 50 ms old) ...
     ASSERT_EQ(a.step(in).action, AssistAction::Braking);
     in.regions[1] = {RegionState::Unknown, kUnknown, kUnknown};
     in.t_s = 0.1;
-    in.vx_mps = 0.0;  // stopped at once: 4 m to go
+    in.vx_mps = 0.0;  // ... remembered at 3 m (ttc_trust); stopped at once
     ASSERT_EQ(a.step(in).action, AssistAction::Watching);
     // Approaching at 0.8 m/s: it must brake while the stopping distance still fits in front of
     // the gap, not when the gap is reached.
     in.vx_mps = 0.8;
     const double stop = 0.8 * p.react_s + 0.8 * 0.8 / (2 * p.brake_decel_mps2);
-    double left = 4.0, braked_at = -1;
+    double left = p.ttc_trust * 4.0, braked_at = -1;
     for (int i = 1; i <= 200 && braked_at < 0; ++i) {
         in.t_s = 0.1 + 0.03 * i;
         left -= 0.8 * 0.03;
