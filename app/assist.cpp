@@ -56,8 +56,16 @@ const char* to_string(AssistAction a) {
             return "LIMIT RIGHT";
         case AssistAction::LimitSides:
             return "LIMIT SIDES";
+        case AssistAction::SteerLeft:
+            return "STEER LEFT";
+        case AssistAction::SteerRight:
+            return "STEER RIGHT";
     }
     return "?";
+}
+
+bool is_intervention(AssistAction a) {
+    return a != AssistAction::Off && a != AssistAction::Override && a != AssistAction::Watching;
 }
 
 RegionState Assist::effective(const RegionEvidence& e) const {
@@ -82,6 +90,7 @@ AssistOutput Assist::step(const AssistInput& in) {
     if (!in.enabled || in.override || !in.flying) {
         // Whatever was going on is forgotten: switching it back on starts afresh.
         st_.phase = Phase::Free;
+        st_.side_left_m = {kUnknown, kUnknown};
         out.action = !in.enabled   ? AssistAction::Off
                      : in.override ? AssistAction::Override
                                    : AssistAction::Watching;
@@ -104,14 +113,17 @@ AssistOutput Assist::step(const AssistInput& in) {
     st_.last_t_s = in.t_s;
     if (vx_known) st_.travelled_m += in.vx_mps * dt;
     auto remember = [&] {
-        const double d =
-            known(c.ttc_s) && vx_known && in.vx_mps > 0.2 ? c.ttc_s * in.vx_mps : kUnknown;
+        // Time to contact at the frame's capture, less what was flown since it was captured.
+        const double age = known(c.age_s) ? std::max(c.age_s, 0.0) : 0.0;
+        const double d = known(c.ttc_s) && vx_known && in.vx_mps > 0.2
+                             ? p_.ttc_trust * std::max(c.ttc_s - age, 0.0) * in.vx_mps
+                             : kUnknown;
         const double est = known(d) ? d : p_.default_obstacle_m;
         const double remaining = known(st_.obstacle_m) ? st_.obstacle_m - st_.travelled_m : 1e9;
         st_.obstacle_m = std::min(est, remaining);
         st_.travelled_m = 0;
         st_.heading_deg = in.yaw_deg;
-        st_.clear_since_s = kUnknown;
+        st_.clear_seen_s = 0;
     };
 
     // Centre: brake, hold, release.
@@ -120,32 +132,51 @@ AssistOutput Assist::step(const AssistInput& in) {
         remember();
         st_.phase = moving_forward ? Phase::Braking : Phase::Holding;
         st_.since_s = in.t_s;
-    } else if (centre == RegionState::Unsafe && st_.phase != Phase::Free) {
+    } else if (centre == RegionState::Unsafe && st_.phase == Phase::Holding) {
+        // Not while braking: a time to contact fitted over frames from before the brake,
+        // times the falling speed, places the obstacle much nearer than it is.
         remember();
     }
     if (st_.phase != Phase::Free) {
         const bool turned = known(st_.heading_deg) && known(in.yaw_deg) &&
                             heading_change_deg(st_.heading_deg, in.yaw_deg) >= p_.release_turn_deg;
-        if (centre == RegionState::Clear && moving_forward) {
-            if (!known(st_.clear_since_s)) st_.clear_since_s = in.t_s;
-        } else if (centre != RegionState::Clear) {
-            st_.clear_since_s = kUnknown;
+        // "Clear" is evidence only when the classifier could have seen the remembered obstacle:
+        // its time to contact at this speed under the classifier's threshold. A stopped or
+        // creeping drone sees no expansion, so its "clear" says nothing about what is ahead.
+        const double left_m = known(st_.obstacle_m) ? st_.obstacle_m - st_.travelled_m : kUnknown;
+        const bool in_sight =
+            moving_forward && known(left_m) && left_m < p_.detect_ttc_s * in.vx_mps;
+        if (centre != RegionState::Clear) {
+            st_.clear_seen_s = 0;
+        } else if (in_sight) {
+            st_.clear_seen_s += dt;
         }
-        const bool forgotten =
-            known(st_.clear_since_s) && in.t_s - st_.clear_since_s >= p_.forget_after_clear_s;
+        const bool forgotten = st_.clear_seen_s >= p_.forget_after_clear_s;
         if (turned || forgotten) {
             st_.phase = Phase::Free;
             st_.obstacle_m = kUnknown;
         }
     }
+    // Holding: forward allowed while the remembered obstacle stays more than the gap away once
+    // the drone has stopped from its present speed (reaction time, then the braking deceleration).
+    const double remaining = known(st_.obstacle_m) ? st_.obstacle_m - st_.travelled_m : kUnknown;
+    const double v_fwd = vx_known ? std::max(in.vx_mps, 0.0) : 0.0;
+    const double stop_m = v_fwd * p_.react_s + v_fwd * v_fwd / (2 * p_.brake_decel_mps2);
+    auto room = [&] {
+        return st_.phase == Phase::Holding && vx_known && known(remaining) &&
+               remaining - stop_m > p_.hold_gap_m && centre != RegionState::Unsafe;
+    };
+    if (st_.phase == Phase::Holding && vx_known && in.vx_mps > p_.rebrake_mps && !room()) {
+        // Held, yet still (or again) moving toward it: the hover's slow decay, a gust, the end of
+        // an approach. Brake again.
+        st_.phase = Phase::Braking;
+        st_.since_s = in.t_s;
+    }
     if (st_.phase == Phase::Braking) {
         const bool slow = vx_known && in.vx_mps < p_.brake_release_mps;
         if (slow || !vx_known || in.t_s - st_.since_s > p_.max_brake_s) st_.phase = Phase::Holding;
     }
-    // Holding: forward allowed while the remembered obstacle is more than the gap away.
-    const double remaining = known(st_.obstacle_m) ? st_.obstacle_m - st_.travelled_m : kUnknown;
-    const bool room_ahead = st_.phase == Phase::Holding && vx_known && known(remaining) &&
-                            remaining > p_.hold_gap_m && centre != RegionState::Unsafe;
+    const bool room_ahead = room();
 
     FlightCommand& cmd = out.command;
     const bool pilot_backing = in.pilot.progressive && in.pilot.pitch > 0;
@@ -164,6 +195,12 @@ AssistOutput Assist::step(const AssistInput& in) {
     } else if (st_.phase == Phase::Holding) {
         if (!vx_known && !pilot_backing) {
             cmd = FlightCommand{};  // no velocity to hold against: the drone's own hover
+        } else if (!pilot_backing && in.vx_mps > p_.hold_creep_mps) {
+            // Still creeping toward it: the AR.Drone's hover lets a few tenths of a metre per
+            // second decay over seconds (half a metre travelled). Hold the forward speed at zero
+            // with a nose-up in proportion to it; the drone's own hover once it is under the creep.
+            if (!cmd.progressive) cmd = FlightCommand{true, 0, 0, 0, 0};
+            cmd.pitch = static_cast<float>(std::clamp(p_.hold_gain * in.vx_mps, 0.0, 1.0));
         } else if (cmd.progressive && cmd.pitch < 0) {
             cmd.pitch = 0;
         }
@@ -179,16 +216,55 @@ AssistOutput Assist::step(const AssistInput& in) {
                                "is seen clear";
     }
 
-    // Sides: zero the roll toward an unsafe side.
-    const bool limit_left = left == RegionState::Unsafe && cmd.progressive && cmd.roll < 0;
-    const bool limit_right = right == RegionState::Unsafe && cmd.progressive && cmd.roll > 0;
-    if (limit_left || limit_right) {
-        cmd.roll = 0;
-        if (st_.phase == Phase::Free) {
-            out.action = limit_left ? AssistAction::LimitLeft : AssistAction::LimitRight;
-            out.region = limit_left ? vision::Region::Left : vision::Region::Right;
-            out.reason = std::string("LIMITING: obstacle ") + (limit_left ? "left" : "right") +
-                         ", no movement toward it" + contact_text(in.regions[limit_left ? 0 : 2]);
+    // Sides: remember where an unsafe side's obstacle is (ahead by its time to contact x speed)
+    // and keep the roll toward it at zero until the drone is past it; push away while it is seen.
+    const std::array<RegionState, 2> side_state{left, right};
+    std::array<bool, 2> limited{false, false};
+    for (int i = 0; i < 2; ++i) {
+        const RegionEvidence& e = in.regions[i == 0 ? 0 : 2];
+        double& ahead = st_.side_left_m[i];
+        if (known(ahead) && vx_known) ahead -= in.vx_mps * dt;
+        if (side_state[i] == RegionState::Unsafe) {
+            const double d = known(e.ttc_s) && vx_known && in.vx_mps > 0.2 ? e.ttc_s * in.vx_mps
+                                                                           : p_.default_side_m;
+            ahead = std::max(known(ahead) ? ahead : 0.0, d + p_.side_pass_margin_m);
+        } else if (known(ahead) && (ahead <= 0 || !vx_known)) {
+            ahead = kUnknown;  // past it (or no velocity to know: only what is seen counts)
+        }
+        limited[i] = side_state[i] == RegionState::Unsafe || known(ahead);
+    }
+    // Roll > 0 is right: the left side (0) limits negative roll, the right (1) positive roll.
+    const bool seen_left = left == RegionState::Unsafe, seen_right = right == RegionState::Unsafe;
+    const bool nudge_right = seen_left && !seen_right && !limited[1] && moving_forward &&
+                             known(in.vy_mps) && in.vy_mps < p_.side_away_mps;
+    const bool nudge_left = seen_right && !seen_left && !limited[0] && moving_forward &&
+                            known(in.vy_mps) && -in.vy_mps < p_.side_away_mps;
+    const bool limit_left = limited[0] && cmd.progressive && cmd.roll < 0;
+    const bool limit_right = limited[1] && cmd.progressive && cmd.roll > 0;
+    if (limit_left || limit_right) cmd.roll = 0;
+    const auto nudge = static_cast<float>(p_.side_nudge);
+    if (nudge_right || nudge_left) {
+        if (!cmd.progressive) cmd = FlightCommand{true, 0, 0, 0, 0};
+        cmd.roll = nudge_right ? std::max(cmd.roll, nudge) : std::min(cmd.roll, -nudge);
+    }
+    if (st_.phase == Phase::Free && (limit_left || limit_right || nudge_left || nudge_right)) {
+        const bool toward_left = nudge_right || (limit_left && !nudge_left);
+        const int side = toward_left ? 0 : 2;
+        out.region = toward_left ? vision::Region::Left : vision::Region::Right;
+        const std::string where = toward_left ? "left" : "right";
+        if (nudge_left || nudge_right) {
+            out.action = nudge_right ? AssistAction::SteerRight : AssistAction::SteerLeft;
+            out.reason = "STEERING " + std::string(nudge_right ? "right" : "left") + ": obstacle " +
+                         where + contact_text(in.regions[side]);
+        } else {
+            out.action = limit_left && limit_right ? AssistAction::LimitSides
+                         : limit_left              ? AssistAction::LimitLeft
+                                                   : AssistAction::LimitRight;
+            out.reason =
+                side_state[toward_left ? 0 : 1] == RegionState::Unsafe
+                    ? "LIMITING: obstacle " + where + ", no movement toward it" +
+                          contact_text(in.regions[side])
+                    : "LIMITING: passing the obstacle seen " + where + ", no movement toward it";
         }
     }
     // A move with nothing left in it is a hover: the drone holds its position itself.

@@ -12,7 +12,14 @@
 //    tests/app/assist_test.cpp, which measures both on the virtual drone's flight model). Without a
 //    velocity: hover at once. Then HOLD: the forward command stays at zero until the centre is
 //    clear (a valid, safe decision) or the drone has turned away (`release_turn_deg`).
-//  - Left / right unsafe: the roll command toward that side is zeroed.
+//  - Left / right unsafe: the roll command toward that side is zeroed, and stays zeroed until the
+//    drone has flown past where the obstacle was seen (its time to contact x speed, plus
+//    `side_pass_margin_m`): the side of a pass goes out of the camera's view before the drone is
+//    past it, and a pilot holding a line would otherwise steer back into it. While a side is
+//    unsafe, the other side is not and the drone moves forward, the assist also rolls away from
+//    it (`side_nudge`, up to `side_away_mps` of lateral speed away): zeroing alone leaves a drone
+//    that drifts or holds a line close to a pillar passing it at a few centimetres. With both
+//    sides unsafe (a corridor, a doorway) nothing is nudged.
 //  - Never limited: yaw, climb and descent, backing away (nose-up pitch), roll away from a side.
 //  - Unknown or stale regions (no evidence) never brake; the output says so.
 //  - Emergency and landing are not commands the assist sees: they go straight to the link. The
@@ -66,8 +73,12 @@ enum class AssistAction : std::uint8_t {
     LimitLeft,   // lateral command toward the left zeroed
     LimitRight,  // toward the right
     LimitSides,  // both
+    SteerLeft,   // rolling left, away from an obstacle on the right (and limiting toward it)
+    SteerRight,  // rolling right, away from one on the left
 };
 const char* to_string(AssistAction a);  // "OFF", "OVERRIDE", "WATCHING", "BRAKING" ...
+// The assist acts on the pilot's commands (braking, holding, limiting, steering).
+bool is_intervention(AssistAction a);
 
 struct AssistParams {
     double moving_forward_mps = 0.15;  // faster than this forward = moving forward
@@ -81,7 +92,33 @@ struct AssistParams {
     // classifier alone would let it creep into what it just braked for.
     double default_obstacle_m = 1.5;
     double hold_gap_m = 1.0;
-    double forget_after_clear_s = 1.5;  // clear this long while moving forward: forgotten
+    // The remembered obstacle is forgotten after the centre has been clear this long while the
+    // drone moved toward it fast enough for the classifier to see it: its time to contact under
+    // `detect_ttc_s` (the flow classifier flags below 3.3 s).
+    double forget_after_clear_s = 0.7;
+    double detect_ttc_s = 3.3;
+    double rebrake_mps = 0.35;  // holding and faster than this toward the obstacle: brake again
+    // The stopping distance allowed for when letting a held drone approach: reaction (the video
+    // and decision latency) then this deceleration (full nose-up on the AR.Drone 2 gives about
+    // 2 m/s^2; less is assumed).
+    double react_s = 0.2;
+    double brake_decel_mps2 = 1.5;
+    // Holding: faster than this forward, a nose-up of hold_gain x speed (fraction of the maximum
+    // tilt per m/s) instead of the drone's hover, whose last few tenths of a metre per second
+    // decay over seconds.
+    double hold_creep_mps = 0.05;
+    double hold_gain = 2.0;
+    // The flow classifier's time to contact reads long while the obstacle grows (a fit over past
+    // frames): 3.1 s for a true 2.45 s, 2.4 s for 1.74 s on the suite's ahead flights. The
+    // remembered distance is this fraction of time to contact x speed.
+    double ttc_trust = 0.75;
+    // Sides: the roll away while a side is unsafe (a fraction of the maximum tilt, as commands
+    // are), the lateral speed away beyond which it stops pushing, where a side obstacle is
+    // assumed to be when its time to contact is unknown, and how far past it the limit lasts.
+    double side_nudge = 0.15;
+    double side_away_mps = 0.4;
+    double default_side_m = 1.5;
+    double side_pass_margin_m = 0.8;
 };
 
 struct AssistOutput {
@@ -111,10 +148,12 @@ private:
         double last_t_s = kUnknown;
         double obstacle_m = kUnknown;  // remembered obstacle ahead, from the brake's position
         double travelled_m = 0;        // forward since then
-        double clear_since_s = kUnknown;
+        double clear_seen_s = 0;       // clear while the remembered obstacle was in sight
         AssistAction last_action = AssistAction::Watching;
         vision::Region last_region = vision::Region::Centre;
         bool first = true;
+        // Per side (left, right): how much farther forward the limit toward it lasts.
+        std::array<double, 2> side_left_m{kUnknown, kUnknown};
     };
     RegionState effective(const RegionEvidence& e) const;
     AssistParams p_;

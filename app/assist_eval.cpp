@@ -175,11 +175,7 @@ Expected<AssistFlightResult, std::string> fly_assist_flight(const AssistFlightSp
             ai.flying = s.flying();
             ai.enabled = opt.assist;
             const AssistOutput out = assist.step(ai);
-            if (out.changed &&
-                (out.action == AssistAction::Braking || out.action == AssistAction::Holding ||
-                 out.action == AssistAction::LimitLeft || out.action == AssistAction::LimitRight ||
-                 out.action == AssistAction::LimitSides))
-                ++res.interventions;
+            if (out.changed && is_intervention(out.action)) ++res.interventions;
             if (out.action == AssistAction::Braking && !res.braked) {
                 res.braked = true;
                 res.brake_speed_mps = s.vx_body_mps();

@@ -56,10 +56,7 @@ AssistOutput AssistGate::apply(const FlightCommand& pilot, TimeNs now_ns) {
     in.override = override_;
     last_ = assist_.step(in);
     const AssistAction a = last_.action;
-    const bool acting = a == AssistAction::Braking || a == AssistAction::Holding ||
-                        a == AssistAction::LimitLeft || a == AssistAction::LimitRight ||
-                        a == AssistAction::LimitSides;
-    if (last_.changed && acting) {
+    if (last_.changed && is_intervention(a)) {
         ++count_;
         log_.push_back({now_ns, decision_frame_, decision_pave_,
                         decision_capture_ns_ < 0 ? 0 : decision_capture_ns_, a, last_.region,

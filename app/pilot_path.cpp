@@ -110,6 +110,12 @@ AssistStatus PilotPath::status() const {
                    ", no movement toward it";
             break;
         }
+        case AssistAction::SteerLeft:
+        case AssistAction::SteerRight:
+            s.acting = true;
+            s.action = o.action == AssistAction::SteerLeft ? "STEERING LEFT" : "STEERING RIGHT";
+            line = o.reason;  // "STEERING right: obstacle left, contact in 1.7 s"
+            break;
         case AssistAction::Watching:
             if (s.unknown) {
                 s.action = "UNKNOWN";
