@@ -12,6 +12,9 @@
 #       each with its counts in build-asan/fuzz/NAME.log and a summary at the end. Needs the
 #       targets built: GS_TARGETS=fuzzers scripts/build.sh build-asan ... (as ./test.sh does).
 #
+# GS_FUZZ_TIMEOUT (seconds, default 20): how long one input may run before it counts as a hang.
+# libFuzzer measures wall time, so a long run sharing a busy machine at a low priority needs more.
+#
 # A finding stops the run with the reproducer in the work folder (crash-*, leak-*, timeout-*):
 # fix the bug, then copy the reproducer into tests/fuzz/regressions/NAME so it stays fixed.
 set -euo pipefail
@@ -68,7 +71,7 @@ run_target() {  # NAME BINARY WORK EXTRA_ARGS...
     fi
     local dirs=("$work/corpus" "$work/seeds")
     [[ -d $corpus ]] && dirs+=("$corpus")
-    "$bin" -timeout=20 -rss_limit_mb=2560 -max_len="$(max_len "$name")" -print_final_stats=1 \
+    "$bin" -timeout="${GS_FUZZ_TIMEOUT:-20}" -rss_limit_mb=2560 -max_len="$(max_len "$name")" -print_final_stats=1 \
         -artifact_prefix="$work/artifacts/" "$@" "${dirs[@]}"
 }
 

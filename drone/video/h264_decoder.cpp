@@ -103,6 +103,11 @@ struct H264Decoder::Impl {
         // Baseline has no B-frames: one picture out per access unit, no reordering delay.
         ctx->flags |= AV_CODEC_FLAG_LOW_DELAY;
         ctx->thread_count = 1;
+        // Every size read from the wire is bounded: a corrupt or hostile SPS may declare pictures
+        // up to 8192x8192 (256 MB of buffers per reference). The AR.Drone 2 sends at most
+        // 1280x720; 1080p admits any H.264 a dataset from another tool may hold. libavcodec
+        // refuses larger pictures with an error, counted as a failed decode.
+        ctx->max_pixels = kMaxPictureWidth * kMaxPictureHeight;
         if (avcodec_open2(ctx, codec, nullptr) < 0) {
             avcodec_free_context(&ctx);
             return false;

@@ -24,6 +24,11 @@ struct H264DecoderStats {
     std::uint64_t reinits = 0;  // re-initialisations (stream_id, display or coded size change)
 };
 
+// The largest picture the decoder accepts (bigger SPS sizes are decode errors): 1080p, above the
+// AR.Drone 2's 1280x720 and below what a corrupt SPS could make libavcodec allocate.
+inline constexpr int kMaxPictureWidth = 1920;
+inline constexpr int kMaxPictureHeight = 1088;
+
 enum class DecodeStatus {
     Frame,    // `out` holds a new BGR frame
     NoFrame,  // accepted, no picture out yet (or skipped waiting for an IDR)

@@ -1,6 +1,7 @@
 // H.264 decoding of the real AR.Drone 2 captures: frame counts, IDR gating, gaps, corruption,
 // and pixel agreement with an independent decoder (OpenH264, tests/data/pave_reference/).
 #include "drone/video/h264_decoder.hpp"
+#include "drone/video/h264_encoder.hpp"
 
 #include "drone/protocol/pave.hpp"
 #include "support/video_fixtures.hpp"
@@ -289,11 +290,38 @@ TEST(H264Decoder, EmptyAccessUnitIsAnError) {
     EXPECT_EQ(dec.stats().decode_errors, 1u);
 }
 
+// A picture larger than the decoder's bound (a corrupt or hostile SPS can declare 8192x8192) is
+// refused and counted, not allocated; the same decoder then takes a normal stream.
+TEST(H264Decoder, PictureAboveTheSizeBoundIsRefusedAndCounted) {
+    H264EncoderConfig cfg;
+    cfg.width = kMaxPictureWidth + 128;
+    cfg.height = kMaxPictureHeight + 64;
+    auto enc = H264Encoder::create(cfg);
+    ASSERT_TRUE(enc.has_value());
+    const cv::Mat big(cfg.height, cfg.width, CV_8UC3, cv::Scalar(40, 90, 160));
+    H264Decoder dec;
+    cv::Mat img;
+    int frames = 0;
+    std::vector<std::uint8_t> au;
+    for (int i = 0; i < 3; ++i) {
+        bool idr = false;
+        ASSERT_TRUE((*enc)->encode(big, au, idr).has_value());
+        auto r = dec.decode(AccessUnit{au, std::nullopt, 0, 0, std::nullopt}, img);
+        if (r && *r == DecodeStatus::Frame) ++frames;
+    }
+    EXPECT_EQ(frames, 0);
+    EXPECT_GE(dec.stats().decode_errors, 1u);
+    EXPECT_EQ(dec.stats().decoded, 0u);
+
+    dec.reset();
+    const Decoded after = decode_capture(dec, "node-ar-drone_pave-68.bin");
+    EXPECT_EQ(after.images.size(), 5u);
+}
+
 TEST(H264Annexb, ContainsIdrMatchesPaveFrameType) {
     const auto frames = run_framer(read_fixture("node-ar-drone_pave.bin"), 0).frames;
     for (const auto& f : frames) {
-        EXPECT_EQ(contains_idr(f.payload),
-                  f.header.frame_type == protocol::PaveFrameType::Idr)
+        EXPECT_EQ(contains_idr(f.payload), f.header.frame_type == protocol::PaveFrameType::Idr)
             << f.header.frame_number;
     }
     const std::vector<std::uint8_t> three_byte = {0, 0, 1, 0x65, 0x88};
