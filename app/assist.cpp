@@ -166,7 +166,11 @@ AssistOutput Assist::step(const AssistInput& in) {
         return st_.phase == Phase::Holding && vx_known && known(remaining) &&
                remaining - stop_m > p_.hold_gap_m && centre != RegionState::Unsafe;
     };
-    if (st_.phase == Phase::Holding && vx_known && in.vx_mps > p_.rebrake_mps && !room()) {
+    // A brake that ran out its time without the navdata speed falling means the speed is not to
+    // be trusted (frozen navdata, a wrong sample): no further nose-up on it until it reads slow.
+    if (vx_known && in.vx_mps < p_.brake_release_mps) st_.speed_trusted = true;
+    if (st_.phase == Phase::Holding && st_.speed_trusted && vx_known &&
+        in.vx_mps > p_.rebrake_mps && !room()) {
         // Held, yet still (or again) moving toward it: the hover's slow decay, a gust, the end of
         // an approach. Brake again.
         st_.phase = Phase::Braking;
@@ -174,7 +178,9 @@ AssistOutput Assist::step(const AssistInput& in) {
     }
     if (st_.phase == Phase::Braking) {
         const bool slow = vx_known && in.vx_mps < p_.brake_release_mps;
-        if (slow || !vx_known || in.t_s - st_.since_s > p_.max_brake_s) st_.phase = Phase::Holding;
+        const bool timed_out = in.t_s - st_.since_s > p_.max_brake_s;
+        if (slow || !vx_known || timed_out) st_.phase = Phase::Holding;
+        if (timed_out && !slow) st_.speed_trusted = false;
     }
     const bool room_ahead = room();
 
@@ -195,7 +201,7 @@ AssistOutput Assist::step(const AssistInput& in) {
     } else if (st_.phase == Phase::Holding) {
         if (!vx_known && !pilot_backing) {
             cmd = FlightCommand{};  // no velocity to hold against: the drone's own hover
-        } else if (!pilot_backing && in.vx_mps > p_.hold_creep_mps) {
+        } else if (!pilot_backing && st_.speed_trusted && in.vx_mps > p_.hold_creep_mps) {
             // Still creeping toward it: the AR.Drone's hover lets a few tenths of a metre per
             // second decay over seconds (half a metre travelled). Hold the forward speed at zero
             // with a nose-up in proportion to it; the drone's own hover once it is under the creep.

@@ -149,6 +149,7 @@ private:
         double obstacle_m = kUnknown;  // remembered obstacle ahead, from the brake's position
         double travelled_m = 0;        // forward since then
         double clear_seen_s = 0;       // clear while the remembered obstacle was in sight
+        bool speed_trusted = true;     // false after a brake timed out with the speed still high
         AssistAction last_action = AssistAction::Watching;
         vision::Region last_region = vision::Region::Centre;
         bool first = true;

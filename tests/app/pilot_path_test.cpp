@@ -88,8 +88,9 @@ TEST(PilotPath, ForwardIntoAnUnsafeCentreIsBrakedThenHeldAtZero) {
     EXPECT_EQ(log[0].pave_frame, 101u);
     EXPECT_TRUE(p.take_new().empty()) << "each intervention is handed out once";
 
-    // Slowed down: forward held at zero (the drone's hover), the obstacle still there.
-    p.on_navdata(pp_flying_at(0.1));
+    // Slowed down (under the creep speed): forward held at zero (the drone's hover), the
+    // obstacle still there.
+    p.on_navdata(pp_flying_at(0.03));
     p.on_output(pp_decision(RegionState::Unsafe, 80 * kPpMs, 2));
     c = p.step(kPpForward, 90 * kPpMs);
     EXPECT_TRUE(pp_is_hover(c)) << "forward held at zero";

@@ -121,26 +121,27 @@ TEST_F(AssistWiring, ForwardAtTheCentrePillarIsBrakedOverrideAndToggleOffPassEme
     // Override held: the forward command passes while the key is down.
     const InputState shift = key(PilotKey::AssistOverride);
     ASSERT_TRUE(
-        run_until([&] { return assist_has_pitch(sent_forward_pitches(*raw), -0.3f); }, 3s, shift));
+        run_until([&] { return assist_has_pitch(sent_forward_pitches(*raw), -0.3f); }, 10s, shift));
     EXPECT_EQ(snap.assist.action, "OVERRIDE");
     EXPECT_EQ(snap.assist.line, "OVERRIDE: assist bypassed while held");
 
     // Released: held again. Then B switches the assist off and forward passes.
-    ASSERT_TRUE(run_until([&] { return snap.assist.acting; }, 3s));
+    ASSERT_TRUE(run_until([&] { return snap.assist.acting; }, 10s));
     (void)sent_forward_pitches(*raw);
     const Actions b = step(key(PilotKey::AssistToggle));
     EXPECT_TRUE(b.assist_toggle);
     step();
     EXPECT_FALSE(snap.assist.enabled);
     EXPECT_EQ(snap.assist.line, "ASSIST OFF");
-    ASSERT_TRUE(run_until([&] { return assist_has_pitch(sent_forward_pitches(*raw), -0.3f); }, 3s));
+    ASSERT_TRUE(
+        run_until([&] { return assist_has_pitch(sent_forward_pitches(*raw), -0.3f); }, 10s));
 
     // The emergency key while forward is being sent: the motors are cut at once.
     const Actions ea = step(key(PilotKey::Emergency));
     EXPECT_TRUE(ea.emergency);
     ASSERT_TRUE(run_until(
         [&] { return protocol::navdata::DroneState{drone->status().drone_state}.emergency(); },
-        3s));
+        10s));
     EXPECT_FALSE(drone->status().flight.motors_on);
     fs::remove_all(rec);
 }
