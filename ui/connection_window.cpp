@@ -128,23 +128,11 @@ void ConnectionWindow::draw(const GuiSnapshot& s, ViewState& v, Actions& a) {
         const std::string key = key_name(km.key(k));
         return key.empty() ? std::string(text) : std::string(text) + " (" + key + ")";
     };
-    auto button = [&](const char* id, const std::string& text, Control ctl, bool& out) {
-        const ControlState cs = control_state(s, ctl);
-        if (!cs.enabled) ImGui::BeginDisabled();
-        if (ImGui::Button((text + "##" + id).c_str())) out = true;
-        if (!cs.enabled) ImGui::EndDisabled();
-        record_button(v, id);
-        if (!cs.enabled) {
-            v.layout.disabled.push_back({id, cs.why});
-            if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
-                ImGui::SetTooltip("%s", cs.why.c_str());
-        }
-    };
-    button("connection.flat_trim", label("Flat trim", PilotKey::FlatTrim), Control::FlatTrim,
-           a.flat_trim);
+    command_button(v, s, "connection.flat_trim", label("Flat trim", PilotKey::FlatTrim),
+                   Control::FlatTrim, a.flat_trim);
     ImGui::SameLine();
-    button("connection.camera", label("Camera", PilotKey::SwitchCamera), Control::SwitchCamera,
-           a.switch_camera);
+    command_button(v, s, "connection.camera", label("Camera", PilotKey::SwitchCamera),
+                   Control::SwitchCamera, a.switch_camera);
     ImGui::SameLine();
     if (ImGui::Button("Settings...")) v.open.drone_settings = true;
     ImGui::SameLine();

@@ -95,20 +95,6 @@ std::uint32_t state_color(ConfigWriteState s) {
     }
 }
 
-void command_button(ViewState& v, const GuiSnapshot& s, const char* id, const char* label,
-                    Control c, bool& out) {
-    const ControlState cs = control_state(s, c);
-    if (!cs.enabled) ImGui::BeginDisabled();
-    if (ImGui::Button(label)) out = true;
-    if (!cs.enabled) ImGui::EndDisabled();
-    record_button(v, id);
-    if (!cs.enabled) {
-        v.layout.disabled.push_back({id, cs.why});
-        if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
-            ImGui::SetTooltip("%s", cs.why.c_str());
-    }
-}
-
 }  // namespace
 
 void DroneSettingsWindow::draw(const GuiSnapshot& s, ViewState& v, Actions& a) {

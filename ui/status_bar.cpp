@@ -102,11 +102,7 @@ bool flight_button(ViewState& v, const char* id, const std::string& label, ImVec
     if (through_popups && popup_open && ImGui::IsMouseClicked(ImGuiMouseButton_Left) &&
         ImGui::IsMouseHoveringRect(ImGui::GetItemRectMin(), ImGui::GetItemRectMax()))
         clicked = true;
-    if (!cs.enabled) {
-        v.layout.disabled.push_back({id, cs.why});
-        if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
-            ImGui::SetTooltip("%s", cs.why.c_str());
-    }
+    note_disabled(v, id, cs);
     return clicked && cs.enabled;
 }
 

@@ -4,6 +4,7 @@
 // Begin/End paired; default position/size from the default layout (FirstUseEver, then imgui.ini).
 
 #include "ui/actions.hpp"
+#include "ui/controls.hpp"
 #include "ui/layout.hpp"
 #include "ui/snapshot.hpp"
 #include "ui/view_state.hpp"
@@ -128,6 +129,15 @@ inline void record_button(ViewState& v, const char* name) {
     const ImVec2 a = ImGui::GetItemRectMin(), b = ImGui::GetItemRectMax();
     v.layout.buttons.push_back({name, {a.x, a.y, b.x, b.y}});
 }
+
+// After a control's button: when the control cannot act, records `why` in the layout report
+// (v.layout.disabled) and shows it as the tooltip while the disabled button is hovered.
+void note_disabled(ViewState& v, const char* id, const ControlState& cs);
+
+// A button that requests `c` (sets `out` when clicked), disabled with its reason while the
+// control cannot act; the button is recorded under `id` and `label` is what it shows.
+void command_button(ViewState& v, const GuiSnapshot& s, const char* id, const std::string& label,
+                    Control c, bool& out);
 
 // Key help.
 struct KeysWindow {
