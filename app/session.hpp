@@ -24,6 +24,7 @@
 #include "app/live_odometry.hpp"
 #include "app/pipeline.hpp"
 #include "drone/core/clock.hpp"
+#include "drone/core/object_pool.hpp"
 #include "drone/core/sample.hpp"
 #include "drone/core/sync.hpp"
 #include "drone/dataset/dataset_source.hpp"
@@ -312,9 +313,11 @@ private:
 
     SessionOptions opts_;
     Clock& clock_;
-    std::unique_ptr<Current> cur_;                           // session thread only
-    std::vector<std::shared_ptr<PipelineOutput>> out_pool_;  // session thread only
-    ObstaclePipeline pipeline_;                              // session thread only
+    std::unique_ptr<Current> cur_;  // session thread only
+    // Outputs: the slot's, the window's copy, one being filled. Acquired on the session thread,
+    // released on whichever thread drops the last copy.
+    ObjectPool<PipelineOutput> out_pool_{3};
+    ObstaclePipeline pipeline_;  // session thread only
     std::uint64_t next_id_ = 1;
 
     BoundedQueue<SessionRequest> requests_{256};

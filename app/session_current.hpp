@@ -14,7 +14,6 @@ namespace gs::app {
 
 inline constexpr TimeNs kIdleWaitNs = ms_to_ns(20);
 inline constexpr std::size_t kImagePool = 6;
-inline constexpr std::size_t kOutputPool = 3;  // the slot's, the window's copy, one being filled
 // Frames already queued or on the wire when a camera switch is seen may still be of the other
 // camera: this many are shown but given to neither the classifier nor the odometry.
 inline constexpr int kCameraSettleFrames = 3;

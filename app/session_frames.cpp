@@ -18,19 +18,12 @@ void Session::process(FrameSample& f, TimeNs recv_ns) {
         f.image.copyTo(buf);
         f.image = std::move(buf);
     }
-    // Outputs are recycled once nobody holds them any more (the slot keeps the latest, the window
-    // a copy of it while drawing): assigning into one reuses its vectors, so a frame allocates
-    // nothing here once the pool is warm.
-    std::shared_ptr<PipelineOutput> out;
-    for (const auto& o : out_pool_)
-        if (o.use_count() == 1) {
-            out = o;
-            break;
-        }
-    if (!out) {
-        out = std::make_shared<PipelineOutput>();
-        if (out_pool_.size() < kOutputPool) out_pool_.push_back(out);
-    }
+    // Outputs come from a pool (drone/core/object_pool.hpp) and go back to it when the last holder
+    // drops them (the slot keeps the latest, the window a copy of it while drawing): assigning into
+    // one reuses its vectors, so a frame allocates nothing here once the pool is warm. All out (a
+    // slow reader): a fresh one, counted in the pool's exhausted().
+    std::shared_ptr<PipelineOutput> out = out_pool_.acquire();
+    if (!out) out = std::make_shared<PipelineOutput>();
     out->source_id = c.id;
     out->classifier = pipeline_.classifier_name();
     out->camera = c.camera;

@@ -10,7 +10,6 @@ constexpr size_t kAutoStep = 0x7fffffff;  // OpenCV's CV_AUTOSTEP (core/types_c.
 // One buffer and the OpenCV bookkeeping of the Mat that holds it, built in place when the buffer
 // is handed out and destroyed when it comes back: no allocation per frame.
 struct FramePool::Slot {
-    std::atomic<bool> busy{false};
     uchar* memory = nullptr;
     std::size_t capacity = 0;
     alignas(cv::UMatData) unsigned char bookkeeping[sizeof(cv::UMatData)];
@@ -50,7 +49,6 @@ public:
             u->data = u->origdata = slot->memory;
             u->userdata = slot;
         } else {
-            if (data0 == nullptr) pool_.exhausted_.fetch_add(1, std::memory_order_relaxed);
             u = new cv::UMatData(this);
             u->data = u->origdata = data0 != nullptr ? static_cast<uchar*>(data0)
                                                      : static_cast<uchar*>(cv::fastMalloc(total));
@@ -70,7 +68,7 @@ public:
         CV_Assert(u->urefcount == 0 && u->refcount == 0);
         if (auto* slot = static_cast<Slot*>(u->userdata)) {
             u->~UMatData();
-            slot->busy.store(false, std::memory_order_release);
+            pool_.taken_.release(static_cast<std::size_t>(slot - pool_.slots_.get()));
         } else {
             if (!(u->flags & cv::UMatData::USER_ALLOCATED)) cv::fastFree(u->origdata);
             delete u;
@@ -79,21 +77,13 @@ public:
     }
 
 private:
+    // A free buffer, or nullptr when every one is out (counted by the slot set).
     Slot* take_slot() const {
-        const std::size_t n = pool_.slot_count_;
-        for (std::size_t k = 0; k < n; ++k) {
-            Slot& s = pool_.slots_[(next_ + k) % n];
-            bool expected = false;
-            if (s.busy.compare_exchange_strong(expected, true, std::memory_order_acquire)) {
-                next_ = (next_ + k + 1) % n;  // round robin: the oldest free buffer next
-                return &s;
-            }
-        }
-        return nullptr;
+        const std::optional<std::size_t> i = pool_.taken_.acquire();
+        return i ? &pool_.slots_[*i] : nullptr;
     }
 
     FramePool& pool_;
-    mutable std::size_t next_ = 0;  // only the acquiring (decoder) thread moves it
 };
 
 std::shared_ptr<FramePool> FramePool::create(std::size_t slots) {
@@ -101,8 +91,8 @@ std::shared_ptr<FramePool> FramePool::create(std::size_t slots) {
 }
 
 FramePool::FramePool(std::size_t slots)
-    : slot_count_(slots == 0 ? 1 : slots),
-      slots_(new Slot[slot_count_]),
+    : taken_(slots),
+      slots_(new Slot[taken_.capacity()]),
       allocator_(std::make_unique<Allocator>(*this)) {}
 
 FramePool::~FramePool() = default;
@@ -115,13 +105,6 @@ cv::Mat FramePool::acquire() {
     cv::Mat m;
     m.allocator = allocator_.get();
     return m;
-}
-
-std::size_t FramePool::in_use() const {
-    std::size_t n = 0;
-    for (std::size_t i = 0; i < slot_count_; ++i)
-        n += slots_[i].busy.load(std::memory_order_relaxed) ? 1 : 0;
-    return n;
 }
 
 }  // namespace gs::video

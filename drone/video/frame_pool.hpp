@@ -5,12 +5,15 @@
 // ordinary cv::Mat header (FrameSample::image) to every consumer. A buffer is acquired when such a
 // Mat allocates its pixels (the pool is its cv::MatAllocator) and released when the last header
 // referring to it goes away (OpenCV calls the allocator's deallocate()): the pool keeps its own
-// record of which buffer is out, and never reads OpenCV's or a shared_ptr's reference count to
-// decide. When every buffer is out, a frame gets heap memory instead (counted in exhausted()).
+// record of which buffer is out (a core::SlotSet, drone/core/object_pool.hpp), and never reads
+// OpenCV's or a shared_ptr's reference count to decide. When every buffer is out, a frame gets
+// heap memory instead (counted in exhausted()).
 //
 // Steady state allocates nothing: buffers and their OpenCV bookkeeping (UMatData) live in the
 // slots. Thread-safe: buffers are acquired on one thread (the decoder's) and released on any.
 // The pool outlives its owner while frames are still out (it deletes itself with the last one).
+
+#include "drone/core/object_pool.hpp"
 
 #include <opencv2/core.hpp>
 
@@ -33,9 +36,9 @@ public:
     // allocation once the buffer has held a frame of that size.
     cv::Mat acquire();
 
-    std::size_t slots() const { return slot_count_; }
-    std::size_t in_use() const;  // buffers currently held by some Mat
-    std::uint64_t exhausted() const { return exhausted_.load(std::memory_order_relaxed); }
+    std::size_t slots() const { return taken_.capacity(); }
+    std::size_t in_use() const { return taken_.in_use(); }  // buffers currently held by some Mat
+    std::uint64_t exhausted() const { return taken_.exhausted(); }
 
 private:
     class Allocator;
@@ -43,10 +46,9 @@ private:
     struct Shared;
     explicit FramePool(std::size_t slots);
 
-    std::size_t slot_count_;
+    SlotSet taken_;  // which buffers are out
     std::unique_ptr<Slot[]> slots_;
     std::unique_ptr<Allocator> allocator_;
-    std::atomic<std::uint64_t> exhausted_{0};
     // The owner's handle plus one per buffer out: the last one to go deletes the pool.
     std::atomic<std::size_t> holders_{1};
     void drop_holder();
