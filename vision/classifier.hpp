@@ -6,7 +6,7 @@
 
 #include "drone/core/camera_calibration.hpp"
 #include "vision/common.hpp"
-#include "vision/geometry.hpp"
+#include "vision/stabilisation.hpp"
 #include "vision/overlay.hpp"
 #include "vision/params.hpp"
 #include "vision/plot_series.hpp"

@@ -1,7 +1,7 @@
 #include "vision/synthetic_scene.hpp"
 
 #include "drone/core/geometry.hpp"
-#include "vision/geometry.hpp"
+#include "vision/stabilisation.hpp"
 
 #include <opencv2/imgproc.hpp>
 

@@ -7,7 +7,7 @@
 #include "drone/core/camera_calibration.hpp"
 #include "drone/core/unknown.hpp"
 #include "vision/ego_motion.hpp"
-#include "vision/geometry.hpp"
+#include "vision/stabilisation.hpp"
 #include "vision/params.hpp"
 
 #include <opencv2/core.hpp>

@@ -4,7 +4,7 @@
 #include "vision/ego_motion.hpp"
 
 #include "vision/common.hpp"
-#include "vision/geometry.hpp"
+#include "vision/stabilisation.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,8 +1,8 @@
 // The tracker's spread of trajectories over a grid.
 
-#include "vision/geometry.hpp"
-#include "synthetic_helpers.hpp"
 #include "vision/tracker.hpp"
+
+#include "synthetic_helpers.hpp"
 
 #include <gtest/gtest.h>
 

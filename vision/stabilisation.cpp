@@ -1,4 +1,4 @@
-#include "vision/geometry.hpp"
+#include "vision/stabilisation.hpp"
 #include "drone/core/geometry.hpp"
 #include "vision/common.hpp"
 

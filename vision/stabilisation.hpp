@@ -1,7 +1,8 @@
 #pragma once
-// Attitude geometry for the AR.Drone front camera: roll stabilisation of point coordinates, the
-// image motion a pure attitude change causes (infinite homography K R K^-1), the focus of
-// expansion, and the detection mask that keeps corners out of what roll stabilisation would crop.
+// The classifiers' attitude step for the AR.Drone front camera: derotation (the image motion a
+// pure attitude change causes, infinite homography K R K^-1), roll stabilisation of point
+// coordinates and the detection mask that keeps corners out of what it would crop, and the focus
+// of expansion the stabilised motion is measured against.
 //
 // Conventions and frames: drone/core/geometry.hpp (the front camera, geom::Mount::Front). The
 // functions here turn its rotations into the classifiers' OpenCV types.
