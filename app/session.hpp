@@ -24,6 +24,7 @@
 #include "app/live_odometry.hpp"
 #include "app/pipeline.hpp"
 #include "drone/core/clock.hpp"
+#include "drone/core/file_error.hpp"
 #include "drone/core/object_pool.hpp"
 #include "drone/core/sample.hpp"
 #include "drone/core/sync.hpp"
@@ -231,9 +232,10 @@ struct SessionOptions {
 };
 
 // Writes <dir>/assist.csv (docs/dataset.md) from a recording's interventions; `start_ns`: the
-// recording's t = 0 on the link's clock. False when the file cannot be written.
-bool write_assist_csv(const std::filesystem::path& dir, TimeNs start_ns,
-                      const std::vector<Intervention>& rows);
+// recording's t = 0 on the link's clock. The problem when the file cannot be written.
+[[nodiscard]] std::optional<FileError> write_assist_csv(const std::filesystem::path& dir,
+                                                        TimeNs start_ns,
+                                                        const std::vector<Intervention>& rows);
 
 // $HOME/ardrone-gs/flights, or ./flights.
 std::filesystem::path default_record_root();

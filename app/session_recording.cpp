@@ -1,14 +1,14 @@
 // Recording control: a live source (drone or virtual drone) recorded as a dataset, its status and
 // the free space where it writes (polled every 2 s).
 #include "app/session_current.hpp"
+#include "drone/core/file_io.hpp"
+#include "drone/dataset/raw_replay.hpp"
 
 #include <cmath>
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
-#include <fstream>
 #include <map>
-#include <sstream>
 
 namespace gs::app {
 
@@ -20,62 +20,17 @@ std::filesystem::path default_record_root() {
 
 namespace {
 
-// The columns of a CSV header line, by name.
-std::map<std::string, std::size_t> csv_columns(const std::string& header) {
-    std::map<std::string, std::size_t> cols;
-    std::stringstream ss(header);
-    std::string name;
-    for (std::size_t i = 0; std::getline(ss, name, ','); ++i) {
-        if (!name.empty() && name.back() == '\r') name.pop_back();
-        cols[name] = i;
-    }
-    return cols;
-}
-
-std::vector<std::string> csv_cells(const std::string& line) {
-    std::vector<std::string> cells;
-    std::stringstream ss(line);
-    std::string c;
-    while (std::getline(ss, c, ',')) cells.push_back(c);
-    return cells;
-}
-
-// PaVE frame number -> the dataset's frame index, through raw/capture_times.csv (frame number ->
-// capture time) and frames.csv (capture time -> frame). Frames the recording did not keep map
-// to nothing.
-std::map<std::uint32_t, std::int64_t> dataset_frames(const std::filesystem::path& dir) {
-    std::map<std::int64_t, std::int64_t> frame_of_us;
-    std::map<std::uint32_t, std::int64_t> out;
-    std::ifstream frames(dir / "frames.csv");
-    std::string line;
-    if (!std::getline(frames, line)) return out;
-    auto cols = csv_columns(line);
-    if (!cols.count("frame") || !cols.count("t_ms")) return out;
-    const std::size_t cf = cols["frame"], ct = cols["t_ms"];
-    while (std::getline(frames, line)) {
-        const auto c = csv_cells(line);
-        if (c.size() <= std::max(cf, ct)) continue;
-        try {
-            frame_of_us[std::llround(std::stod(c[ct]) * 1000.0)] = std::stoll(c[cf]);
-        } catch (...) {
-        }
-    }
-    std::ifstream captures(dir / "raw" / "capture_times.csv");
-    if (!std::getline(captures, line)) return out;
-    cols = csv_columns(line);
-    if (!cols.count("frame_number") || !cols.count("t_us")) return out;
-    const std::size_t cn = cols["frame_number"], cu = cols["t_us"];
-    while (std::getline(captures, line)) {
-        const auto c = csv_cells(line);
-        if (c.size() <= std::max(cn, cu)) continue;
-        try {
-            const auto it = frame_of_us.find(std::stoll(c[cu]));
-            if (it != frame_of_us.end())
-                out[static_cast<std::uint32_t>(std::stoul(c[cn]))] = it->second;
-        } catch (...) {
-        }
-    }
-    return out;
+// PaVE frame number -> the dataset's frame index (raw/capture_times.csv and frames.csv). A
+// recording without capture times or a readable frames.csv maps nothing: the rows keep their
+// PaVE frame number and leave `frame` empty.
+std::map<std::uint32_t, std::int64_t> recorded_frames(const std::filesystem::path& dir) {
+    auto captures = dataset::read_capture_times(dir / "raw");
+    if (!captures || !*captures) return {};
+    auto text = read_text_file(dir / "frames.csv", "frames.csv", 256u << 20);
+    if (!text) return {};
+    auto frames = dataset::parse_frames_csv(std::move(*text));
+    if (!frames) return {};
+    return dataset::frames_of_pave_numbers(*frames, **captures);
 }
 
 std::string assist_cmd_cells(const FlightCommand& c) {
@@ -89,15 +44,13 @@ std::string assist_cmd_cells(const FlightCommand& c) {
 
 // assist.csv (docs/dataset.md "assist.csv"): one row per intervention of the assist during the
 // recording, always written (header only when it never acted).
-bool write_assist_csv(const std::filesystem::path& dir, TimeNs start_ns,
-                      const std::vector<Intervention>& rows) {
-    const auto frames = dataset_frames(dir);
-    std::FILE* f = std::fopen((dir / "assist.csv").c_str(), "w");
-    if (f == nullptr) return false;
-    std::fprintf(f,
-                 "t_ms,frame,pave_frame,decision_ms,action,region,reason,"
-                 "before_progressive,before_roll,before_pitch,before_gaz,before_yaw,"
-                 "after_progressive,after_roll,after_pitch,after_gaz,after_yaw\n");
+std::optional<FileError> write_assist_csv(const std::filesystem::path& dir, TimeNs start_ns,
+                                          const std::vector<Intervention>& rows) {
+    const auto frames = recorded_frames(dir);
+    std::string text =
+        "t_ms,frame,pave_frame,decision_ms,action,region,reason,"
+        "before_progressive,before_roll,before_pitch,before_gaz,before_yaw,"
+        "after_progressive,after_roll,after_pitch,after_gaz,after_yaw\n";
     for (const Intervention& i : rows) {
         std::string frame, pave, decision;
         if (i.pave_frame) {
@@ -114,13 +67,13 @@ bool write_assist_csv(const std::filesystem::path& dir, TimeNs start_ns,
         std::string reason = i.reason;
         for (char& ch : reason)
             if (ch == ',' || ch == '"' || ch == '\n') ch = ';';
-        std::fprintf(f, "%.3f,%s,%s,%s,%s,%s,%s,%s,%s\n",
-                     static_cast<double>(i.t_ns - start_ns) * 1e-6, frame.c_str(), pave.c_str(),
-                     decision.c_str(), to_string(i.action), vision::to_string(i.region),
-                     reason.c_str(), assist_cmd_cells(i.before).c_str(),
-                     assist_cmd_cells(i.after).c_str());
+        char t[32];
+        std::snprintf(t, sizeof t, "%.3f", static_cast<double>(i.t_ns - start_ns) * 1e-6);
+        text += std::string(t) + ',' + frame + ',' + pave + ',' + decision + ',' +
+                to_string(i.action) + ',' + vision::to_string(i.region) + ',' + reason + ',' +
+                assist_cmd_cells(i.before) + ',' + assist_cmd_cells(i.after) + '\n';
     }
-    return std::fclose(f) == 0;
+    return write_file_atomic(dir / "assist.csv", text, "assist.csv");
 }
 
 void Session::record_assist(const Intervention& i) {
@@ -182,8 +135,9 @@ void Session::record_stop() {
     if (!recorder_) return;
     const record::RecorderStatus st = recorder_->stop();
     recorder_.reset();
-    if (!st.path.empty() && !write_assist_csv(st.path, st.start_ns, assist_rows_))
-        message("assist.csv could not be written in " + st.path);
+    if (!st.path.empty())
+        if (auto e = write_assist_csv(st.path, st.start_ns, assist_rows_))
+            message("assist.csv could not be written in " + st.path + ": " + to_string(*e));
     if (assist_rows_dropped_ > 0)
         message("assist.csv: " + std::to_string(assist_rows_dropped_) +
                 " interventions beyond the first " + std::to_string(kMaxAssistRows) + " dropped");

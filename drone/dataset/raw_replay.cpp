@@ -4,6 +4,7 @@
 #include "drone/dataset/csv.hpp"
 #include "drone/dataset/raw.hpp"
 
+#include <cmath>
 #include <fstream>
 
 namespace gs::dataset {
@@ -57,6 +58,32 @@ Expected<std::vector<RecordedCapture>, FileError> parse_capture_times(std::strin
     return out;
 }
 
+Expected<std::optional<std::vector<RecordedCapture>>, FileError> read_capture_times(
+    const std::filesystem::path& raw_dir) {
+    std::error_code ec;
+    if (!std::filesystem::exists(raw_dir / "capture_times.csv", ec))
+        return std::optional<std::vector<RecordedCapture>>();
+    auto p = raw_file_path(raw_dir, "capture_times.csv");
+    if (!p) return Unexpected(p.error());
+    auto text = read_text_file(*p, "raw/capture_times.csv", 256u << 20);
+    if (!text) return Unexpected(text.error());
+    auto c = parse_capture_times(std::move(*text));
+    if (!c) return Unexpected(c.error());
+    return std::optional(std::move(*c));
+}
+
+std::map<std::uint32_t, std::int64_t> frames_of_pave_numbers(
+    const std::vector<FrameRow>& frames, const std::vector<RecordedCapture>& captures) {
+    const auto us = [](TimeNs t) { return std::llround(static_cast<double>(t) * 1e-3); };
+    std::map<long long, std::int64_t> frame_of_us;
+    for (const FrameRow& f : frames) frame_of_us[us(f.nav.t_ns)] = f.frame;
+    std::map<std::uint32_t, std::int64_t> out;
+    for (const RecordedCapture& c : captures)
+        if (const auto it = frame_of_us.find(us(c.t_ns)); it != frame_of_us.end())
+            out[c.frame_number] = it->second;
+    return out;
+}
+
 Expected<std::vector<FrameRow>, FileError> replay_raw(const std::filesystem::path& raw_dir,
                                                       RawReplayDecoders& dec,
                                                       TimeNs max_nav_wait_ns) {
@@ -84,14 +111,10 @@ Expected<std::vector<FrameRow>, FileError> replay_raw(const std::filesystem::pat
         if (!c) return Unexpected(c.error());
         connections = std::move(*c);
     }
-    if (std::filesystem::exists(raw_dir / "capture_times.csv", ec) && dec.capture_times) {
-        auto p = raw_file_path(raw_dir, "capture_times.csv");
-        if (!p) return Unexpected(p.error());
-        auto text = read_text_file(*p, "raw/capture_times.csv", 256u << 20);
-        if (!text) return Unexpected(text.error());
-        auto c = parse_capture_times(std::move(*text));
+    if (dec.capture_times) {
+        auto c = read_capture_times(raw_dir);
         if (!c) return Unexpected(c.error());
-        dec.capture_times(std::move(*c));
+        if (*c) dec.capture_times(std::move(**c));
     }
     std::size_t next_connection = 0;
     std::uint64_t pave_offset = 0;  // of the next chunk in raw/video.pave

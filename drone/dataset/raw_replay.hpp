@@ -10,6 +10,8 @@
 #include "drone/dataset/dataset.hpp"
 
 #include <functional>
+#include <map>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -56,6 +58,14 @@ struct VideoConnection {
 Expected<std::vector<VideoConnection>, FileError> parse_video_connections(std::string text);
 // raw/capture_times.csv (an extension of this recorder); a cut last line is ignored.
 Expected<std::vector<RecordedCapture>, FileError> parse_capture_times(std::string text);
+// Reads and parses `raw_dir`/capture_times.csv; nullopt when the recording has none.
+Expected<std::optional<std::vector<RecordedCapture>>, FileError> read_capture_times(
+    const std::filesystem::path& raw_dir);
+
+// PaVE frame number -> the dataset frame (frames.csv row) captured at the same time, to the
+// microsecond. Frames the recording did not keep map to nothing.
+std::map<std::uint32_t, std::int64_t> frames_of_pave_numbers(
+    const std::vector<FrameRow>& frames, const std::vector<RecordedCapture>& captures);
 
 // Replays `raw_dir` (raw/navdata.bin, raw/video.pave, raw/video_chunks.bin, and when present
 // raw/video_connections.csv and raw/capture_times.csv) into frames.csv rows.

@@ -2,6 +2,7 @@
 #include "drone/core/geometry.hpp"
 #include "drone/sim/units.hpp"
 
+#include "drone/dataset/csv.hpp"
 #include "drone/dataset/writer.hpp"
 #include "drone/sim/renderer.hpp"
 #include "drone/sim/rng.hpp"
@@ -402,51 +403,30 @@ Expected<TwoCameraExtras, std::string> read_two_camera_extras(const fs::path& di
         if (!text) return Unexpected(to_string(text.error()));
         x.bottom_m.assign(std::size_t(frames), kUnknown);
         x.top_m.assign(std::size_t(frames), kUnknown);
-        std::istringstream in(*text);
-        std::string line;
-        int lineno = 0;
-        int col_frame = -1, col_b = -1, col_t = -1;
-        while (std::getline(in, line)) {
-            ++lineno;
-            if (!line.empty() && line.back() == '\r') line.pop_back();
-            if (line.empty()) continue;
-            std::vector<std::string> cells;
-            std::stringstream ls(line);
-            for (std::string c; std::getline(ls, c, ',');) cells.push_back(c);
-            if (!line.empty() && line.back() == ',') cells.emplace_back();
-            if (col_frame < 0) {
-                for (std::size_t i = 0; i < cells.size(); ++i) {
-                    if (cells[i] == "frame") col_frame = int(i);
-                    if (cells[i] == "bottom_m") col_b = int(i);
-                    if (cells[i] == "top_m") col_t = int(i);
-                }
-                if (col_frame < 0)
-                    return Unexpected(std::string("distances.csv line 1: no 'frame' column"));
-                continue;
-            }
-            auto cell = [&](int c) -> std::optional<double> {
-                if (c < 0 || std::size_t(c) >= cells.size() || cells[std::size_t(c)].empty())
-                    return kUnknown;
-                try {
-                    std::size_t used = 0;
-                    const double v = std::stod(cells[std::size_t(c)], &used);
-                    if (used != cells[std::size_t(c)].size() || !std::isfinite(v) || v < 0)
-                        return std::nullopt;  // docs/dataset.md 1.1: finite; a distance is >= 0
-                    return v;
-                } catch (...) {
-                    return std::nullopt;
-                }
-            };
-            const auto f = cell(col_frame), b = cell(col_b), t = cell(col_t);
-            if (!f || !b || !t || !std::isfinite(*f))
-                return Unexpected("distances.csv line " + std::to_string(lineno) +
-                                  ": not a number");
-            const auto fi = static_cast<std::int64_t>(*f);
-            if (fi < 0 || fi >= frames || static_cast<double>(fi) != *f)
-                return Unexpected("distances.csv line " + std::to_string(lineno) + ": frame " +
-                                  cells[std::size_t(col_frame)] + " out of range");
-            x.bottom_m[std::size_t(fi)] = *b;
-            x.top_m[std::size_t(fi)] = *t;
+        auto t = dataset::csv::Table::parse(std::move(*text), "distances.csv");
+        if (!t) return Unexpected(to_string(t.error()));
+        const auto cf = t->column("frame"), cb = t->column("bottom_m"), ct = t->column("top_m");
+        if (!cf) return Unexpected(std::string("distances.csv line 1: no 'frame' column"));
+        // A distance: empty = unknown; else finite and >= 0 (docs/dataset.md 1.1).
+        auto distance = [&](std::size_t r,
+                            std::optional<std::size_t> c) -> Expected<double, std::string> {
+            if (!c) return kUnknown;
+            auto v = t->number(r, *c);
+            if (!v) return Unexpected(to_string(v.error()));
+            if (*v < 0) return Unexpected(to_string(t->error_at(r, *c, "a distance is >= 0")));
+            return *v;
+        };
+        for (std::size_t r = 0; r < t->rows(); ++r) {
+            auto fi = t->integer(r, *cf);
+            if (!fi) return Unexpected(to_string(fi.error()));
+            if (*fi < 0 || *fi >= frames)
+                return Unexpected(to_string(
+                    t->error_at(r, *cf, "frame " + std::to_string(*fi) + " out of range")));
+            auto b = distance(r, cb), tm = distance(r, ct);
+            if (!b) return Unexpected(b.error());
+            if (!tm) return Unexpected(tm.error());
+            x.bottom_m[std::size_t(*fi)] = *b;
+            x.top_m[std::size_t(*fi)] = *tm;
         }
     }
     return x;

@@ -4,6 +4,8 @@
 // window's keys: tests/ui/assist_wiring_test.cpp.
 #include "app/pilot_path.hpp"
 #include "app/session.hpp"
+#include "drone/core/file_io.hpp"
+#include "drone/dataset/csv.hpp"
 
 #include <gtest/gtest.h>
 
@@ -230,21 +232,6 @@ TEST(PilotPath, ReplayDryRunShowsTheBrakeAndSendsNothing) {
     EXPECT_EQ(p.take_new().size(), 1u);
 }
 
-std::vector<std::vector<std::string>> pp_read_csv(const std::filesystem::path& f) {
-    std::vector<std::vector<std::string>> rows;
-    std::ifstream in(f);
-    std::string line;
-    while (std::getline(in, line)) {
-        std::vector<std::string> cells;
-        std::stringstream ss(line);
-        std::string c;
-        while (std::getline(ss, c, ',')) cells.push_back(c);
-        if (!line.empty() && line.back() == ',') cells.emplace_back();
-        rows.push_back(cells);
-    }
-    return rows;
-}
-
 TEST(PilotPath, AssistCsvMapsEachInterventionToTheDatasetFrame) {
     namespace fs = std::filesystem;
     const fs::path dir =
@@ -271,29 +258,33 @@ TEST(PilotPath, AssistCsvMapsEachInterventionToTheDatasetFrame) {
     j.pave_frame = 999;  // not kept by the recording: no frame
     j.action = AssistAction::LimitLeft;
     j.region = vision::Region::Left;
-    ASSERT_TRUE(write_assist_csv(dir, start, {i, j}));
-    const auto rows = pp_read_csv(dir / "assist.csv");
-    ASSERT_EQ(rows.size(), 3u);
-    const auto& h = rows[0];
-    auto col = [&](const std::string& name) {
-        for (std::size_t k = 0; k < h.size(); ++k)
-            if (h[k] == name) return k;
-        ADD_FAILURE() << "no column " << name;
-        return std::size_t{0};
+    const auto problem = write_assist_csv(dir, start, {i, j});
+    ASSERT_FALSE(problem) << to_string(*problem);
+    auto text = gs::read_text_file(dir / "assist.csv", "assist.csv", 1u << 20);
+    ASSERT_TRUE(text);
+    auto t = gs::dataset::csv::Table::parse(std::move(*text), "assist.csv");
+    ASSERT_TRUE(t) << to_string(t.error());
+    ASSERT_EQ(t->rows(), 2u);
+    auto cell = [&](std::size_t row, const char* name) {
+        const auto c = t->column(name);
+        if (!c) {
+            ADD_FAILURE() << "no column " << name;
+            return std::string();
+        }
+        return std::string(t->field(row, *c));
     };
-    for (const auto& r : rows) ASSERT_EQ(r.size(), h.size());
-    EXPECT_EQ(rows[1][col("t_ms")], "100.000");
-    EXPECT_EQ(rows[1][col("frame")], "2");
-    EXPECT_EQ(rows[1][col("pave_frame")], "502");
-    EXPECT_EQ(rows[1][col("decision_ms")], "80.000");
-    EXPECT_EQ(rows[1][col("action")], "BRAKING");
-    EXPECT_EQ(rows[1][col("region")], "centre");
-    EXPECT_EQ(rows[1][col("reason")], "BRAKING: obstacle ahead; contact in 1.8 s");
-    EXPECT_EQ(rows[1][col("before_pitch")], "-0.300");
-    EXPECT_EQ(rows[1][col("after_pitch")], "1.000");
-    EXPECT_EQ(rows[2][col("frame")], "");
-    EXPECT_EQ(rows[2][col("action")], "LIMIT LEFT");
-    EXPECT_EQ(rows[2][col("region")], "left");
+    EXPECT_EQ(cell(0, "t_ms"), "100.000");
+    EXPECT_EQ(cell(0, "frame"), "2");
+    EXPECT_EQ(cell(0, "pave_frame"), "502");
+    EXPECT_EQ(cell(0, "decision_ms"), "80.000");
+    EXPECT_EQ(cell(0, "action"), "BRAKING");
+    EXPECT_EQ(cell(0, "region"), "centre");
+    EXPECT_EQ(cell(0, "reason"), "BRAKING: obstacle ahead; contact in 1.8 s");
+    EXPECT_EQ(cell(0, "before_pitch"), "-0.300");
+    EXPECT_EQ(cell(0, "after_pitch"), "1.000");
+    EXPECT_EQ(cell(1, "frame"), "");
+    EXPECT_EQ(cell(1, "action"), "LIMIT LEFT");
+    EXPECT_EQ(cell(1, "region"), "left");
     fs::remove_all(dir);
 }
 
