@@ -1,8 +1,8 @@
 #pragma once
 // Pools with explicit acquire and release: a fixed number of slots, taken and given back by the
-// pool's own record of which are out, never by peeking at a reference count (docs/architecture.md,
-// "Pools"). Steady state allocates nothing. Exhaustion is counted, never silent: acquire() then
-// returns nothing and the caller decides (the video frame pool falls back to the heap).
+// pool's own record of which are out, never by peeking at a reference count (docs/architecture.md
+// "Threads during a live flight", Pools). Steady state allocates nothing. Exhaustion is counted,
+// never silent: acquire() then returns nothing and the caller decides (a heap object instead).
 //
 //   SlotSet        which of N slots are out: acquire() -> index or nothing, release(index).
 //                  The video frame pool (drone/video/frame_pool.hpp) keeps its buffers with it.
