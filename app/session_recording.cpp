@@ -35,8 +35,9 @@ std::map<std::uint32_t, std::int64_t> recorded_frames(const std::filesystem::pat
 
 std::string assist_cmd_cells(const FlightCommand& c) {
     char buf[96];
-    std::snprintf(buf, sizeof buf, "%d,%.3f,%.3f,%.3f,%.3f", c.progressive ? 1 : 0, double{c.roll},
-                  double{c.pitch}, double{c.gaz}, double{c.yaw});
+    std::snprintf(buf, sizeof buf, "%d,%.3f,%.3f,%.3f,%.3f", c.progressive ? 1 : 0,
+                  static_cast<double>(c.roll), static_cast<double>(c.pitch),
+                  static_cast<double>(c.gaz), static_cast<double>(c.yaw));
     return buf;
 }
 

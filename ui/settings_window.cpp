@@ -149,7 +149,7 @@ void DroneSettingsWindow::draw(const GuiSnapshot& s, ViewState& v, Actions& a) {
                     if (ImGui::IsItemActive()) v.settings_editing.insert(sp.key);
                     if (ImGui::IsItemDeactivated()) v.settings_editing.erase(sp.key);
                     if (ImGui::IsItemDeactivatedAfterEdit())
-                        write = {{sp.key, drone_value(sp, edit)}};
+                        write = {{sp.key, drone_value(sp, static_cast<double>(edit))}};
                     ImGui::SameLine();
                     // Beside the slider, never under its handle.
                     ImGui::Text("%.*f %s", sp.decimals, static_cast<double>(edit), sp.unit);
