@@ -6,10 +6,10 @@
 
 #include "drone/core/camera_calibration.hpp"
 #include "vision/common.hpp"
-#include "vision/stabilisation.hpp"
 #include "vision/overlay.hpp"
 #include "vision/params.hpp"
 #include "vision/plot_series.hpp"
+#include "vision/stabilisation.hpp"
 #include "vision/tracker.hpp"
 
 #include <opencv2/core.hpp>

@@ -7,8 +7,8 @@
 #include "drone/core/camera_calibration.hpp"
 #include "drone/core/unknown.hpp"
 #include "vision/ego_motion.hpp"
-#include "vision/stabilisation.hpp"
 #include "vision/params.hpp"
+#include "vision/stabilisation.hpp"
 
 #include <opencv2/core.hpp>
 
