@@ -132,9 +132,10 @@ private:
     RealismOptions o_;
     Rng rng_;
     std::uint64_t noise_seed_;
-    std::vector<float> rx_, ry_;  // undistorted normalised ray of each pixel
-    std::vector<float> vig_;      // vignetting gain per pixel
-    cv::Mat tmp_, noise_;
+    std::vector<float> rx_, ry_;         // undistorted normalised ray of each pixel
+    std::vector<float> vig_;             // vignetting gain per pixel
+    std::vector<float> row_;             // the warp's per-row scratch
+    cv::Mat tmp_, noise_, src4_, srcf_;  // srcf_: the warp's source as float BGRA
     double gain_ = 1;
     int steps_ = 0;
     double next_step_s_ = 0;
