@@ -213,6 +213,9 @@ Expected<ObstacleFlightSummary, std::string> write_obstacle_flight(const fs::pat
     fs::create_directories(dir, ec);
     if (ec) return Unexpected("cannot create " + dir.string() + ": " + ec.message());
 
+    if (auto e = p.realism.check()) return Unexpected(*e);
+    // The realism layer's scene effects (plain walls ...): what the camera sees, not the flight.
+    const SceneEffects scene_fx = apply_scene_effects(scene, p.realism, mix_seed(p.seed, 0x5ce4e));
     const CameraCalibration calib = builtin_calibration(CameraId::Front);
     auto renderer = Renderer::create(scene, calib, CameraKind::Front);
     if (!renderer) return Unexpected("renderer: " + to_string(renderer.error()));
@@ -231,7 +234,6 @@ Expected<ObstacleFlightSummary, std::string> write_obstacle_flight(const fs::pat
     std::string labels_csv = "frame,distance_m,lateral_m\n";
 
     Rng noise(mix_seed(p.seed, 0x0b5));
-    if (auto e = p.realism.check()) return Unexpected(*e);
     CameraEffects camera_fx(calib, p.realism, mix_seed(p.seed, 0xca3e7a));
     StreamDamage damage(p.realism.slice_loss_pct, mix_seed(p.seed, 0x511ce));
     NavdataEffects nav_fx(p.realism, mix_seed(p.seed, 0x4a7da7a));
@@ -333,6 +335,7 @@ Expected<ObstacleFlightSummary, std::string> write_obstacle_flight(const fs::pat
         r["video_bitrate_kbps"] = p.bitrate_bps / 1000.0;
         r["seed"] = p.seed;
         r["slices_lost"] = sum.slices_lost;
+        if (p.realism.low_texture_walls_pct > 0) r["plain_walls"] = scene_fx.plain_walls;
         j["realism"] = r;
         flight_json = j.dump(2) + "\n";
     }

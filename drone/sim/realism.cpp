@@ -33,6 +33,7 @@ RealismOptions RealismOptions::real_camera() {
     o.attitude_bias_deg = 0.3;
     o.velocity_bias_mps = 0.03;
     o.bias_tau_s = 30;
+    o.low_texture_walls_pct = 50;
     return o;
 }
 
@@ -66,6 +67,8 @@ constexpr RealismField kFields[] = {
      "Drifting velocity bias, stationary sigma (m/s)"},
     {"bias_tau_s", &RealismOptions::bias_tau_s, 0.1, 10000,
      "Correlation time of the drifting biases (s)"},
+    {"low_texture_walls_pct", &RealismOptions::low_texture_walls_pct, 0, 100,
+     "Low-texture walls: share of the room's four walls repainted plain (%, whole walls)"},
 };
 
 }  // namespace
@@ -101,6 +104,34 @@ std::optional<std::string> RealismOptions::check() const {
                    std::to_string(f.lo) + ", " + std::to_string(f.hi) + "]";
     }
     return std::nullopt;
+}
+
+// ---- Scene ----
+
+SceneEffects apply_scene_effects(Scene& scene, const RealismOptions& o, std::uint64_t seed) {
+    SceneEffects out;
+    Room& r = scene.room;
+    std::array<std::pair<const char*, TextureSpec*>, 4> walls{{{"front", &r.wall_front},
+                                                               {"back", &r.wall_back},
+                                                               {"left", &r.wall_left},
+                                                               {"right", &r.wall_right}}};
+    const int n = int(std::lround(4 * o.low_texture_walls_pct / 100));
+    if (n > 0) {
+        Rng rng(mix_seed(seed, 0x91a1));
+        // The first n of a seeded shuffle.
+        for (int i = 3; i > 0; --i)
+            std::swap(walls[std::size_t(i)], walls[std::size_t(rng.range(0, i))]);
+        for (int i = 0; i < n; ++i) {
+            TextureSpec& t = *walls[std::size_t(i)].second;
+            // The wall's own colour, plain: faint mottling only (TextureKind::Plain).
+            t.kind = TextureKind::Plain;
+            t.seed = mix_seed(seed, 0x91a1 + std::uint64_t(i));
+            t.has_color2 = false;
+            out.plain_walls.push_back(walls[std::size_t(i)].first);
+        }
+        std::sort(out.plain_walls.begin(), out.plain_walls.end());
+    }
+    return out;
 }
 
 // ---- Camera ----

@@ -27,6 +27,11 @@
 // the decoder conceals the missing macroblocks from the previous frame). Bitrate is the flight's
 // own option (ObstacleFlightParams::bitrate_bps).
 //
+// Scene (applied to the scene before the flight is rendered; the ground truth is unchanged):
+//   low-texture walls  `low_texture_walls_pct` % of the room's four walls (rounded to whole
+//                      walls, chosen from the seed) are repainted plain: their own colour with
+//                      faint low-contrast mottling, little for a tracker to hold on to
+//
 // Navdata: each frame's sample is the state `nav_latency_ms` (+- `nav_jitter_ms`, Gaussian)
 // before the frame's capture time, plus slowly drifting biases (first-order Gauss-Markov with
 // stationary standard deviation `attitude_bias_deg` on roll, pitch and yaw and
@@ -58,14 +63,15 @@ struct RealismOptions {
     double exposure_step_interval_s = 2.0;
     double flicker_pct = 0;  // light modulation amplitude
     double flicker_hz = 100;
-    double vignetting_pct = 0;     // corner darkening
-    double noise_pct = 0;          // shot noise sigma at mid grey, % of full scale
-    double slice_loss_pct = 0;     // P frames that lose the tail of their slice
-    double nav_latency_ms = 0;     // navdata sample older than the frame by this
-    double nav_jitter_ms = 0;      // Gaussian sigma of that offset
-    double attitude_bias_deg = 0;  // drifting bias, stationary sigma (roll, pitch, yaw)
-    double velocity_bias_mps = 0;  // drifting bias, stationary sigma (vx, vy)
-    double bias_tau_s = 30;        // the biases' correlation time
+    double vignetting_pct = 0;         // corner darkening
+    double noise_pct = 0;              // shot noise sigma at mid grey, % of full scale
+    double slice_loss_pct = 0;         // P frames that lose the tail of their slice
+    double nav_latency_ms = 0;         // navdata sample older than the frame by this
+    double nav_jitter_ms = 0;          // Gaussian sigma of that offset
+    double attitude_bias_deg = 0;      // drifting bias, stationary sigma (roll, pitch, yaw)
+    double velocity_bias_mps = 0;      // drifting bias, stationary sigma (vx, vy)
+    double bias_tau_s = 30;            // the biases' correlation time
+    double low_texture_walls_pct = 0;  // share of the room's walls repainted plain
 
     bool geometric() const { return rolling_shutter_ms > 0 || exposure_ms > 0; }
     bool photometric() const {
@@ -75,11 +81,15 @@ struct RealismOptions {
         return nav_latency_ms > 0 || nav_jitter_ms > 0 || attitude_bias_deg > 0 ||
                velocity_bias_mps > 0;
     }
-    bool any() const { return geometric() || photometric() || navdata() || slice_loss_pct > 0; }
+    bool scene() const { return low_texture_walls_pct > 0; }
+    bool any() const {
+        return geometric() || photometric() || navdata() || scene() || slice_loss_pct > 0;
+    }
 
     // A real AR.Drone 2 front camera and link as issue 17 measured them: 25 ms readout, 12 ms
     // exposure, +-15 % exposure steps, 3 % flicker, 30 % vignetting, 1.5 % noise, 2 % lost
-    // slices, navdata 30 +- 10 ms late with 0.3 deg / 0.03 m/s drifting biases.
+    // slices, navdata 30 +- 10 ms late with 0.3 deg / 0.03 m/s drifting biases; half the
+    // walls plain.
     static RealismOptions real_camera();
 
     // Every field by name (flight.json "realism"); from_json reads what to_json writes, with
@@ -177,6 +187,14 @@ private:
     std::array<double, 5> bias_{};
     std::optional<TimeNs> last_bias_t_;
 };
+
+// What the scene effects changed (flight.json "realism"), for reports and tests.
+struct SceneEffects {
+    std::vector<std::string> plain_walls;  // "front", "back", "left", "right"
+};
+
+// Applies the scene effects of `o` to `scene` (deterministic for the seed).
+SceneEffects apply_scene_effects(Scene& scene, const RealismOptions& o, std::uint64_t seed);
 
 // Gaussian from the deterministic generator (Box-Muller).
 double gaussian(Rng& r, double sigma);

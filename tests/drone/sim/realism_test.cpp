@@ -6,11 +6,15 @@
 #include "drone/dataset/dataset.hpp"
 #include "drone/sim/obstacle_flights.hpp"
 #include "drone/sim/scene.hpp"
+#include "drone/video/h264_decoder.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <numbers>
@@ -318,6 +322,117 @@ TEST(Realism, AGeneratedFlightRecordsItsRealismAndDiffersOnlyWhereItShould) {
     ASSERT_EQ(c->frame_count(), d->frame_count());
     for (std::int64_t k = 0; k < c->frame_count(); ++k)
         EXPECT_DOUBLE_EQ(c->frames()[std::size_t(k)].gt.x_m, d->frames()[std::size_t(k)].gt.x_m);
+    std::filesystem::remove_all(root);
+}
+
+// Every frame of a generated flight's video.h264, decoded.
+std::vector<cv::Mat> decode_flight(const std::filesystem::path& dir) {
+    std::ifstream in(dir / "video.h264", std::ios::binary);
+    const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)),
+                                          std::istreambuf_iterator<char>());
+    video::H264Decoder dec;
+    std::vector<cv::Mat> frames;
+    std::span<const std::uint8_t> rest(bytes);
+    while (!rest.empty()) {
+        const std::size_t n = std::max<std::size_t>(1, video::access_unit_size(rest));
+        cv::Mat out;
+        auto st = dec.decode({rest.first(n), std::nullopt, 0, 0, std::nullopt}, out);
+        if (st && !out.empty()) frames.push_back(out.clone());
+        rest = rest.subspan(n);
+    }
+    return frames;
+}
+
+// A flight of `scene_name` (0.8 s recorded, 4 Mbit/s) with realism `r`, written under `root`.
+std::filesystem::path write_flight(const std::filesystem::path& root, const std::string& name,
+                                   const std::string& scene_name, const RealismOptions& r) {
+    auto scene = load_scene(std::string(GS_ASSETS_DIR) + "/scenes/" + scene_name + ".json");
+    EXPECT_TRUE(scene);
+    ObstacleFlightInfo f = scenario_flight(*scene, 1.0, 5);
+    f.params.max_record_s = 0.8;
+    f.params.bitrate_bps = 4'000'000;
+    f.params.realism = r;
+    auto written = write_obstacle_flight(root / name, f);
+    EXPECT_TRUE(written) << (written ? "" : written.error());
+    return root / name;
+}
+
+// Where the debug PNGs go (GS_REALISM_PNG_DIR), if anywhere.
+void save_png(const std::string& name, const cv::Mat& img) {
+    if (const char* d = std::getenv("GS_REALISM_PNG_DIR"))
+        cv::imwrite(std::string(d) + "/" + name, img);
+}
+
+// Mean Sobel gradient magnitude of `img` (grey) over `mask`.
+double mean_gradient(const cv::Mat& bgr, const cv::Mat& mask) {
+    cv::Mat g, gx, gy, mag;
+    cv::cvtColor(bgr, g, cv::COLOR_BGR2GRAY);
+    cv::Sobel(g, gx, CV_32F, 1, 0);
+    cv::Sobel(g, gy, CV_32F, 0, 1);
+    cv::magnitude(gx, gy, mag);
+    return cv::mean(mag, mask)[0];
+}
+
+TEST(Realism, LowTextureWallsRepaintTheirShareOfTheWallsPlainFromTheSeed) {
+    auto scene = load_scene(std::string(GS_ASSETS_DIR) + "/scenes/thesis_pillar_left.json");
+    ASSERT_TRUE(scene);
+    RealismOptions o;
+    Scene s0 = *scene;
+    EXPECT_TRUE(apply_scene_effects(s0, o, 1).plain_walls.empty());
+    EXPECT_TRUE(s0.room.wall_front == scene->room.wall_front);
+    o.low_texture_walls_pct = 50;
+    Scene a = *scene, b = *scene;
+    const auto ea = apply_scene_effects(a, o, 1), eb = apply_scene_effects(b, o, 1);
+    ASSERT_EQ(ea.plain_walls.size(), 2u);
+    EXPECT_EQ(ea.plain_walls, eb.plain_walls);
+    int plain = 0;
+    for (const TextureSpec* t :
+         {&a.room.wall_front, &a.room.wall_back, &a.room.wall_left, &a.room.wall_right})
+        plain += t->kind == TextureKind::Plain;
+    EXPECT_EQ(plain, 2);
+    // Other seeds pick other walls (some of 20 differ from seed 1's pick).
+    bool other = false;
+    for (std::uint64_t seed = 2; seed < 22 && !other; ++seed) {
+        Scene c = *scene;
+        other = apply_scene_effects(c, o, seed).plain_walls != ea.plain_walls;
+    }
+    EXPECT_TRUE(other);
+    o.low_texture_walls_pct = 100;
+    Scene d = *scene;
+    EXPECT_EQ(apply_scene_effects(d, o, 1).plain_walls.size(), 4u);
+}
+
+TEST(Realism, AFlightWithPlainWallsHasLessTextureOnItsWalls) {
+    const auto root =
+        std::filesystem::temp_directory_path() / ("gs_realism_walls_" + std::to_string(::getpid()));
+    std::filesystem::remove_all(root);
+    RealismOptions plain;
+    plain.low_texture_walls_pct = 100;
+    const auto dir0 = write_flight(root, "textured", "thesis_pillar_left", {});
+    const auto dir1 = write_flight(root, "plain", "thesis_pillar_left", plain);
+    std::ifstream in(dir1 / "flight.json");
+    const nlohmann::json j = nlohmann::json::parse(in);
+    EXPECT_DOUBLE_EQ(j["realism"]["low_texture_walls_pct"].get<double>(), 100);
+    EXPECT_EQ(j["realism"]["plain_walls"].size(), 4u);
+    const auto f0 = decode_flight(dir0), f1 = decode_flight(dir1);
+    ASSERT_FALSE(f0.empty());
+    ASSERT_EQ(f0.size(), f1.size());
+    for (std::size_t k : {std::size_t(0), f0.size() - 1}) {
+        // The walls are where the two flights differ (the same poses, only the walls changed),
+        // eroded away from the wall edges.
+        cv::Mat diff, grey, mask;
+        cv::absdiff(f0[k], f1[k], diff);
+        cv::cvtColor(diff, grey, cv::COLOR_BGR2GRAY);
+        cv::threshold(grey, mask, 12, 255, cv::THRESH_BINARY);
+        cv::morphologyEx(mask, mask, cv::MORPH_CLOSE, cv::Mat::ones(9, 9, CV_8U));
+        cv::erode(mask, mask, cv::Mat::ones(7, 7, CV_8U));
+        ASSERT_GT(cv::countNonZero(mask), 640 * 360 / 20) << "the walls fill part of the view";
+        const double g0 = mean_gradient(f0[k], mask), g1 = mean_gradient(f1[k], mask);
+        EXPECT_LT(g1, 0.5 * g0) << "frame " << k << ": textured " << g0 << ", plain " << g1;
+        save_png("walls_textured_" + std::to_string(k) + ".png", f0[k]);
+        save_png("walls_plain_" + std::to_string(k) + ".png", f1[k]);
+        save_png("walls_mask_" + std::to_string(k) + ".png", mask);
+    }
     std::filesystem::remove_all(root);
 }
 
