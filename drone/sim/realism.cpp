@@ -34,6 +34,8 @@ RealismOptions RealismOptions::real_camera() {
     o.velocity_bias_mps = 0.03;
     o.bias_tau_s = 30;
     o.low_texture_walls_pct = 50;
+    o.glossy_floor_pct = 20;
+    o.glossy_floor_blur_deg = 1.5;
     return o;
 }
 
@@ -69,6 +71,10 @@ constexpr RealismField kFields[] = {
      "Correlation time of the drifting biases (s)"},
     {"low_texture_walls_pct", &RealismOptions::low_texture_walls_pct, 0, 100,
      "Low-texture walls: share of the room's four walls repainted plain (%, whole walls)"},
+    {"glossy_floor_pct", &RealismOptions::glossy_floor_pct, 0, 100,
+     "Glossy floor: share of the floor's light that mirrors the scene above it (%)"},
+    {"glossy_floor_blur_deg", &RealismOptions::glossy_floor_blur_deg, 0, 20,
+     "Glossy floor: blur of the reflection, angular Gaussian sigma (deg)"},
 };
 
 }  // namespace
@@ -107,6 +113,15 @@ std::optional<std::string> RealismOptions::check() const {
 }
 
 // ---- Scene ----
+
+RenderOptions render_options(const RealismOptions& o) {
+    RenderOptions r;
+    if (o.glossy_floor_pct > 0) {
+        r.floor_reflection = o.glossy_floor_pct / 100;
+        r.floor_blur_deg = o.glossy_floor_blur_deg;
+    }
+    return r;
+}
 
 SceneEffects apply_scene_effects(Scene& scene, const RealismOptions& o, std::uint64_t seed) {
     SceneEffects out;

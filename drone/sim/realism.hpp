@@ -31,6 +31,10 @@
 //   low-texture walls  `low_texture_walls_pct` % of the room's four walls (rounded to whole
 //                      walls, chosen from the seed) are repainted plain: their own colour with
 //                      faint low-contrast mottling, little for a tracker to hold on to
+//   glossy floor       the floor mirrors the scene above it: its pixels mix `glossy_floor_pct` %
+//                      of the mirror image in (a second render from the camera mirrored in the
+//                      floor), blurred by a Gaussian of `glossy_floor_blur_deg` angular sigma
+//                      as the camera sees it (the finish's roughness; an image-space blur)
 //
 // Navdata: each frame's sample is the state `nav_latency_ms` (+- `nav_jitter_ms`, Gaussian)
 // before the frame's capture time, plus slowly drifting biases (first-order Gauss-Markov with
@@ -72,6 +76,8 @@ struct RealismOptions {
     double velocity_bias_mps = 0;      // drifting bias, stationary sigma (vx, vy)
     double bias_tau_s = 30;            // the biases' correlation time
     double low_texture_walls_pct = 0;  // share of the room's walls repainted plain
+    double glossy_floor_pct = 0;       // share of the floor's light that is a mirror image
+    double glossy_floor_blur_deg = 0;  // the reflection's blur, angular sigma
 
     bool geometric() const { return rolling_shutter_ms > 0 || exposure_ms > 0; }
     bool photometric() const {
@@ -81,7 +87,7 @@ struct RealismOptions {
         return nav_latency_ms > 0 || nav_jitter_ms > 0 || attitude_bias_deg > 0 ||
                velocity_bias_mps > 0;
     }
-    bool scene() const { return low_texture_walls_pct > 0; }
+    bool scene() const { return low_texture_walls_pct > 0 || glossy_floor_pct > 0; }
     bool any() const {
         return geometric() || photometric() || navdata() || scene() || slice_loss_pct > 0;
     }
@@ -89,7 +95,7 @@ struct RealismOptions {
     // A real AR.Drone 2 front camera and link as issue 17 measured them: 25 ms readout, 12 ms
     // exposure, +-15 % exposure steps, 3 % flicker, 30 % vignetting, 1.5 % noise, 2 % lost
     // slices, navdata 30 +- 10 ms late with 0.3 deg / 0.03 m/s drifting biases; half the
-    // walls plain.
+    // walls plain, a floor reflecting 20 % blurred by 1.5 deg.
     static RealismOptions real_camera();
 
     // Every field by name (flight.json "realism"); from_json reads what to_json writes, with
@@ -192,6 +198,9 @@ private:
 struct SceneEffects {
     std::vector<std::string> plain_walls;  // "front", "back", "left", "right"
 };
+
+// The renderer's options for the scene effects of `o` (the glossy floor).
+RenderOptions render_options(const RealismOptions& o);
 
 // Applies the scene effects of `o` to `scene` (deterministic for the seed).
 SceneEffects apply_scene_effects(Scene& scene, const RealismOptions& o, std::uint64_t seed);

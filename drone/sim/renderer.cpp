@@ -2,6 +2,8 @@
 #include "drone/core/geometry.hpp"
 #include "drone/sim/units.hpp"
 
+#include <opencv2/imgproc.hpp>
+
 #include <algorithm>
 #include <array>
 #include <bit>
@@ -64,6 +66,18 @@ CameraFrame camera_frame(const Pose& p, CameraKind k) {
         geom::world_point(p.x_m, p.y_m, p.z_m), p.roll_deg, p.pitch_deg, p.yaw_deg);
     const geom::Pose3 world_from_camera = geom::world_from_camera(world_from_body, k);
     return {world_from_camera, world_from_camera.linear().transpose()};
+}
+
+// The camera mirrored in the floor plane (FRD z = 0): its view is the floor's reflection. An
+// improper rotation, which the visibility pass handles (it tests faces by world-frame dot
+// products and takes each projected polygon's orientation from its signed area).
+CameraFrame mirrored_in_floor(const CameraFrame& cf) {
+    const geom::Mat3 m = geom::Vec3(1, 1, -1).asDiagonal();
+    CameraFrame out = cf;
+    out.world_from_camera.linear() = m * cf.world_from_camera.linear();
+    out.world_from_camera.translation() = m * cf.world_from_camera.translation();
+    out.camera_from_world = out.world_from_camera.linear().transpose();
+    return out;
 }
 
 // log2 from the float's bits, mantissa linear: within 0.09 of the true value, plenty to pick a
@@ -134,6 +148,11 @@ struct Renderer::Impl {
     std::vector<std::uint16_t> ids;
     std::vector<PrimFrame> frames;
     int drawn = 0;
+    // Glossy floor: the floor's primitive, the mirror pass' buffers and image.
+    int floor_prim = -1;
+    std::vector<float> m_wbuf, m_ubuf, m_vbuf;
+    std::vector<std::uint16_t> m_ids;
+    cv::Mat mirror, mirror_tmp;
 
     int texture_index(const TextureSpec& spec) {
         for (std::size_t i = 0; i < texture_specs.size(); ++i)
@@ -241,6 +260,7 @@ struct Renderer::Impl {
         // Room: floor, ceiling, four walls facing inwards.
         const Room& r = s.room;
         const double lx = r.x_max_m - r.x_min_m, ly = r.y_max_m - r.y_min_m;
+        floor_prim = int(prims.size());
         add_horizontal(frd(r.x_min_m, r.y_min_m, 0), {lx, 0, 0}, {0, ly, 0}, true, r.floor, L);
         add_horizontal(frd(r.x_min_m, r.y_max_m, r.height_m), {lx, 0, 0}, {0, -ly, 0}, false,
                        r.ceiling, L);
@@ -445,6 +465,54 @@ struct Renderer::Impl {
             }
     }
 
+    // The glossy floor: a second visibility and shading pass from the camera mirrored in the
+    // floor, blurred, mixed into the floor's pixels. The main pass' buffers (inverse_depth())
+    // are kept.
+    void glossy_floor(const CameraFrame& cf, cv::Mat& out) {
+        const std::size_t n = wbuf.size();
+        m_wbuf.assign(n, 0.0f);
+        m_ubuf.resize(n);
+        m_vbuf.resize(n);
+        m_ids.assign(n, kNoPrim);
+        wbuf.swap(m_wbuf);
+        ubuf.swap(m_ubuf);
+        vbuf.swap(m_vbuf);
+        ids.swap(m_ids);
+        const int drawn_main = drawn;
+        const CameraFrame mc = mirrored_in_floor(cf);
+        for (std::size_t i = 0; i < prims.size(); ++i)
+            if (int(i) != floor_prim) draw_prim(i, mc);
+        mirror.create(H, W, CV_8UC3);
+        shade(mirror);
+        drawn = drawn_main;
+        wbuf.swap(m_wbuf);
+        ubuf.swap(m_ubuf);
+        vbuf.swap(m_vbuf);
+        ids.swap(m_ids);
+        // A Gaussian of the angular sigma, approximated by three box blurs (sigma^2 = 3 (w^2 - 1)
+        // / 12 for width w).
+        const double sigma_px = options.floor_blur_deg * kRadPerDeg * calib.fx;
+        const int w = int(std::lround(std::sqrt(4 * sigma_px * sigma_px + 1)));
+        if (w >= 2)
+            for (int k = 0; k < 3; ++k) {
+                cv::blur(mirror, mirror_tmp, cv::Size(w, w), cv::Point(-1, -1), cv::BORDER_REFLECT);
+                std::swap(mirror, mirror_tmp);
+            }
+        const int k256 = int(std::lround(std::clamp(options.floor_reflection, 0.0, 1.0) * 256));
+        const auto floor_id = static_cast<std::uint16_t>(floor_prim);
+        for (int y = 0; y < H; ++y) {
+            std::uint8_t* o = out.ptr<std::uint8_t>(y);
+            const std::uint8_t* r = mirror.ptr<std::uint8_t>(y);
+            const std::uint16_t* id = ids.data() + std::size_t(y) * std::size_t(W);
+            for (int x = 0; x < W; ++x) {
+                if (id[x] != floor_id) continue;
+                for (int c = 0; c < 3; ++c)
+                    o[3 * x + c] = std::uint8_t(
+                        (o[3 * x + c] * (256 - k256) + r[3 * x + c] * k256 + 128) >> 8);
+            }
+        }
+    }
+
     void shade(cv::Mat& out) {
         const float bias = float(options.lod_bias);
         std::uint16_t last = kNoPrim;
@@ -541,6 +609,7 @@ void Renderer::render(const Pose& pose, cv::Mat& out) {
     m.drawn = 0;
     for (std::size_t i = 0; i < m.prims.size(); ++i) m.draw_prim(i, cf);
     m.shade(out);
+    if (m.options.floor_reflection > 0 && m.floor_prim >= 0) m.glossy_floor(cf, out);
 }
 
 std::optional<cv::Point2d> Renderer::project(const Pose& pose, double x_m, double y_m,

@@ -31,6 +31,13 @@ std::string to_string(RenderError e);
 
 struct RenderOptions {
     double lod_bias = 0.0;  // added to the mip level (positive: blurrier)
+    // A glossy floor (the realism layer's glossy_floor_*): the floor's pixels are mixed with the
+    // mirror image of the scene above it by this share (0 = matte, no mirror pass), the mirror
+    // image blurred by a Gaussian of `floor_blur_deg` angular sigma as the camera sees it (a
+    // rough finish). The mirror pass renders the scene once more, from the camera mirrored in
+    // the floor plane.
+    double floor_reflection = 0.0;
+    double floor_blur_deg = 0.0;
 };
 
 struct RenderStats {

@@ -436,5 +436,35 @@ TEST(Realism, AFlightWithPlainWallsHasLessTextureOnItsWalls) {
     std::filesystem::remove_all(root);
 }
 
+TEST(Realism, AGlossyFloorChangesTheFloorOfAGeneratedFlightAndNotTheWalls) {
+    const auto root =
+        std::filesystem::temp_directory_path() / ("gs_realism_floor_" + std::to_string(::getpid()));
+    std::filesystem::remove_all(root);
+    RealismOptions gloss;
+    gloss.glossy_floor_pct = 40;
+    gloss.glossy_floor_blur_deg = 1.5;
+    const auto dir0 = write_flight(root, "matte", "thesis_pillar_center", {});
+    const auto dir1 = write_flight(root, "glossy", "thesis_pillar_center", gloss);
+    std::ifstream in(dir1 / "flight.json");
+    const nlohmann::json j = nlohmann::json::parse(in);
+    EXPECT_DOUBLE_EQ(j["realism"]["glossy_floor_pct"].get<double>(), 40);
+    EXPECT_DOUBLE_EQ(j["realism"]["glossy_floor_blur_deg"].get<double>(), 1.5);
+    const auto f0 = decode_flight(dir0), f1 = decode_flight(dir1);
+    ASSERT_FALSE(f0.empty());
+    ASSERT_EQ(f0.size(), f1.size());
+    const cv::Mat a = f0.back(), b = f1.back();
+    save_png("floor_matte.png", a);
+    save_png("floor_glossy.png", b);
+    // The bottom rows are floor; the top 60 rows walls and ceiling (only coding noise differs).
+    cv::Mat diff;
+    cv::absdiff(a, b, diff);
+    const double floor_diff = cv::mean(diff.rowRange(260, 360))[0];
+    const double top_diff = cv::mean(diff.rowRange(0, 60))[0];
+    EXPECT_GT(floor_diff, 5.0);
+    EXPECT_LT(top_diff, 3.0);
+    EXPECT_GT(floor_diff, 3 * top_diff) << "floor " << floor_diff << ", top " << top_diff;
+    std::filesystem::remove_all(root);
+}
+
 }  // namespace
 }  // namespace gs::sim
