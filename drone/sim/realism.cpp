@@ -36,6 +36,8 @@ RealismOptions RealismOptions::real_camera() {
     o.low_texture_walls_pct = 50;
     o.glossy_floor_pct = 20;
     o.glossy_floor_blur_deg = 1.5;
+    o.people_crossing = 1;
+    o.person_speed_mps = 1.3;
     return o;
 }
 
@@ -75,6 +77,10 @@ constexpr RealismField kFields[] = {
      "Glossy floor: share of the floor's light that mirrors the scene above it (%)"},
     {"glossy_floor_blur_deg", &RealismOptions::glossy_floor_blur_deg, 0, 20,
      "Glossy floor: blur of the reflection, angular Gaussian sigma (deg)"},
+    {"people_crossing", &RealismOptions::people_crossing, 0, 10,
+     "People crossing the flight path, >= 6 m ahead of the drone (count)"},
+    {"person_speed_mps", &RealismOptions::person_speed_mps, 0.3, 3,
+     "Walking speed of the people crossing (m/s)"},
 };
 
 }  // namespace
@@ -109,6 +115,9 @@ std::optional<std::string> RealismOptions::check() const {
             return std::string("realism.") + f.name + " = " + std::to_string(v) + " is outside [" +
                    std::to_string(f.lo) + ", " + std::to_string(f.hi) + "]";
     }
+    if (people_crossing != std::floor(people_crossing))
+        return "realism.people_crossing = " + std::to_string(people_crossing) +
+               " is not a whole number";
     return std::nullopt;
 }
 
@@ -145,6 +154,104 @@ SceneEffects apply_scene_effects(Scene& scene, const RealismOptions& o, std::uin
             out.plain_walls.push_back(walls[std::size_t(i)].first);
         }
         std::sort(out.plain_walls.begin(), out.plain_walls.end());
+    }
+    return out;
+}
+
+// ---- People ----
+
+Obstacle PersonTrack::at(double t_s) const {
+    Obstacle o;
+    o.id = "person";
+    o.shape = ObstacleShape::Box;
+    const double along = speed_mps * (t_s - cross_s);
+    o.x_m = cross_x_m + dir_x * along;
+    o.y_m = cross_y_m + dir_y * along;
+    o.size_x_m = 0.3;  // along the walk (local x = walking direction)
+    o.size_y_m = 0.5;  // shoulders
+    o.height_m = 1.75;
+    o.yaw_deg = std::atan2(dir_y, dir_x) * 180 / std::numbers::pi;
+    o.texture = clothes;
+    o.clutter = true;
+    return o;
+}
+
+nlohmann::json PersonTrack::to_json() const {
+    nlohmann::ordered_json j;
+    j["cross_s"] = cross_s;
+    j["cross_xy_m"] = {cross_x_m, cross_y_m};
+    j["direction"] = {dir_x, dir_y};
+    j["from_s"] = from_s;
+    j["to_s"] = to_s;
+    j["speed_mps"] = speed_mps;
+    return nlohmann::json(j);
+}
+
+std::vector<PersonTrack> plan_people(const RealismOptions& o, const Room& room, double x0,
+                                     double y0, double heading_deg, double max_speed_mps,
+                                     std::uint64_t seed) {
+    std::vector<PersonTrack> out;
+    const int n = int(std::lround(o.people_crossing));
+    if (n <= 0) return out;
+    Rng rng(mix_seed(seed, 0x9e0b1e));
+    const double h = heading_deg * std::numbers::pi / 180;
+    const double hx = std::cos(h), hy = std::sin(h);  // along the flight
+    const double ex = -hy, ey = hx;                   // to its right
+    const double margin = 0.5;  // the person's centre stays this far from the walls
+    const double xl = room.x_min_m + margin, xh = room.x_max_m - margin;
+    const double yl = room.y_min_m + margin, yh = room.y_max_m - margin;
+    // How far the line from (x, y) along (dx, dy) runs inside the room's inner box, both ways.
+    auto extent = [&](double x, double y, double dx, double dy, double& lo, double& hi) {
+        lo = -1e9;
+        hi = 1e9;
+        auto slab = [&](double p, double d, double a, double b) {
+            if (std::abs(d) < 1e-12) {
+                if (p < a || p > b) hi = lo - 1;
+                return;
+            }
+            double t1 = (a - p) / d, t2 = (b - p) / d;
+            if (t1 > t2) std::swap(t1, t2);
+            lo = std::max(lo, t1);
+            hi = std::min(hi, t2);
+        };
+        slab(x, dx, xl, xh);
+        slab(y, dy, yl, yh);
+    };
+    double a_lo = 0, a_hi = 0;
+    extent(x0, y0, hx, hy, a_lo, a_hi);
+    const double clear_m = 7.0;  // 6 m and a margin
+    for (int k = 0; k < n; ++k) {
+        PersonTrack p;
+        p.speed_mps = o.person_speed_mps;
+        double t_c = 3.0 * (k + 1) + rng.uniform(-0.5, 0.5);
+        // The drone is at most max_speed * t_c along the line by then; the person crosses 7 m
+        // beyond. Too far for the room: cross earlier, nearer (down to 1 s into the recording).
+        double a_c = max_speed_mps * t_c + clear_m;
+        if (a_c > a_hi - 0.3) {
+            t_c = (a_hi - 0.3 - clear_m) / std::max(max_speed_mps, 1e-3);
+            a_c = a_hi - 0.3;
+        }
+        const bool left_to_right = rng.chance(0.5);
+        TextureSpec t;
+        t.kind = TextureKind::Noise;
+        t.seed = rng.next();
+        t.scale_m = 0.6;
+        const cv::Vec3b palette[] = {{40, 50, 90}, {120, 30, 30},   {30, 30, 30},
+                                     {60, 90, 60}, {150, 140, 120}, {90, 60, 110}};
+        t.color_rgb = palette[rng.range(0, 5)];
+        p.clothes = t;
+        if (t_c < 1.0) continue;  // no room ahead for this one
+        p.cross_s = t_c;
+        p.cross_x_m = x0 + hx * a_c;
+        p.cross_y_m = y0 + hy * a_c;
+        p.dir_x = left_to_right ? ex : -ex;
+        p.dir_y = left_to_right ? ey : -ey;
+        double w_lo = 0, w_hi = 0;
+        extent(p.cross_x_m, p.cross_y_m, p.dir_x, p.dir_y, w_lo, w_hi);
+        if (!(w_lo < 0 && w_hi > 0)) continue;
+        p.from_s = t_c + w_lo / p.speed_mps;  // w_lo < 0: before the crossing
+        p.to_s = t_c + w_hi / p.speed_mps;
+        out.push_back(p);
     }
     return out;
 }

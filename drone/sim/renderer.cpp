@@ -150,6 +150,9 @@ struct Renderer::Impl {
     int drawn = 0;
     // Glossy floor: the floor's primitive, the mirror pass' buffers and image.
     int floor_prim = -1;
+    // Moving boxes (set_movers): appended after the scene's own primitives.
+    std::size_t static_prims = 0;
+    Lighting lighting;
     std::vector<float> m_wbuf, m_ubuf, m_vbuf;
     std::vector<std::uint16_t> m_ids;
     cv::Mat mirror, mirror_tmp;
@@ -205,32 +208,37 @@ struct Renderer::Impl {
         add_rect(corner, U, V, up ? cv::Vec3d(0, 0, -1) : kDown, spec, corner[0], corner[1], l);
     }
 
+    // A box obstacle: four vertical faces, a top and (raised) a bottom.
+    void add_box(const Obstacle& o, const Lighting& L) {
+        const double top = o.z_m + o.height_m, bot = o.z_m;
+        const double c = std::cos(o.yaw_deg * kRadPerDeg), sn = std::sin(o.yaw_deg * kRadPerDeg);
+        const cv::Vec3d ax(c, sn, 0), ay(-sn, c, 0);
+        const cv::Vec3d ctr = frd(o.x_m, o.y_m, 0);
+        const double hx = o.size_x_m / 2, hy = o.size_y_m / 2;
+        // Around the box so u runs on across corners.
+        const std::array<std::pair<cv::Vec3d, double>, 4> faces{
+            {{-ax, o.size_y_m}, {ay, o.size_x_m}, {ax, o.size_y_m}, {-ay, o.size_x_m}}};
+        double u = 0;
+        for (const auto& [n, w] : faces) {
+            const double half = (n == ax || n == -ax) ? hx : hy;
+            add_vertical(ctr + n * half, w, top, bot, n, o.texture, u, L);
+            u += w;
+        }
+        const cv::Vec3d corner = ctr - ax * hx - ay * hy;
+        add_horizontal(corner + cv::Vec3d(0, 0, -top), ax * o.size_x_m, ay * o.size_y_m, true,
+                       o.texture, L);
+        if (bot > 0.01)
+            add_horizontal(corner + cv::Vec3d(0, 0, -bot) + ay * o.size_y_m, ax * o.size_x_m,
+                           -ay * o.size_y_m, false, o.texture, L);
+    }
+
     void build(const Scene& s) {
         const Lighting& L = s.lighting;
         // Obstacles first: in the visibility pass they fill the depth buffer early.
         for (const Obstacle& o : s.obstacles) {
             const double top = o.z_m + o.height_m, bot = o.z_m;
             if (o.shape == ObstacleShape::Box) {
-                const double c = std::cos(o.yaw_deg * kRadPerDeg),
-                             sn = std::sin(o.yaw_deg * kRadPerDeg);
-                const cv::Vec3d ax(c, sn, 0), ay(-sn, c, 0);
-                const cv::Vec3d ctr = frd(o.x_m, o.y_m, 0);
-                const double hx = o.size_x_m / 2, hy = o.size_y_m / 2;
-                // Around the box so u runs on across corners.
-                const std::array<std::pair<cv::Vec3d, double>, 4> faces{
-                    {{-ax, o.size_y_m}, {ay, o.size_x_m}, {ax, o.size_y_m}, {-ay, o.size_x_m}}};
-                double u = 0;
-                for (const auto& [n, w] : faces) {
-                    const double half = (n == ax || n == -ax) ? hx : hy;
-                    add_vertical(ctr + n * half, w, top, bot, n, o.texture, u, L);
-                    u += w;
-                }
-                const cv::Vec3d corner = ctr - ax * hx - ay * hy;
-                add_horizontal(corner + cv::Vec3d(0, 0, -top), ax * o.size_x_m, ay * o.size_y_m,
-                               true, o.texture, L);
-                if (bot > 0.01)
-                    add_horizontal(corner + cv::Vec3d(0, 0, -bot) + ay * o.size_y_m,
-                                   ax * o.size_x_m, -ay * o.size_y_m, false, o.texture, L);
+                add_box(o, L);
             } else {
                 const int N = std::clamp(o.sides, 3, 64);
                 const double width = 2 * o.radius_m * std::sin(std::numbers::pi / N);
@@ -594,7 +602,9 @@ Expected<Renderer, RenderError> Renderer::create(const Scene& scene, const Camer
     impl->W = calib.width;
     impl->H = calib.height;
     impl->options_vignette = std::clamp(scene.lighting.vignette, 0.0, 0.95);
+    impl->lighting = scene.lighting;
     impl->build(scene);
+    impl->static_prims = impl->prims.size();
     if (impl->prims.size() >= kNoPrim) return Unexpected{RenderError::InvalidCalibration};
     if (!impl->build_rays()) return Unexpected{RenderError::CalibrationNotInvertible};
     return Renderer(std::move(impl));
@@ -610,6 +620,16 @@ void Renderer::render(const Pose& pose, cv::Mat& out) {
     for (std::size_t i = 0; i < m.prims.size(); ++i) m.draw_prim(i, cf);
     m.shade(out);
     if (m.options.floor_reflection > 0 && m.floor_prim >= 0) m.glossy_floor(cf, out);
+}
+
+void Renderer::set_movers(std::span<const Obstacle> boxes) {
+    Impl& m = *impl_;
+    m.prims.resize(m.static_prims);
+    for (const Obstacle& o : boxes) {
+        if (m.prims.size() + 6 >= kNoPrim) break;
+        if (o.shape == ObstacleShape::Box) m.add_box(o, m.lighting);
+    }
+    m.frames.resize(m.prims.size());
 }
 
 std::optional<cv::Point2d> Renderer::project(const Pose& pose, double x_m, double y_m,

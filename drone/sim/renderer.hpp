@@ -61,6 +61,11 @@ public:
     // of scene.hpp) into `bgr_out` (CV_8UC3, calibration size; reallocated only if needed).
     void render(const Pose& camera_pose, cv::Mat& bgr_out);
 
+    // Boxes that move (the realism layer's people): drawn from the next render() on, in place of
+    // the last call's; their textures are generated on first use (~10 ms each) and kept. Only
+    // boxes (ObstacleShape::Box) are drawn.
+    void set_movers(std::span<const Obstacle> boxes);
+
     // Where a world point appears in the image under the same camera model; nullopt if it is
     // behind the camera.
     std::optional<cv::Point2d> project(const Pose& camera_pose, double x_m, double y_m,
