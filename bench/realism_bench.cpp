@@ -3,6 +3,9 @@
 // the real-camera preset's geometry (rolling shutter 25 ms, motion blur 12 ms: the per-pixel
 // resampling) and its photometry, timing each part. Prints p50/p90/p99/max of thread CPU time.
 // Usage: bench_realism_bench [scene.json] [frames] [--dump FILE | --compare FILE] [--png DIR]
+//                            [--scene-effects]
+//   --scene-effects also the preset's scene effects (half the walls plain, the glossy floor's
+//                   mirror pass, a person crossing), timed in "render"
 //   --dump FILE     write every output frame's bytes to FILE (to compare two builds)
 //   --compare FILE  compare every output frame with FILE's: max and mean absolute difference
 //   --png DIR       write every 30th output frame as PNG (and its clean render) to look at
@@ -53,6 +56,7 @@ int main(int argc, char** argv) {
     std::string path = std::string(GS_ASSETS_DIR) + "/scenes/thesis_pillar_left.json";
     int frames = 150;
     std::string dump, compare, png_dir;
+    bool scene_effects = false;
     int positional = 0;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
@@ -60,6 +64,8 @@ int main(int argc, char** argv) {
             dump = argv[++i];
         } else if (a == "--compare" && i + 1 < argc) {
             compare = argv[++i];
+        } else if (a == "--scene-effects") {
+            scene_effects = true;
         } else if (a == "--png" && i + 1 < argc) {
             png_dir = argv[++i];
         } else if (positional == 0) {
@@ -74,18 +80,27 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "%s\n", gs::sim::to_string(scene.error()).c_str());
         return 1;
     }
+    const gs::sim::RealismOptions preset = gs::sim::RealismOptions::real_camera();
+    std::vector<gs::sim::PersonTrack> people;
+    if (scene_effects) {
+        gs::sim::apply_scene_effects(*scene, preset, 11);
+        people = gs::sim::plan_people(preset, scene->room, scene->start.x_m, scene->start.y_m,
+                                      scene->start.yaw_deg, 1.5 * 1.25, 11);
+    }
     const auto calib = gs::builtin_calibration(gs::CameraId::Front);
-    auto renderer = gs::sim::Renderer::create(*scene, calib, gs::sim::CameraKind::Front);
+    auto renderer = gs::sim::Renderer::create(
+        *scene, calib, gs::sim::CameraKind::Front,
+        scene_effects ? gs::sim::render_options(preset) : gs::sim::RenderOptions{});
     if (!renderer) {
         std::fprintf(stderr, "%s\n", gs::sim::to_string(renderer.error()).c_str());
         return 1;
     }
-    const gs::sim::RealismOptions preset = gs::sim::RealismOptions::real_camera();
     gs::sim::RealismOptions geo, photo;
     geo.rolling_shutter_ms = preset.rolling_shutter_ms;
     geo.exposure_ms = preset.exposure_ms;
     photo = preset;
     photo.rolling_shutter_ms = photo.exposure_ms = 0;
+    photo.low_texture_walls_pct = photo.glossy_floor_pct = photo.people_crossing = 0;
     gs::sim::CameraEffects fx_geo(calib, geo, 11), fx_photo(calib, photo, 11);
     std::printf("scene %s, %dx%d, %d frames; geometry: rolling shutter %.0f ms, exposure %.0f ms\n",
                 path.c_str(), calib.width, calib.height, frames, geo.rolling_shutter_ms,
@@ -117,6 +132,12 @@ int main(int argc, char** argv) {
         p.roll_deg = 3.0 * std::sin(t * 5.0);
         p.pitch_deg = -5.0 + 0.5 * std::sin(t * 2.0);
         const double c0 = thread_cpu_ms();
+        if (!people.empty()) {
+            std::vector<gs::sim::Obstacle> movers;
+            for (const auto& q : people)
+                if (q.present(t)) movers.push_back(q.at(t));
+            renderer->set_movers(movers);
+        }
         renderer->render(p, img);
         const double c1 = thread_cpu_ms();
         if (!png_dir.empty() && i % 30 == 0) clean = img.clone();
