@@ -355,6 +355,28 @@ inline void sample_bilinear(const Px* src, std::size_t step, int W, int H, float
     acc += top + fy * (bot - top);
 }
 
+// The warp's first pass over one row: each pixel's ray r = (rx, ry, 1) moves as
+// d n / d tau = omega x r + v w (w = 1 / Z); its pixel at tau = ta is (pax, pay), and at tb that
+// plus (dx, dy). Branch-free on unaliased arrays, so the compiler vectorises it.
+void project_row(const FloatLens& lens, const float* __restrict rx_p, const float* __restrict ry_p,
+                 const float* __restrict w_p, int W, float wx, float wy, float wz, float vx,
+                 float vy, float vz, float ta, float tb, float* __restrict pax,
+                 float* __restrict pay, float* __restrict dxs, float* __restrict dys) {
+    for (int x = 0; x < W; ++x) {
+        const float rx = rx_p[x], ry = ry_p[x], w = w_p[x];
+        const float gx = wy - wz * ry + vx * w;
+        const float gy = wz * rx - wx + vy * w;
+        const float gz = wx * ry - wy * rx + vz * w;
+        float ax, ay, bx, by;
+        lens.project(rx + ta * gx, ry + ta * gy, 1 + ta * gz, ax, ay);
+        lens.project(rx + tb * gx, ry + tb * gy, 1 + tb * gz, bx, by);
+        pax[x] = ax;
+        pay[x] = ay;
+        dxs[x] = bx - ax;
+        dys[x] = by - ay;
+    }
+}
+
 // Rounds a non-negative sum to a byte (std::lround's result for values >= 0).
 inline std::uint8_t to_byte(float v) {
     return std::uint8_t(std::min(int(v + 0.5f), 255));
@@ -382,6 +404,7 @@ void CameraEffects::warp(const cv::Mat& src, cv::Mat& dst, const CameraMotion& m
     const float* const ry_p = ry_.data();
     const float* const w_p = depth && moving ? inv_depth.data() : nullptr;
     row_.resize(std::size_t(W) * 4);
+    zeros_.assign(std::size_t(W), 0.0f);
     float* const pax = row_.data();
     float* const pay = pax + W;
     float* const dxs = pay + W;
@@ -391,26 +414,10 @@ void CameraEffects::warp(const cv::Mat& src, cv::Mat& dst, const CameraMotion& m
         const float tau = float(H > 1 ? (double(y) / (H - 1) - 0.5) * readout : 0.0);
         const float ta = tau - float(expo / 2), tb = tau + float(expo / 2);
         const std::size_t row = std::size_t(y) * std::size_t(W);
-        const float* const rxr = rx_p + row;
-        const float* const ryr = ry_p + row;
-        const float* const wr = w_p ? w_p + row : nullptr;
-        // Pass 1, branch-free over the row (the compiler vectorises it): where the ray of each
-        // pixel is at the start and the end of its row's exposure.
-        for (int x = 0; x < W; ++x) {
-            const float rx = rxr[x], ry = ryr[x];
-            const float w = wr ? wr[x] : 0.0f;
-            // d n / d tau = omega x r + v / Z, r = (rx, ry, 1).
-            const float gx = wy - wz * ry + vx * w;
-            const float gy = wz * rx - wx + vy * w;
-            const float gz = wx * ry - wy * rx + vz * w;
-            float ax, ay, bx, by;
-            lens.project(rx + ta * gx, ry + ta * gy, 1 + ta * gz, ax, ay);
-            lens.project(rx + tb * gx, ry + tb * gy, 1 + tb * gz, bx, by);
-            pax[x] = ax;
-            pay[x] = ay;
-            dxs[x] = bx - ax;
-            dys[x] = by - ay;
-        }
+        // Pass 1 (vectorised): where the ray of each pixel is at the start and the end of its
+        // row's exposure.
+        project_row(lens, rx_p + row, ry_p + row, w_p ? w_p + row : zeros_.data(), W, wx, wy, wz,
+                    vx, vy, vz, ta, tb, pax, pay, dxs, dys);
         // Pass 2: the box exposure as taps less than a pixel apart along that path.
         std::uint8_t* o = dst.ptr<std::uint8_t>(y);
         for (int x = 0; x < W; ++x) {

@@ -162,7 +162,7 @@ private:
     std::uint64_t noise_seed_;
     std::vector<float> rx_, ry_;         // undistorted normalised ray of each pixel
     std::vector<float> vig_;             // vignetting gain per pixel
-    std::vector<float> row_;             // the warp's per-row scratch
+    std::vector<float> row_, zeros_;     // the warp's per-row scratch
     cv::Mat tmp_, noise_, src4_, srcf_;  // srcf_: the warp's source as float BGRA
     double gain_ = 1;
     int steps_ = 0;
