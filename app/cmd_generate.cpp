@@ -166,7 +166,9 @@ CommandRegistration reg(45, [](CLI::App& root) {
                   "Film the flights as a real AR.Drone 2 camera, link and estimator would "
                   "(drone/sim/realism.hpp: 25 ms rolling shutter, 12 ms exposure, 15 % exposure "
                   "steps, 3 % flicker, 30 % vignetting, 1.5 % noise, 2 % lost slices, navdata "
-                  "30 +- 10 ms late with drifting biases); the options below change one effect");
+                  "30 +- 10 ms late with drifting biases; half the walls plain, a floor reflecting "
+                  "20 %, blurred by 1.5 deg; one person crossing the path ahead at 1.3 m/s); the "
+                  "options below change one effect");
     for (const sim::RealismField& f : sim::realism_fields()) {
         std::string flag = std::string("--") + f.name;
         std::replace(flag.begin(), flag.end(), '_', '-');

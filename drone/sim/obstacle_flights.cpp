@@ -213,8 +213,11 @@ Expected<ObstacleFlightSummary, std::string> write_obstacle_flight(const fs::pat
     fs::create_directories(dir, ec);
     if (ec) return Unexpected("cannot create " + dir.string() + ": " + ec.message());
 
+    if (auto e = p.realism.check()) return Unexpected(*e);
+    // The realism layer's scene effects (plain walls ...): what the camera sees, not the flight.
+    const SceneEffects scene_fx = apply_scene_effects(scene, p.realism, mix_seed(p.seed, 0x5ce4e));
     const CameraCalibration calib = builtin_calibration(CameraId::Front);
-    auto renderer = Renderer::create(scene, calib, CameraKind::Front);
+    auto renderer = Renderer::create(scene, calib, CameraKind::Front, render_options(p.realism));
     if (!renderer) return Unexpected("renderer: " + to_string(renderer.error()));
     video::H264EncoderConfig ec_cfg;
     ec_cfg.width = calib.width;
@@ -231,11 +234,12 @@ Expected<ObstacleFlightSummary, std::string> write_obstacle_flight(const fs::pat
     std::string labels_csv = "frame,distance_m,lateral_m\n";
 
     Rng noise(mix_seed(p.seed, 0x0b5));
-    if (auto e = p.realism.check()) return Unexpected(*e);
     CameraEffects camera_fx(calib, p.realism, mix_seed(p.seed, 0xca3e7a));
     StreamDamage damage(p.realism.slice_loss_pct, mix_seed(p.seed, 0x511ce));
     NavdataEffects nav_fx(p.realism, mix_seed(p.seed, 0x4a7da7a));
     std::optional<Pose> last_pose;
+    std::vector<PersonTrack> people;  // planned at the first recorded frame
+    std::vector<Obstacle> movers;
     std::vector<std::uint8_t> au;
     cv::Mat image;
     ObstacleFlightSummary sum;
@@ -244,6 +248,18 @@ Expected<ObstacleFlightSummary, std::string> write_obstacle_flight(const fs::pat
     auto flown =
         fly_protocol(fl, scene, target, [&](const FlightFrame& f) -> std::optional<std::string> {
             const FlightState& s = f.state;
+            if (p.realism.people_crossing > 0) {
+                // People crossing the path ahead: scenery the renderer draws, never the flight's.
+                if (f.index == 0)
+                    people = plan_people(p.realism, scene.room, f.pose.x_m, f.pose.y_m,
+                                         scene.start.yaw_deg, 1.25 * p.speed_mps,
+                                         mix_seed(p.seed, 0x9e091e));
+                const double t_s = static_cast<double>(f.t_ns) * 1e-9;
+                movers.clear();
+                for (const PersonTrack& q : people)
+                    if (q.present(t_s)) movers.push_back(q.at(t_s));
+                renderer->set_movers(movers);
+            }
             auto t0 = std::chrono::steady_clock::now();
             renderer->render(f.pose, image);
             sum.render_ms += since_ms(t0);
@@ -333,6 +349,12 @@ Expected<ObstacleFlightSummary, std::string> write_obstacle_flight(const fs::pat
         r["video_bitrate_kbps"] = p.bitrate_bps / 1000.0;
         r["seed"] = p.seed;
         r["slices_lost"] = sum.slices_lost;
+        if (p.realism.low_texture_walls_pct > 0) r["plain_walls"] = scene_fx.plain_walls;
+        if (p.realism.people_crossing > 0) {
+            r["people"] = nlohmann::ordered_json::array();
+            for (const PersonTrack& q : people)
+                r["people"].push_back(nlohmann::ordered_json::parse(q.to_json().dump()));
+        }
         j["realism"] = r;
         flight_json = j.dump(2) + "\n";
     }

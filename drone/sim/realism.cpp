@@ -1,6 +1,7 @@
 #include "drone/sim/realism.hpp"
 
 #include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -32,6 +33,11 @@ RealismOptions RealismOptions::real_camera() {
     o.attitude_bias_deg = 0.3;
     o.velocity_bias_mps = 0.03;
     o.bias_tau_s = 30;
+    o.low_texture_walls_pct = 50;
+    o.glossy_floor_pct = 20;
+    o.glossy_floor_blur_deg = 1.5;
+    o.people_crossing = 1;
+    o.person_speed_mps = 1.3;
     return o;
 }
 
@@ -65,6 +71,16 @@ constexpr RealismField kFields[] = {
      "Drifting velocity bias, stationary sigma (m/s)"},
     {"bias_tau_s", &RealismOptions::bias_tau_s, 0.1, 10000,
      "Correlation time of the drifting biases (s)"},
+    {"low_texture_walls_pct", &RealismOptions::low_texture_walls_pct, 0, 100,
+     "Low-texture walls: share of the room's four walls repainted plain (%, whole walls)"},
+    {"glossy_floor_pct", &RealismOptions::glossy_floor_pct, 0, 100,
+     "Glossy floor: share of the floor's light that mirrors the scene above it (%)"},
+    {"glossy_floor_blur_deg", &RealismOptions::glossy_floor_blur_deg, 0, 20,
+     "Glossy floor: blur of the reflection, angular Gaussian sigma (deg)"},
+    {"people_crossing", &RealismOptions::people_crossing, 0, 10,
+     "People crossing the flight path, >= 6 m ahead of the drone (count)"},
+    {"person_speed_mps", &RealismOptions::person_speed_mps, 0.3, 3,
+     "Walking speed of the people crossing (m/s)"},
 };
 
 }  // namespace
@@ -99,7 +115,145 @@ std::optional<std::string> RealismOptions::check() const {
             return std::string("realism.") + f.name + " = " + std::to_string(v) + " is outside [" +
                    std::to_string(f.lo) + ", " + std::to_string(f.hi) + "]";
     }
+    if (people_crossing != std::floor(people_crossing))
+        return "realism.people_crossing = " + std::to_string(people_crossing) +
+               " is not a whole number";
     return std::nullopt;
+}
+
+// ---- Scene ----
+
+RenderOptions render_options(const RealismOptions& o) {
+    RenderOptions r;
+    if (o.glossy_floor_pct > 0) {
+        r.floor_reflection = o.glossy_floor_pct / 100;
+        r.floor_blur_deg = o.glossy_floor_blur_deg;
+    }
+    return r;
+}
+
+SceneEffects apply_scene_effects(Scene& scene, const RealismOptions& o, std::uint64_t seed) {
+    SceneEffects out;
+    Room& r = scene.room;
+    std::array<std::pair<const char*, TextureSpec*>, 4> walls{{{"front", &r.wall_front},
+                                                               {"back", &r.wall_back},
+                                                               {"left", &r.wall_left},
+                                                               {"right", &r.wall_right}}};
+    const int n = int(std::lround(4 * o.low_texture_walls_pct / 100));
+    if (n > 0) {
+        Rng rng(mix_seed(seed, 0x91a1));
+        // The first n of a seeded shuffle.
+        for (int i = 3; i > 0; --i)
+            std::swap(walls[std::size_t(i)], walls[std::size_t(rng.range(0, i))]);
+        for (int i = 0; i < n; ++i) {
+            TextureSpec& t = *walls[std::size_t(i)].second;
+            // The wall's own colour, plain: faint mottling only (TextureKind::Plain).
+            t.kind = TextureKind::Plain;
+            t.seed = mix_seed(seed, 0x91a1 + std::uint64_t(i));
+            t.has_color2 = false;
+            out.plain_walls.push_back(walls[std::size_t(i)].first);
+        }
+        std::sort(out.plain_walls.begin(), out.plain_walls.end());
+    }
+    return out;
+}
+
+// ---- People ----
+
+Obstacle PersonTrack::at(double t_s) const {
+    Obstacle o;
+    o.id = "person";
+    o.shape = ObstacleShape::Box;
+    const double along = speed_mps * (t_s - cross_s);
+    o.x_m = cross_x_m + dir_x * along;
+    o.y_m = cross_y_m + dir_y * along;
+    o.size_x_m = 0.3;  // along the walk (local x = walking direction)
+    o.size_y_m = 0.5;  // shoulders
+    o.height_m = 1.75;
+    o.yaw_deg = std::atan2(dir_y, dir_x) * 180 / std::numbers::pi;
+    o.texture = clothes;
+    o.clutter = true;
+    return o;
+}
+
+nlohmann::json PersonTrack::to_json() const {
+    nlohmann::ordered_json j;
+    j["cross_s"] = cross_s;
+    j["cross_xy_m"] = {cross_x_m, cross_y_m};
+    j["direction"] = {dir_x, dir_y};
+    j["from_s"] = from_s;
+    j["to_s"] = to_s;
+    j["speed_mps"] = speed_mps;
+    return nlohmann::json(j);
+}
+
+std::vector<PersonTrack> plan_people(const RealismOptions& o, const Room& room, double x0,
+                                     double y0, double heading_deg, double max_speed_mps,
+                                     std::uint64_t seed) {
+    std::vector<PersonTrack> out;
+    const int n = int(std::lround(o.people_crossing));
+    if (n <= 0) return out;
+    Rng rng(mix_seed(seed, 0x9e0b1e));
+    const double h = heading_deg * std::numbers::pi / 180;
+    const double hx = std::cos(h), hy = std::sin(h);  // along the flight
+    const double ex = -hy, ey = hx;                   // to its right
+    const double margin = 0.5;  // the person's centre stays this far from the walls
+    const double xl = room.x_min_m + margin, xh = room.x_max_m - margin;
+    const double yl = room.y_min_m + margin, yh = room.y_max_m - margin;
+    // How far the line from (x, y) along (dx, dy) runs inside the room's inner box, both ways.
+    auto extent = [&](double x, double y, double dx, double dy, double& lo, double& hi) {
+        lo = -1e9;
+        hi = 1e9;
+        auto slab = [&](double p, double d, double a, double b) {
+            if (std::abs(d) < 1e-12) {
+                if (p < a || p > b) hi = lo - 1;
+                return;
+            }
+            double t1 = (a - p) / d, t2 = (b - p) / d;
+            if (t1 > t2) std::swap(t1, t2);
+            lo = std::max(lo, t1);
+            hi = std::min(hi, t2);
+        };
+        slab(x, dx, xl, xh);
+        slab(y, dy, yl, yh);
+    };
+    double a_lo = 0, a_hi = 0;
+    extent(x0, y0, hx, hy, a_lo, a_hi);
+    const double clear_m = 7.0;  // 6 m and a margin
+    for (int k = 0; k < n; ++k) {
+        PersonTrack p;
+        p.speed_mps = o.person_speed_mps;
+        double t_c = 3.0 * (k + 1) + rng.uniform(-0.5, 0.5);
+        // The drone is at most max_speed * t_c along the line by then; the person crosses 7 m
+        // beyond. Too far for the room: cross earlier, nearer (down to 1 s into the recording).
+        double a_c = max_speed_mps * t_c + clear_m;
+        if (a_c > a_hi - 0.3) {
+            t_c = (a_hi - 0.3 - clear_m) / std::max(max_speed_mps, 1e-3);
+            a_c = a_hi - 0.3;
+        }
+        const bool left_to_right = rng.chance(0.5);
+        TextureSpec t;
+        t.kind = TextureKind::Noise;
+        t.seed = rng.next();
+        t.scale_m = 0.6;
+        const cv::Vec3b palette[] = {{40, 50, 90}, {120, 30, 30},   {30, 30, 30},
+                                     {60, 90, 60}, {150, 140, 120}, {90, 60, 110}};
+        t.color_rgb = palette[rng.range(0, 5)];
+        p.clothes = t;
+        if (t_c < 1.0) continue;  // no room ahead for this one
+        p.cross_s = t_c;
+        p.cross_x_m = x0 + hx * a_c;
+        p.cross_y_m = y0 + hy * a_c;
+        p.dir_x = left_to_right ? ex : -ex;
+        p.dir_y = left_to_right ? ey : -ey;
+        double w_lo = 0, w_hi = 0;
+        extent(p.cross_x_m, p.cross_y_m, p.dir_x, p.dir_y, w_lo, w_hi);
+        if (!(w_lo < 0 && w_hi > 0)) continue;
+        p.from_s = t_c + w_lo / p.speed_mps;  // w_lo < 0: before the crossing
+        p.to_s = t_c + w_hi / p.speed_mps;
+        out.push_back(p);
+    }
+    return out;
 }
 
 // ---- Camera ----
@@ -158,19 +312,74 @@ CameraEffects::CameraEffects(const CameraCalibration& calib, const RealismOption
 
 namespace {
 
-inline void sample_bilinear(const cv::Mat& src, float x, float y, float acc[3]) {
-    const int W = src.cols, H = src.rows;
+// The lens model of distort_to_pixel in float, its coefficients hoisted out of the pixel loop.
+struct FloatLens {
+    float fx, fy, cx, cy, k1, k2, k3, p1, p2;
+    explicit FloatLens(const CameraCalibration& c)
+        : fx(float(c.fx)),
+          fy(float(c.fy)),
+          cx(float(c.cx)),
+          cy(float(c.cy)),
+          k1(float(c.dist[0])),
+          k2(float(c.dist[1])),
+          k3(float(c.dist[4])),
+          p1(float(c.dist[2])),
+          p2(float(c.dist[3])) {}
+    // The pixel where the ray (nx, ny, nz) appears (nz clamped to 1e-3 as before).
+    inline void project(float nx, float ny, float nz, float& px, float& py) const {
+        const float inv = 1.0f / std::max(nz, 1e-3f);
+        const float x = nx * inv, y = ny * inv;
+        const float xx = x * x, yy = y * y, xy = x * y, r2 = xx + yy;
+        const float radial = 1 + r2 * (k1 + r2 * (k2 + r2 * k3));
+        px = fx * (x * radial + 2 * p1 * xy + p2 * (r2 + 2 * xx)) + cx;
+        py = fy * (y * radial + p1 * (r2 + 2 * yy) + 2 * p2 * xy) + cy;
+    }
+};
+
+// One pixel as four floats (B, G, R, unused): the bilinear taps below work on whole pixels with
+// the compiler's 4-lane vectors (GCC and Clang vector extensions; SSE on x86, NEON on ARM).
+using Px = float __attribute__((vector_size(16)));
+
+// Adds the bilinear sample of `src` (Px pixels, rows `step` pixels apart) at (x, y), clamped to
+// the image, to acc.
+inline void sample_bilinear(const Px* src, std::size_t step, int W, int H, float x, float y,
+                            Px& acc) {
     x = std::clamp(x, 0.0f, float(W - 1));
     y = std::clamp(y, 0.0f, float(H - 1));
     const int x0 = std::min(int(x), W - 2), y0 = std::min(int(y), H - 2);
     const float fx = x - float(x0), fy = y - float(y0);
-    const std::uint8_t* a = src.ptr<std::uint8_t>(y0) + 3 * x0;
-    const std::uint8_t* b = src.ptr<std::uint8_t>(y0 + 1) + 3 * x0;
-    for (int c = 0; c < 3; ++c) {
-        const float top = float(a[c]) + fx * (float(a[3 + c]) - float(a[c]));
-        const float bot = float(b[c]) + fx * (float(b[3 + c]) - float(b[c]));
-        acc[c] += top + fy * (bot - top);
+    const Px* a = src + std::size_t(y0) * step + std::size_t(x0);
+    const Px* b = a + step;
+    const Px top = a[0] + fx * (a[1] - a[0]);
+    const Px bot = b[0] + fx * (b[1] - b[0]);
+    acc += top + fy * (bot - top);
+}
+
+// The warp's first pass over one row: each pixel's ray r = (rx, ry, 1) moves as
+// d n / d tau = omega x r + v w (w = 1 / Z); its pixel at tau = ta is (pax, pay), and at tb that
+// plus (dx, dy). Branch-free on unaliased arrays, so the compiler vectorises it.
+void project_row(const FloatLens& lens, const float* __restrict rx_p, const float* __restrict ry_p,
+                 const float* __restrict w_p, int W, float wx, float wy, float wz, float vx,
+                 float vy, float vz, float ta, float tb, float* __restrict pax,
+                 float* __restrict pay, float* __restrict dxs, float* __restrict dys) {
+    for (int x = 0; x < W; ++x) {
+        const float rx = rx_p[x], ry = ry_p[x], w = w_p[x];
+        const float gx = wy - wz * ry + vx * w;
+        const float gy = wz * rx - wx + vy * w;
+        const float gz = wx * ry - wy * rx + vz * w;
+        float ax, ay, bx, by;
+        lens.project(rx + ta * gx, ry + ta * gy, 1 + ta * gz, ax, ay);
+        lens.project(rx + tb * gx, ry + tb * gy, 1 + tb * gz, bx, by);
+        pax[x] = ax;
+        pay[x] = ay;
+        dxs[x] = bx - ax;
+        dys[x] = by - ay;
     }
+}
+
+// Rounds a non-negative sum to a byte (std::lround's result for values >= 0).
+inline std::uint8_t to_byte(float v) {
+    return std::uint8_t(std::min(int(v + 0.5f), 255));
 }
 
 }  // namespace
@@ -184,39 +393,69 @@ void CameraEffects::warp(const cv::Mat& src, cv::Mat& dst, const CameraMotion& m
                 wz = float(m.omega_rad_s[2]);
     const float vx = float(m.v_mps[0]), vy = float(m.v_mps[1]), vz = float(m.v_mps[2]);
     const bool depth = inv_depth.size() == std::size_t(W) * std::size_t(H);
-    auto project = [&](float nx, float ny, float nz) {
-        if (nz < 1e-3f) nz = 1e-3f;
-        return distort_to_pixel(calib_, {double(nx / nz), double(ny / nz)});
-    };
+    const bool moving = vx != 0 || vy != 0 || vz != 0;
+    const FloatLens lens(calib_);
+    // The source as float pixels once per frame: the taps below then read, not convert, values.
+    cv::cvtColor(src, src4_, cv::COLOR_BGR2BGRA);
+    src4_.convertTo(srcf_, CV_32FC4);
+    const Px* const s = reinterpret_cast<const Px*>(srcf_.ptr<float>(0));
+    const std::size_t step = srcf_.step[0] / sizeof(Px);
+    const float* const rx_p = rx_.data();
+    const float* const ry_p = ry_.data();
+    const float* const w_p = depth && moving ? inv_depth.data() : nullptr;
+    row_.resize(std::size_t(W) * 4);
+    zeros_.assign(std::size_t(W), 0.0f);
+    float* const pax = row_.data();
+    float* const pay = pax + W;
+    float* const dxs = pay + W;
+    float* const dys = dxs + W;
+    const float xmax = float(W - 1), ymax = float(H - 1);
     for (int y = 0; y < H; ++y) {
         const float tau = float(H > 1 ? (double(y) / (H - 1) - 0.5) * readout : 0.0);
         const float ta = tau - float(expo / 2), tb = tau + float(expo / 2);
+        const std::size_t row = std::size_t(y) * std::size_t(W);
+        // Pass 1 (vectorised): where the ray of each pixel is at the start and the end of its
+        // row's exposure.
+        project_row(lens, rx_p + row, ry_p + row, w_p ? w_p + row : zeros_.data(), W, wx, wy, wz,
+                    vx, vy, vz, ta, tb, pax, pay, dxs, dys);
+        // Pass 2: the box exposure as taps less than a pixel apart along that path.
         std::uint8_t* o = dst.ptr<std::uint8_t>(y);
         for (int x = 0; x < W; ++x) {
-            const std::size_t i = std::size_t(y) * std::size_t(W) + std::size_t(x);
-            const float rx = rx_[i], ry = ry_[i];
-            const float w = depth ? inv_depth[i] : 0.0f;
-            // d n / d tau = omega x r + v / Z, r = (rx, ry, 1).
-            const float gx = wy * 1 - wz * ry + vx * w;
-            const float gy = wz * rx - wx * 1 + vy * w;
-            const float gz = wx * ry - wy * rx + vz * w;
-            const cv::Point2d pa = project(rx + ta * gx, ry + ta * gy, 1 + ta * gz);
-            float acc[3] = {0, 0, 0};
+            Px acc = {0, 0, 0, 0};
+            const float ax = pax[x], ay = pay[x];
             if (expo <= 0) {
-                sample_bilinear(src, float(pa.x), float(pa.y), acc);
+                sample_bilinear(s, step, W, H, ax, ay, acc);
             } else {
-                const cv::Point2d pb = project(rx + tb * gx, ry + tb * gy, 1 + tb * gz);
-                const double len = std::hypot(pb.x - pa.x, pb.y - pa.y);
+                const float dx = dxs[x], dy = dys[x];
+                const float len = std::sqrt(dx * dx + dy * dy);
                 const int taps = std::clamp(int(std::ceil(len)) + 1, 1, 24);
-                for (int k = 0; k < taps; ++k) {
-                    const double s = (k + 0.5) / taps;
-                    sample_bilinear(src, float(pa.x + s * (pb.x - pa.x)),
-                                    float(pa.y + s * (pb.y - pa.y)), acc);
+                const float inv_taps = 1.0f / float(taps);
+                const float bx = ax + dx, by = ay + dy;
+                if (std::min(ax, bx) >= 0 && std::max(ax, bx) < xmax - 1 && std::min(ay, by) >= 0 &&
+                    std::max(ay, by) < ymax - 1) {
+                    // Inside the image all along: no clamping.
+                    for (int k = 0; k < taps; ++k) {
+                        const float f = (float(k) + 0.5f) * inv_taps;
+                        const float px = ax + f * dx, py = ay + f * dy;
+                        const int x0 = int(px), y0 = int(py);
+                        const float fx = px - float(x0), fy = py - float(y0);
+                        const Px* pa = s + std::size_t(y0) * step + std::size_t(x0);
+                        const Px* pb = pa + step;
+                        const Px top = pa[0] + fx * (pa[1] - pa[0]);
+                        const Px bot = pb[0] + fx * (pb[1] - pb[0]);
+                        acc += top + fy * (bot - top);
+                    }
+                } else {
+                    for (int k = 0; k < taps; ++k) {
+                        const float f = (float(k) + 0.5f) * inv_taps;
+                        sample_bilinear(s, step, W, H, ax + f * dx, ay + f * dy, acc);
+                    }
                 }
-                for (float& a : acc) a /= float(taps);
+                acc *= inv_taps;
             }
-            for (int c = 0; c < 3; ++c)
-                o[3 * x + c] = std::uint8_t(std::clamp(std::lround(acc[c]), 0L, 255L));
+            o[3 * x] = to_byte(acc[0]);
+            o[3 * x + 1] = to_byte(acc[1]);
+            o[3 * x + 2] = to_byte(acc[2]);
         }
     }
 }
@@ -255,7 +494,7 @@ void CameraEffects::photometry(cv::Mat& img, double t_s) {
             for (int c = 0; c < 3; ++c) {
                 float v = float(p[3 * x + c]) * gx;
                 if (nz) v += nz[3 * x + c] * sigma_mid * std::sqrt(std::max(v, 0.0f) / 128.0f);
-                p[3 * x + c] = std::uint8_t(std::clamp(std::lround(v), 0L, 255L));
+                p[3 * x + c] = v > 0 ? to_byte(v) : std::uint8_t(0);
             }
         }
     }

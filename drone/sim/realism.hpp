@@ -27,6 +27,23 @@
 // the decoder conceals the missing macroblocks from the previous frame). Bitrate is the flight's
 // own option (ObstacleFlightParams::bitrate_bps).
 //
+// Scene (applied to the scene before the flight is rendered; the ground truth is unchanged):
+//   low-texture walls  `low_texture_walls_pct` % of the room's four walls (rounded to whole
+//                      walls, chosen from the seed) are repainted plain: their own colour with
+//                      faint low-contrast mottling, little for a tracker to hold on to
+//   glossy floor       the floor mirrors the scene above it: its pixels mix `glossy_floor_pct` %
+//                      of the mirror image in (a second render from the camera mirrored in the
+//                      floor), blurred by a Gaussian of `glossy_floor_blur_deg` angular sigma
+//                      as the camera sees it (the finish's roughness; an image-space blur)
+//   people crossing    `people_crossing` person-sized boxes (0.5 m wide, 0.3 m deep, 1.75 m tall)
+//                      walk wall to wall across the flight line at `person_speed_mps`. Person k
+//                      crosses the line ~3 (k + 1) s into the recording, at a point chosen so
+//                      that the drone, even flying 25 % faster than commanded, is then at least
+//                      7 m short of it (6 m and a margin); they walk on to the far wall and
+//                      leave. Scenery only: no collision, no label (they never block the path
+//                      when the drone gets there). A person whose crossing would not fit in the
+//                      room ahead is left out (flight.json "people" lists those placed).
+//
 // Navdata: each frame's sample is the state `nav_latency_ms` (+- `nav_jitter_ms`, Gaussian)
 // before the frame's capture time, plus slowly drifting biases (first-order Gauss-Markov with
 // stationary standard deviation `attitude_bias_deg` on roll, pitch and yaw and
@@ -58,14 +75,19 @@ struct RealismOptions {
     double exposure_step_interval_s = 2.0;
     double flicker_pct = 0;  // light modulation amplitude
     double flicker_hz = 100;
-    double vignetting_pct = 0;     // corner darkening
-    double noise_pct = 0;          // shot noise sigma at mid grey, % of full scale
-    double slice_loss_pct = 0;     // P frames that lose the tail of their slice
-    double nav_latency_ms = 0;     // navdata sample older than the frame by this
-    double nav_jitter_ms = 0;      // Gaussian sigma of that offset
-    double attitude_bias_deg = 0;  // drifting bias, stationary sigma (roll, pitch, yaw)
-    double velocity_bias_mps = 0;  // drifting bias, stationary sigma (vx, vy)
-    double bias_tau_s = 30;        // the biases' correlation time
+    double vignetting_pct = 0;         // corner darkening
+    double noise_pct = 0;              // shot noise sigma at mid grey, % of full scale
+    double slice_loss_pct = 0;         // P frames that lose the tail of their slice
+    double nav_latency_ms = 0;         // navdata sample older than the frame by this
+    double nav_jitter_ms = 0;          // Gaussian sigma of that offset
+    double attitude_bias_deg = 0;      // drifting bias, stationary sigma (roll, pitch, yaw)
+    double velocity_bias_mps = 0;      // drifting bias, stationary sigma (vx, vy)
+    double bias_tau_s = 30;            // the biases' correlation time
+    double low_texture_walls_pct = 0;  // share of the room's walls repainted plain
+    double glossy_floor_pct = 0;       // share of the floor's light that is a mirror image
+    double glossy_floor_blur_deg = 0;  // the reflection's blur, angular sigma
+    double people_crossing = 0;        // people walking across the flight path (a count)
+    double person_speed_mps = 1.3;     // their walking speed
 
     bool geometric() const { return rolling_shutter_ms > 0 || exposure_ms > 0; }
     bool photometric() const {
@@ -75,11 +97,17 @@ struct RealismOptions {
         return nav_latency_ms > 0 || nav_jitter_ms > 0 || attitude_bias_deg > 0 ||
                velocity_bias_mps > 0;
     }
-    bool any() const { return geometric() || photometric() || navdata() || slice_loss_pct > 0; }
+    bool scene() const {
+        return low_texture_walls_pct > 0 || glossy_floor_pct > 0 || people_crossing > 0;
+    }
+    bool any() const {
+        return geometric() || photometric() || navdata() || scene() || slice_loss_pct > 0;
+    }
 
     // A real AR.Drone 2 front camera and link as issue 17 measured them: 25 ms readout, 12 ms
     // exposure, +-15 % exposure steps, 3 % flicker, 30 % vignetting, 1.5 % noise, 2 % lost
-    // slices, navdata 30 +- 10 ms late with 0.3 deg / 0.03 m/s drifting biases.
+    // slices, navdata 30 +- 10 ms late with 0.3 deg / 0.03 m/s drifting biases; half the
+    // walls plain, a floor reflecting 20 % blurred by 1.5 deg, one person crossing at 1.3 m/s.
     static RealismOptions real_camera();
 
     // Every field by name (flight.json "realism"); from_json reads what to_json writes, with
@@ -132,9 +160,10 @@ private:
     RealismOptions o_;
     Rng rng_;
     std::uint64_t noise_seed_;
-    std::vector<float> rx_, ry_;  // undistorted normalised ray of each pixel
-    std::vector<float> vig_;      // vignetting gain per pixel
-    cv::Mat tmp_, noise_;
+    std::vector<float> rx_, ry_;         // undistorted normalised ray of each pixel
+    std::vector<float> vig_;             // vignetting gain per pixel
+    std::vector<float> row_, zeros_;     // the warp's per-row scratch
+    cv::Mat tmp_, noise_, src4_, srcf_;  // srcf_: the warp's source as float BGRA
     double gain_ = 1;
     int steps_ = 0;
     double next_step_s_ = 0;
@@ -176,6 +205,39 @@ private:
     std::array<double, 5> bias_{};
     std::optional<TimeNs> last_bias_t_;
 };
+
+// What the scene effects changed (flight.json "realism"), for reports and tests.
+struct SceneEffects {
+    std::vector<std::string> plain_walls;  // "front", "back", "left", "right"
+};
+
+// The renderer's options for the scene effects of `o` (the glossy floor).
+RenderOptions render_options(const RealismOptions& o);
+
+// Applies the scene effects of `o` to `scene` (deterministic for the seed).
+SceneEffects apply_scene_effects(Scene& scene, const RealismOptions& o, std::uint64_t seed);
+
+// One person crossing the flight path: a box walking a straight line at constant speed.
+struct PersonTrack {
+    double cross_s = 0;                   // when they cross the flight line (recording time)
+    double cross_x_m = 0, cross_y_m = 0;  // where (world frame)
+    double dir_x = 0, dir_y = 0;          // unit walking direction
+    double from_s = 0, to_s = 0;          // present (walking) between these times
+    double speed_mps = 1.3;
+    TextureSpec clothes;
+
+    bool present(double t_s) const { return t_s >= from_s && t_s <= to_s; }
+    // The box at time t (its position extrapolated outside [from_s, to_s]).
+    Obstacle at(double t_s) const;
+    nlohmann::json to_json() const;  // flight.json "people"
+};
+
+// Plans `o.people_crossing` people across the line from (x0, y0) along `heading_deg` (the
+// drone's position when the recording starts and the flight's heading) in `room`, for a drone
+// flying no faster than `max_speed_mps` along it. Deterministic for the seed.
+std::vector<PersonTrack> plan_people(const RealismOptions& o, const Room& room, double x0,
+                                     double y0, double heading_deg, double max_speed_mps,
+                                     std::uint64_t seed);
 
 // Gaussian from the deterministic generator (Box-Muller).
 double gaussian(Rng& r, double sigma);

@@ -2,6 +2,8 @@
 #include "drone/core/geometry.hpp"
 #include "drone/sim/units.hpp"
 
+#include <opencv2/imgproc.hpp>
+
 #include <algorithm>
 #include <array>
 #include <bit>
@@ -64,6 +66,18 @@ CameraFrame camera_frame(const Pose& p, CameraKind k) {
         geom::world_point(p.x_m, p.y_m, p.z_m), p.roll_deg, p.pitch_deg, p.yaw_deg);
     const geom::Pose3 world_from_camera = geom::world_from_camera(world_from_body, k);
     return {world_from_camera, world_from_camera.linear().transpose()};
+}
+
+// The camera mirrored in the floor plane (FRD z = 0): its view is the floor's reflection. An
+// improper rotation, which the visibility pass handles (it tests faces by world-frame dot
+// products and takes each projected polygon's orientation from its signed area).
+CameraFrame mirrored_in_floor(const CameraFrame& cf) {
+    const geom::Mat3 m = geom::Vec3(1, 1, -1).asDiagonal();
+    CameraFrame out = cf;
+    out.world_from_camera.linear() = m * cf.world_from_camera.linear();
+    out.world_from_camera.translation() = m * cf.world_from_camera.translation();
+    out.camera_from_world = out.world_from_camera.linear().transpose();
+    return out;
 }
 
 // log2 from the float's bits, mantissa linear: within 0.09 of the true value, plenty to pick a
@@ -134,6 +148,14 @@ struct Renderer::Impl {
     std::vector<std::uint16_t> ids;
     std::vector<PrimFrame> frames;
     int drawn = 0;
+    // Glossy floor: the floor's primitive, the mirror pass' buffers and image.
+    int floor_prim = -1;
+    // Moving boxes (set_movers): appended after the scene's own primitives.
+    std::size_t static_prims = 0;
+    Lighting lighting;
+    std::vector<float> m_wbuf, m_ubuf, m_vbuf;
+    std::vector<std::uint16_t> m_ids;
+    cv::Mat mirror, mirror_tmp;
 
     int texture_index(const TextureSpec& spec) {
         for (std::size_t i = 0; i < texture_specs.size(); ++i)
@@ -186,32 +208,37 @@ struct Renderer::Impl {
         add_rect(corner, U, V, up ? cv::Vec3d(0, 0, -1) : kDown, spec, corner[0], corner[1], l);
     }
 
+    // A box obstacle: four vertical faces, a top and (raised) a bottom.
+    void add_box(const Obstacle& o, const Lighting& L) {
+        const double top = o.z_m + o.height_m, bot = o.z_m;
+        const double c = std::cos(o.yaw_deg * kRadPerDeg), sn = std::sin(o.yaw_deg * kRadPerDeg);
+        const cv::Vec3d ax(c, sn, 0), ay(-sn, c, 0);
+        const cv::Vec3d ctr = frd(o.x_m, o.y_m, 0);
+        const double hx = o.size_x_m / 2, hy = o.size_y_m / 2;
+        // Around the box so u runs on across corners.
+        const std::array<std::pair<cv::Vec3d, double>, 4> faces{
+            {{-ax, o.size_y_m}, {ay, o.size_x_m}, {ax, o.size_y_m}, {-ay, o.size_x_m}}};
+        double u = 0;
+        for (const auto& [n, w] : faces) {
+            const double half = (n == ax || n == -ax) ? hx : hy;
+            add_vertical(ctr + n * half, w, top, bot, n, o.texture, u, L);
+            u += w;
+        }
+        const cv::Vec3d corner = ctr - ax * hx - ay * hy;
+        add_horizontal(corner + cv::Vec3d(0, 0, -top), ax * o.size_x_m, ay * o.size_y_m, true,
+                       o.texture, L);
+        if (bot > 0.01)
+            add_horizontal(corner + cv::Vec3d(0, 0, -bot) + ay * o.size_y_m, ax * o.size_x_m,
+                           -ay * o.size_y_m, false, o.texture, L);
+    }
+
     void build(const Scene& s) {
         const Lighting& L = s.lighting;
         // Obstacles first: in the visibility pass they fill the depth buffer early.
         for (const Obstacle& o : s.obstacles) {
             const double top = o.z_m + o.height_m, bot = o.z_m;
             if (o.shape == ObstacleShape::Box) {
-                const double c = std::cos(o.yaw_deg * kRadPerDeg),
-                             sn = std::sin(o.yaw_deg * kRadPerDeg);
-                const cv::Vec3d ax(c, sn, 0), ay(-sn, c, 0);
-                const cv::Vec3d ctr = frd(o.x_m, o.y_m, 0);
-                const double hx = o.size_x_m / 2, hy = o.size_y_m / 2;
-                // Around the box so u runs on across corners.
-                const std::array<std::pair<cv::Vec3d, double>, 4> faces{
-                    {{-ax, o.size_y_m}, {ay, o.size_x_m}, {ax, o.size_y_m}, {-ay, o.size_x_m}}};
-                double u = 0;
-                for (const auto& [n, w] : faces) {
-                    const double half = (n == ax || n == -ax) ? hx : hy;
-                    add_vertical(ctr + n * half, w, top, bot, n, o.texture, u, L);
-                    u += w;
-                }
-                const cv::Vec3d corner = ctr - ax * hx - ay * hy;
-                add_horizontal(corner + cv::Vec3d(0, 0, -top), ax * o.size_x_m, ay * o.size_y_m,
-                               true, o.texture, L);
-                if (bot > 0.01)
-                    add_horizontal(corner + cv::Vec3d(0, 0, -bot) + ay * o.size_y_m,
-                                   ax * o.size_x_m, -ay * o.size_y_m, false, o.texture, L);
+                add_box(o, L);
             } else {
                 const int N = std::clamp(o.sides, 3, 64);
                 const double width = 2 * o.radius_m * std::sin(std::numbers::pi / N);
@@ -241,6 +268,7 @@ struct Renderer::Impl {
         // Room: floor, ceiling, four walls facing inwards.
         const Room& r = s.room;
         const double lx = r.x_max_m - r.x_min_m, ly = r.y_max_m - r.y_min_m;
+        floor_prim = int(prims.size());
         add_horizontal(frd(r.x_min_m, r.y_min_m, 0), {lx, 0, 0}, {0, ly, 0}, true, r.floor, L);
         add_horizontal(frd(r.x_min_m, r.y_max_m, r.height_m), {lx, 0, 0}, {0, -ly, 0}, false,
                        r.ceiling, L);
@@ -445,6 +473,54 @@ struct Renderer::Impl {
             }
     }
 
+    // The glossy floor: a second visibility and shading pass from the camera mirrored in the
+    // floor, blurred, mixed into the floor's pixels. The main pass' buffers (inverse_depth())
+    // are kept.
+    void glossy_floor(const CameraFrame& cf, cv::Mat& out) {
+        const std::size_t n = wbuf.size();
+        m_wbuf.assign(n, 0.0f);
+        m_ubuf.resize(n);
+        m_vbuf.resize(n);
+        m_ids.assign(n, kNoPrim);
+        wbuf.swap(m_wbuf);
+        ubuf.swap(m_ubuf);
+        vbuf.swap(m_vbuf);
+        ids.swap(m_ids);
+        const int drawn_main = drawn;
+        const CameraFrame mc = mirrored_in_floor(cf);
+        for (std::size_t i = 0; i < prims.size(); ++i)
+            if (int(i) != floor_prim) draw_prim(i, mc);
+        mirror.create(H, W, CV_8UC3);
+        shade(mirror);
+        drawn = drawn_main;
+        wbuf.swap(m_wbuf);
+        ubuf.swap(m_ubuf);
+        vbuf.swap(m_vbuf);
+        ids.swap(m_ids);
+        // A Gaussian of the angular sigma, approximated by three box blurs (sigma^2 = 3 (w^2 - 1)
+        // / 12 for width w).
+        const double sigma_px = options.floor_blur_deg * kRadPerDeg * calib.fx;
+        const int w = int(std::lround(std::sqrt(4 * sigma_px * sigma_px + 1)));
+        if (w >= 2)
+            for (int k = 0; k < 3; ++k) {
+                cv::blur(mirror, mirror_tmp, cv::Size(w, w), cv::Point(-1, -1), cv::BORDER_REFLECT);
+                std::swap(mirror, mirror_tmp);
+            }
+        const int k256 = int(std::lround(std::clamp(options.floor_reflection, 0.0, 1.0) * 256));
+        const auto floor_id = static_cast<std::uint16_t>(floor_prim);
+        for (int y = 0; y < H; ++y) {
+            std::uint8_t* o = out.ptr<std::uint8_t>(y);
+            const std::uint8_t* r = mirror.ptr<std::uint8_t>(y);
+            const std::uint16_t* id = ids.data() + std::size_t(y) * std::size_t(W);
+            for (int x = 0; x < W; ++x) {
+                if (id[x] != floor_id) continue;
+                for (int c = 0; c < 3; ++c)
+                    o[3 * x + c] = std::uint8_t(
+                        (o[3 * x + c] * (256 - k256) + r[3 * x + c] * k256 + 128) >> 8);
+            }
+        }
+    }
+
     void shade(cv::Mat& out) {
         const float bias = float(options.lod_bias);
         std::uint16_t last = kNoPrim;
@@ -526,7 +602,9 @@ Expected<Renderer, RenderError> Renderer::create(const Scene& scene, const Camer
     impl->W = calib.width;
     impl->H = calib.height;
     impl->options_vignette = std::clamp(scene.lighting.vignette, 0.0, 0.95);
+    impl->lighting = scene.lighting;
     impl->build(scene);
+    impl->static_prims = impl->prims.size();
     if (impl->prims.size() >= kNoPrim) return Unexpected{RenderError::InvalidCalibration};
     if (!impl->build_rays()) return Unexpected{RenderError::CalibrationNotInvertible};
     return Renderer(std::move(impl));
@@ -541,6 +619,17 @@ void Renderer::render(const Pose& pose, cv::Mat& out) {
     m.drawn = 0;
     for (std::size_t i = 0; i < m.prims.size(); ++i) m.draw_prim(i, cf);
     m.shade(out);
+    if (m.options.floor_reflection > 0 && m.floor_prim >= 0) m.glossy_floor(cf, out);
+}
+
+void Renderer::set_movers(std::span<const Obstacle> boxes) {
+    Impl& m = *impl_;
+    m.prims.resize(m.static_prims);
+    for (const Obstacle& o : boxes) {
+        if (m.prims.size() + 6 >= kNoPrim) break;
+        if (o.shape == ObstacleShape::Box) m.add_box(o, m.lighting);
+    }
+    m.frames.resize(m.prims.size());
 }
 
 std::optional<cv::Point2d> Renderer::project(const Pose& pose, double x_m, double y_m,

@@ -31,6 +31,13 @@ std::string to_string(RenderError e);
 
 struct RenderOptions {
     double lod_bias = 0.0;  // added to the mip level (positive: blurrier)
+    // A glossy floor (the realism layer's glossy_floor_*): the floor's pixels are mixed with the
+    // mirror image of the scene above it by this share (0 = matte, no mirror pass), the mirror
+    // image blurred by a Gaussian of `floor_blur_deg` angular sigma as the camera sees it (a
+    // rough finish). The mirror pass renders the scene once more, from the camera mirrored in
+    // the floor plane.
+    double floor_reflection = 0.0;
+    double floor_blur_deg = 0.0;
 };
 
 struct RenderStats {
@@ -53,6 +60,11 @@ public:
     // Renders the view from `camera_pose` (camera position and the drone's attitude, world frame
     // of scene.hpp) into `bgr_out` (CV_8UC3, calibration size; reallocated only if needed).
     void render(const Pose& camera_pose, cv::Mat& bgr_out);
+
+    // Boxes that move (the realism layer's people): drawn from the next render() on, in place of
+    // the last call's; their textures are generated on first use (~10 ms each) and kept. Only
+    // boxes (ObstacleShape::Box) are drawn.
+    void set_movers(std::span<const Obstacle> boxes);
 
     // Where a world point appears in the image under the same camera model; nullopt if it is
     // behind the camera.

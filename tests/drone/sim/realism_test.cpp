@@ -6,11 +6,15 @@
 #include "drone/dataset/dataset.hpp"
 #include "drone/sim/obstacle_flights.hpp"
 #include "drone/sim/scene.hpp"
+#include "drone/video/h264_decoder.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <numbers>
@@ -318,6 +322,255 @@ TEST(Realism, AGeneratedFlightRecordsItsRealismAndDiffersOnlyWhereItShould) {
     ASSERT_EQ(c->frame_count(), d->frame_count());
     for (std::int64_t k = 0; k < c->frame_count(); ++k)
         EXPECT_DOUBLE_EQ(c->frames()[std::size_t(k)].gt.x_m, d->frames()[std::size_t(k)].gt.x_m);
+    std::filesystem::remove_all(root);
+}
+
+// Every frame of a generated flight's video.h264, decoded.
+std::vector<cv::Mat> decode_flight(const std::filesystem::path& dir) {
+    std::ifstream in(dir / "video.h264", std::ios::binary);
+    const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)),
+                                          std::istreambuf_iterator<char>());
+    video::H264Decoder dec;
+    std::vector<cv::Mat> frames;
+    std::span<const std::uint8_t> rest(bytes);
+    while (!rest.empty()) {
+        const std::size_t n = std::max<std::size_t>(1, video::access_unit_size(rest));
+        cv::Mat out;
+        auto st = dec.decode({rest.first(n), std::nullopt, 0, 0, std::nullopt}, out);
+        if (st && !out.empty()) frames.push_back(out.clone());
+        rest = rest.subspan(n);
+    }
+    return frames;
+}
+
+// A flight of `scene_name` (`seconds` recorded at most, 4 Mbit/s) with realism `r`, written
+// under `root`.
+std::filesystem::path write_flight(const std::filesystem::path& root, const std::string& name,
+                                   const std::string& scene_name, const RealismOptions& r,
+                                   double seconds = 0.8) {
+    auto scene = load_scene(std::string(GS_ASSETS_DIR) + "/scenes/" + scene_name + ".json");
+    EXPECT_TRUE(scene);
+    ObstacleFlightInfo f = scenario_flight(*scene, 1.0, 5);
+    f.params.max_record_s = seconds;
+    f.params.bitrate_bps = 4'000'000;
+    f.params.realism = r;
+    auto written = write_obstacle_flight(root / name, f);
+    EXPECT_TRUE(written) << (written ? "" : written.error());
+    return root / name;
+}
+
+// Where the debug PNGs go (GS_REALISM_PNG_DIR), if anywhere.
+void save_png(const std::string& name, const cv::Mat& img) {
+    if (const char* d = std::getenv("GS_REALISM_PNG_DIR"))
+        cv::imwrite(std::string(d) + "/" + name, img);
+}
+
+// Mean Sobel gradient magnitude of `img` (grey) over `mask`.
+double mean_gradient(const cv::Mat& bgr, const cv::Mat& mask) {
+    cv::Mat g, gx, gy, mag;
+    cv::cvtColor(bgr, g, cv::COLOR_BGR2GRAY);
+    cv::Sobel(g, gx, CV_32F, 1, 0);
+    cv::Sobel(g, gy, CV_32F, 0, 1);
+    cv::magnitude(gx, gy, mag);
+    return cv::mean(mag, mask)[0];
+}
+
+TEST(Realism, LowTextureWallsRepaintTheirShareOfTheWallsPlainFromTheSeed) {
+    auto scene = load_scene(std::string(GS_ASSETS_DIR) + "/scenes/thesis_pillar_left.json");
+    ASSERT_TRUE(scene);
+    RealismOptions o;
+    Scene s0 = *scene;
+    EXPECT_TRUE(apply_scene_effects(s0, o, 1).plain_walls.empty());
+    EXPECT_TRUE(s0.room.wall_front == scene->room.wall_front);
+    o.low_texture_walls_pct = 50;
+    Scene a = *scene, b = *scene;
+    const auto ea = apply_scene_effects(a, o, 1), eb = apply_scene_effects(b, o, 1);
+    ASSERT_EQ(ea.plain_walls.size(), 2u);
+    EXPECT_EQ(ea.plain_walls, eb.plain_walls);
+    int plain = 0;
+    for (const TextureSpec* t :
+         {&a.room.wall_front, &a.room.wall_back, &a.room.wall_left, &a.room.wall_right})
+        plain += t->kind == TextureKind::Plain;
+    EXPECT_EQ(plain, 2);
+    // Other seeds pick other walls (some of 20 differ from seed 1's pick).
+    bool other = false;
+    for (std::uint64_t seed = 2; seed < 22 && !other; ++seed) {
+        Scene c = *scene;
+        other = apply_scene_effects(c, o, seed).plain_walls != ea.plain_walls;
+    }
+    EXPECT_TRUE(other);
+    o.low_texture_walls_pct = 100;
+    Scene d = *scene;
+    EXPECT_EQ(apply_scene_effects(d, o, 1).plain_walls.size(), 4u);
+}
+
+TEST(Realism, AFlightWithPlainWallsHasLessTextureOnItsWalls) {
+    const auto root =
+        std::filesystem::temp_directory_path() / ("gs_realism_walls_" + std::to_string(::getpid()));
+    std::filesystem::remove_all(root);
+    RealismOptions plain;
+    plain.low_texture_walls_pct = 100;
+    const auto dir0 = write_flight(root, "textured", "thesis_pillar_left", {});
+    const auto dir1 = write_flight(root, "plain", "thesis_pillar_left", plain);
+    std::ifstream in(dir1 / "flight.json");
+    const nlohmann::json j = nlohmann::json::parse(in);
+    EXPECT_DOUBLE_EQ(j["realism"]["low_texture_walls_pct"].get<double>(), 100);
+    EXPECT_EQ(j["realism"]["plain_walls"].size(), 4u);
+    const auto f0 = decode_flight(dir0), f1 = decode_flight(dir1);
+    ASSERT_FALSE(f0.empty());
+    ASSERT_EQ(f0.size(), f1.size());
+    for (std::size_t k : {std::size_t(0), f0.size() - 1}) {
+        // The walls are where the two flights differ (the same poses, only the walls changed),
+        // eroded away from the wall edges.
+        cv::Mat diff, grey, mask;
+        cv::absdiff(f0[k], f1[k], diff);
+        cv::cvtColor(diff, grey, cv::COLOR_BGR2GRAY);
+        cv::threshold(grey, mask, 12, 255, cv::THRESH_BINARY);
+        cv::morphologyEx(mask, mask, cv::MORPH_CLOSE, cv::Mat::ones(9, 9, CV_8U));
+        cv::erode(mask, mask, cv::Mat::ones(7, 7, CV_8U));
+        ASSERT_GT(cv::countNonZero(mask), 640 * 360 / 20) << "the walls fill part of the view";
+        const double g0 = mean_gradient(f0[k], mask), g1 = mean_gradient(f1[k], mask);
+        EXPECT_LT(g1, 0.5 * g0) << "frame " << k << ": textured " << g0 << ", plain " << g1;
+        save_png("walls_textured_" + std::to_string(k) + ".png", f0[k]);
+        save_png("walls_plain_" + std::to_string(k) + ".png", f1[k]);
+        save_png("walls_mask_" + std::to_string(k) + ".png", mask);
+    }
+    std::filesystem::remove_all(root);
+}
+
+TEST(Realism, AGlossyFloorChangesTheFloorOfAGeneratedFlightAndNotTheWalls) {
+    const auto root =
+        std::filesystem::temp_directory_path() / ("gs_realism_floor_" + std::to_string(::getpid()));
+    std::filesystem::remove_all(root);
+    RealismOptions gloss;
+    gloss.glossy_floor_pct = 40;
+    gloss.glossy_floor_blur_deg = 1.5;
+    const auto dir0 = write_flight(root, "matte", "thesis_pillar_center", {});
+    const auto dir1 = write_flight(root, "glossy", "thesis_pillar_center", gloss);
+    std::ifstream in(dir1 / "flight.json");
+    const nlohmann::json j = nlohmann::json::parse(in);
+    EXPECT_DOUBLE_EQ(j["realism"]["glossy_floor_pct"].get<double>(), 40);
+    EXPECT_DOUBLE_EQ(j["realism"]["glossy_floor_blur_deg"].get<double>(), 1.5);
+    const auto f0 = decode_flight(dir0), f1 = decode_flight(dir1);
+    ASSERT_FALSE(f0.empty());
+    ASSERT_EQ(f0.size(), f1.size());
+    const cv::Mat a = f0.back(), b = f1.back();
+    save_png("floor_matte.png", a);
+    save_png("floor_glossy.png", b);
+    // The bottom rows are floor; the top 60 rows walls and ceiling (only coding noise differs).
+    cv::Mat diff;
+    cv::absdiff(a, b, diff);
+    const double floor_diff = cv::mean(diff.rowRange(260, 360))[0];
+    const double top_diff = cv::mean(diff.rowRange(0, 60))[0];
+    EXPECT_GT(floor_diff, 5.0);
+    EXPECT_LT(top_diff, 3.0);
+    EXPECT_GT(floor_diff, 3 * top_diff) << "floor " << floor_diff << ", top " << top_diff;
+    std::filesystem::remove_all(root);
+}
+
+TEST(Realism, PeoplePlansAreSeededAndStartBeyondTheClearance) {
+    auto scene = load_scene(std::string(GS_ASSETS_DIR) + "/scenes/thesis_pillar_left.json");
+    ASSERT_TRUE(scene);
+    RealismOptions o;
+    EXPECT_TRUE(plan_people(o, scene->room, 0, 0, 0, 1.25, 1).empty());
+    o.people_crossing = 3;
+    const auto a = plan_people(o, scene->room, 0, 0, 0, 1.25, 1);
+    const auto b = plan_people(o, scene->room, 0, 0, 0, 1.25, 1);
+    ASSERT_EQ(a.size(), 3u);
+    for (std::size_t k = 0; k < a.size(); ++k) {
+        EXPECT_EQ(a[k].to_json(), b[k].to_json());
+        // Crossing the flight line (y = 0) at least 7 m beyond where a drone at 1.25 m/s is then.
+        EXPECT_NEAR(a[k].cross_y_m, 0, 1e-9);
+        EXPECT_GE(a[k].cross_x_m - 1.25 * a[k].cross_s, 7 - 1e-9);
+        EXPECT_LT(a[k].cross_x_m, scene->room.x_max_m);
+        // Walking across, wall to wall.
+        EXPECT_NEAR(std::abs(a[k].dir_y), 1, 1e-9);
+        EXPECT_LT(a[k].from_s, a[k].cross_s);
+        EXPECT_GT(a[k].to_s, a[k].cross_s);
+    }
+    EXPECT_NE(a[0].to_json(), plan_people(o, scene->room, 0, 0, 0, 1.25, 2)[0].to_json());
+    o.people_crossing = 1.5;
+    EXPECT_TRUE(o.check());
+}
+
+TEST(Realism, PeopleCrossAheadOfAGeneratedFlightNeverNearTheDroneAndInViewForSeconds) {
+    const auto root = std::filesystem::temp_directory_path() /
+                      ("gs_realism_people_" + std::to_string(::getpid()));
+    std::filesystem::remove_all(root);
+    RealismOptions people;
+    people.people_crossing = 2;
+    people.person_speed_mps = 1.3;
+    const auto dir0 = write_flight(root, "empty", "thesis_pillar_left", {}, 20);
+    const auto dir1 = write_flight(root, "people", "thesis_pillar_left", people, 20);
+    auto d = dataset::Dataset::open(dir1);
+    ASSERT_TRUE(d) << to_string(d.error());
+    std::ifstream in(dir1 / "flight.json");
+    const nlohmann::json j = nlohmann::json::parse(in);
+    ASSERT_TRUE(j["realism"].contains("people"));
+    const auto& pj = j["realism"]["people"];
+    ASSERT_EQ(pj.size(), 2u);
+    // The flight still completes: it passes the pillar as without people.
+    auto e = dataset::Dataset::open(dir0);
+    ASSERT_TRUE(e);
+    EXPECT_EQ(d->frame_count(), e->frame_count());
+    auto scene = load_scene(std::string(GS_ASSETS_DIR) + "/scenes/thesis_pillar_left.json");
+    ASSERT_TRUE(scene);
+    auto renderer =
+        Renderer::create(*scene, builtin_calibration(CameraId::Front), CameraKind::Front);
+    ASSERT_TRUE(renderer);
+    const auto f0 = decode_flight(dir0), f1 = decode_flight(dir1);
+    ASSERT_EQ(f0.size(), f1.size());
+    const double fps = 30;
+    for (std::size_t k = 0; k < pj.size(); ++k) {
+        PersonTrack q;
+        q.cross_s = pj[k]["cross_s"].get<double>();
+        q.cross_x_m = pj[k]["cross_xy_m"][0].get<double>();
+        q.cross_y_m = pj[k]["cross_xy_m"][1].get<double>();
+        q.dir_x = pj[k]["direction"][0].get<double>();
+        q.dir_y = pj[k]["direction"][1].get<double>();
+        q.from_s = pj[k]["from_s"].get<double>();
+        q.to_s = pj[k]["to_s"].get<double>();
+        q.speed_mps = pj[k]["speed_mps"].get<double>();
+        EXPECT_DOUBLE_EQ(q.speed_mps, 1.3);
+        double min_dist = 1e9, at_cross = -1, seen_s = 0, shown = 0;
+        int shown_n = 0;
+        for (const auto& row : d->frames()) {
+            const double t = double(row.nav.t_ns) * 1e-9;
+            if (!q.present(t)) continue;
+            const Obstacle box = q.at(t);
+            min_dist = std::min(min_dist, footprint_distance(box, row.gt.x_m, row.gt.y_m));
+            if (std::abs(t - q.cross_s) <= 0.5 / fps)
+                at_cross = std::hypot(row.gt.x_m - q.cross_x_m, row.gt.y_m - q.cross_y_m);
+            const Pose pose{row.gt.x_m, row.gt.y_m, row.gt.z_m, 0, 0, row.gt.yaw_deg};
+            const auto px = renderer->project(pose, box.x_m, box.y_m, 0.9);
+            if (px && px->x >= 0 && px->x < 640 && px->y >= 0 && px->y < 360) {
+                seen_s += 1 / fps;
+                // Where the person is, the image differs from the flight without people.
+                const cv::Rect r =
+                    cv::Rect(int(px->x) - 3, int(px->y) - 3, 7, 7) & cv::Rect(0, 0, 640, 360);
+                cv::Mat diff;
+                cv::absdiff(f0[std::size_t(row.frame)](r), f1[std::size_t(row.frame)](r), diff);
+                shown += cv::mean(diff)[0];
+                ++shown_n;
+                if (shown_n == 30)
+                    save_png("people_" + std::to_string(k) + ".png", f1[std::size_t(row.frame)]);
+            }
+        }
+        EXPECT_GE(min_dist, 2.0) << "person " << k;
+        if (q.cross_s < double(d->frame_count()) / fps) {
+            EXPECT_GE(at_cross, 6.0) << "person " << k << " crosses at " << q.cross_s << " s";
+        }
+        if (k == 0) {
+            EXPECT_GE(seen_s, 5.0) << "the first person is in view for " << seen_s << " s";
+            ASSERT_GT(shown_n, 0);
+            EXPECT_GT(shown / shown_n, 10.0) << "the person is drawn where they are";
+        }
+        std::printf(
+            "person %zu: crosses at %.2f s, (%.2f, %.2f); drone %.2f m away then; "
+            "closest %.2f m; in view %.1f s; %.1f DN where drawn\n",
+            k, q.cross_s, q.cross_x_m, q.cross_y_m, at_cross, min_dist, seen_s,
+            shown_n ? shown / shown_n : 0.0);
+    }
     std::filesystem::remove_all(root);
 }
 

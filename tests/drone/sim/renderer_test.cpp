@@ -263,5 +263,74 @@ TEST(SimRender, TopCameraSeesTheCeilingMirroredAcross) {
     EXPECT_NEAR(median(dy), 23.39, 2.0);  // fy 701.65 x 0.1 / 3
 }
 
+// A glossy floor mirrors the scene above it: below the black pillar's base the floor shows the
+// pillar's reflection, point for point (the pillar at height h appears where a point h below the
+// floor would); off, the render is byte-identical to a matte one.
+TEST(SimRender, GlossyFloorMirrorsThePillarAndOffChangesNothing) {
+    const Scene s = load("thesis_pillar_center.json");
+    const Pose p{2.0, 0, 1.0, 0, 0, 0};  // 5 m before the pillar's near face (x = 7)
+    RenderOptions gloss;
+    gloss.floor_reflection = 0.5;
+    Renderer matte_r = make(s);
+    auto gloss_r =
+        Renderer::create(s, builtin_calibration(CameraId::Front), CameraKind::Front, gloss);
+    ASSERT_TRUE(gloss_r);
+    cv::Mat matte, glossy;
+    matte_r.render(p, matte);
+    gloss_r->render(p, glossy);
+    RenderOptions zero;
+    zero.floor_reflection = 0;
+    zero.floor_blur_deg = 1.5;
+    auto zero_r =
+        Renderer::create(s, builtin_calibration(CameraId::Front), CameraKind::Front, zero);
+    cv::Mat off;
+    zero_r->render(p, off);
+    EXPECT_EQ(cv::norm(matte, off, cv::NORM_L1), 0) << "off must leave the render unchanged";
+    const cv::Mat gm = grey(matte), gg = grey(glossy);
+    // Along the pillar's near face, heights 0.05 .. 0.8 m: the reflection (glossy minus half the
+    // matte floor, doubled) against the pillar seen directly.
+    std::vector<double> direct, reflected;
+    double floor_drop = 0;
+    for (double h = 0.05; h < 0.8; h += 0.025)
+        for (double y = -0.2; y <= 0.2; y += 0.1) {
+            const auto up = matte_r.project(p, 7.0, y, h);
+            const auto down = matte_r.project(p, 7.0, y, -h);
+            ASSERT_TRUE(up && down);
+            const cv::Point a(int(std::lround(up->x)), int(std::lround(up->y)));
+            const cv::Point b(int(std::lround(down->x)), int(std::lround(down->y)));
+            ASSERT_TRUE(cv::Rect(0, 0, 640, 360).contains(b));
+            direct.push_back(gm.at<std::uint8_t>(a));
+            reflected.push_back(2.0 * gg.at<std::uint8_t>(b) - gm.at<std::uint8_t>(b));
+            floor_drop += double(gm.at<std::uint8_t>(b)) - double(gg.at<std::uint8_t>(b));
+        }
+    const double n = double(direct.size());
+    double ma = 0, mb = 0;
+    for (std::size_t i = 0; i < direct.size(); ++i) {
+        ma += direct[i] / n;
+        mb += reflected[i] / n;
+    }
+    double sab = 0, saa = 0, sbb = 0;
+    for (std::size_t i = 0; i < direct.size(); ++i) {
+        sab += (direct[i] - ma) * (reflected[i] - mb);
+        saa += (direct[i] - ma) * (direct[i] - ma);
+        sbb += (reflected[i] - mb) * (reflected[i] - mb);
+    }
+    const double corr = sab / std::sqrt(saa * sbb);
+    EXPECT_GT(corr, 0.6) << "the reflection follows the pillar's pattern";
+    EXPECT_NEAR(mb, ma, 15) << "the reflection has the pillar's brightness";
+    EXPECT_GT(floor_drop / n, 30) << "the black pillar darkens the floor under it";
+    // Away from the floor (the pillar itself, the walls) nothing changes.
+    const auto face = matte_r.project(p, 7.0, 0.1, 1.5);
+    ASSERT_TRUE(face);
+    EXPECT_EQ(gm.at<std::uint8_t>(cv::Point(int(face->x), int(face->y))),
+              gg.at<std::uint8_t>(cv::Point(int(face->x), int(face->y))));
+    EXPECT_EQ(cv::norm(matte.rowRange(0, 60), glossy.rowRange(0, 60), cv::NORM_L1), 0)
+        << "the top rows see no floor";
+    std::printf(
+        "glossy floor: correlation %.3f, reflection mean %.1f vs pillar %.1f, floor "
+        "darker by %.1f\n",
+        corr, mb, ma, floor_drop / n);
+}
+
 }  // namespace
 }  // namespace gs::sim
