@@ -60,12 +60,17 @@ const char* to_string(AssistAction a) {
             return "STEER LEFT";
         case AssistAction::SteerRight:
             return "STEER RIGHT";
+        case AssistAction::Approaching:
+            return "APPROACHING";
+        case AssistAction::Probing:
+            return "PROBING";
     }
     return "?";
 }
 
 bool is_intervention(AssistAction a) {
-    return a != AssistAction::Off && a != AssistAction::Override && a != AssistAction::Watching;
+    return a != AssistAction::Off && a != AssistAction::Override && a != AssistAction::Watching &&
+           a != AssistAction::Approaching;
 }
 
 RegionState Assist::effective(const RegionEvidence& e) const {
@@ -90,6 +95,8 @@ AssistOutput Assist::step(const AssistInput& in) {
     if (!in.enabled || in.override || !in.flying) {
         // Whatever was going on is forgotten: switching it back on starts afresh.
         st_.phase = Phase::Free;
+        st_.probing = false;
+        st_.stopped_clear_s = 0;
         st_.side_left_m = {kUnknown, kUnknown};
         out.action = !in.enabled   ? AssistAction::Off
                      : in.override ? AssistAction::Override
@@ -104,6 +111,7 @@ AssistOutput Assist::step(const AssistInput& in) {
     const RegionState centre = effective(in.regions[1]);
     const RegionState right = effective(in.regions[2]);
     const RegionEvidence& c = in.regions[1];
+    out.centre = centre;
     const bool vx_known = known(in.vx_mps);
     const bool moving_forward = vx_known && in.vx_mps > p_.moving_forward_mps;
     const bool pilot_forward = in.pilot.progressive && in.pilot.pitch < 0;
@@ -137,49 +145,86 @@ AssistOutput Assist::step(const AssistInput& in) {
         // times the falling speed, places the obstacle much nearer than it is.
         remember();
     }
+    // The remembered obstacle's distance ahead now (unknown when there is none).
+    double remaining = known(st_.obstacle_m) ? st_.obstacle_m - st_.travelled_m : kUnknown;
     if (st_.phase != Phase::Free) {
         const bool turned = known(st_.heading_deg) && known(in.yaw_deg) &&
                             heading_change_deg(st_.heading_deg, in.yaw_deg) >= p_.release_turn_deg;
         // "Clear" is evidence only when the classifier could have seen the remembered obstacle:
         // its time to contact at this speed under the classifier's threshold. A stopped or
         // creeping drone sees no expansion, so its "clear" says nothing about what is ahead.
-        const double left_m = known(st_.obstacle_m) ? st_.obstacle_m - st_.travelled_m : kUnknown;
         const bool in_sight =
-            moving_forward && known(left_m) && left_m < p_.detect_ttc_s * in.vx_mps;
-        if (centre != RegionState::Clear) {
+            moving_forward && known(remaining) && remaining < p_.detect_ttc_s * in.vx_mps;
+        // Unknown pauses the count (no evidence either way: at a probe's speed the classifier
+        // often cannot judge the centre); only an unsafe reading starts it again.
+        if (centre == RegionState::Unsafe) {
             st_.clear_seen_s = 0;
-        } else if (in_sight) {
+        } else if (centre == RegionState::Clear && in_sight) {
             st_.clear_seen_s += dt;
         }
         const bool forgotten = st_.clear_seen_s >= p_.forget_after_clear_s;
         if (turned || forgotten) {
             st_.phase = Phase::Free;
             st_.obstacle_m = kUnknown;
+            remaining = kUnknown;
         }
     }
     // Holding: forward allowed while the remembered obstacle stays more than the gap away once
     // the drone has stopped from its present speed (reaction time, then the braking deceleration).
-    const double remaining = known(st_.obstacle_m) ? st_.obstacle_m - st_.travelled_m : kUnknown;
     const double v_fwd = vx_known ? std::max(in.vx_mps, 0.0) : 0.0;
     const double stop_m = v_fwd * p_.react_s + v_fwd * v_fwd / (2 * p_.brake_decel_mps2);
     auto room = [&] {
         return st_.phase == Phase::Holding && vx_known && known(remaining) &&
                remaining - stop_m > p_.hold_gap_m && centre != RegionState::Unsafe;
     };
+    // Probing (see AssistParams): held with no room to approach, stopped, the centre clear for
+    // a while: creep toward the obstacle slowly enough for the classifier to see it again.
+    const double probe_mps = known(remaining) ? std::clamp(remaining / p_.probe_ttc_s,
+                                                           p_.probe_min_mps, p_.probe_max_mps)
+                                              : p_.probe_min_mps;
+    const bool probe_room = known(remaining) && remaining - stop_m > p_.probe_min_gap_m;
+    // A probe goes on while the centre reads unknown: slower than about half a metre per second
+    // the direction of travel is too uncertain for the classifier to judge the centre, which is
+    // what a probe is for. It stops on stale evidence (no decisions), and brakes on unsafe.
+    const bool probe_evidence =
+        centre == RegionState::Clear || (st_.probing && centre == RegionState::Unknown);
+    if (st_.phase != Phase::Holding || !probe_evidence || !vx_known || !probe_room || room()) {
+        st_.probing = false;
+        st_.stopped_clear_s = 0;
+    } else if (!st_.probing) {
+        st_.stopped_clear_s = in.vx_mps < p_.probe_stop_mps ? st_.stopped_clear_s + dt : 0.0;
+        st_.probing = st_.stopped_clear_s >= p_.probe_wait_s;
+    }
     // A brake that ran out its time without the navdata speed falling means the speed is not to
     // be trusted (frozen navdata, a wrong sample): no further nose-up on it until it reads slow.
     if (vx_known && in.vx_mps < p_.brake_release_mps) st_.speed_trusted = true;
-    if (st_.phase == Phase::Holding && st_.speed_trusted && vx_known &&
-        in.vx_mps > p_.rebrake_mps && !room()) {
+    const double rebrake_mps =
+        st_.probing ? probe_mps + p_.probe_rebrake_margin_mps : p_.rebrake_mps;
+    if (st_.phase == Phase::Holding && st_.speed_trusted && vx_known && in.vx_mps > rebrake_mps &&
+        !room()) {
         // Held, yet still (or again) moving toward it: the hover's slow decay, a gust, the end of
         // an approach. Brake again.
         st_.phase = Phase::Braking;
         st_.since_s = in.t_s;
     }
+    if (st_.phase != Phase::Holding) {
+        st_.probing = false;
+        st_.stopped_clear_s = 0;
+    }
     if (st_.phase == Phase::Braking) {
         const bool slow = vx_known && in.vx_mps < p_.brake_release_mps;
         const bool timed_out = in.t_s - st_.since_s > p_.max_brake_s;
-        if (slow || !vx_known || timed_out) st_.phase = Phase::Holding;
+        if (slow || !vx_known || timed_out) {
+            st_.phase = Phase::Holding;
+            // The time to contact the brake was for reads the classifier's threshold when the
+            // obstacle came into its view late (a doorway's edge, someone stepping in): then it
+            // is much nearer than time to contact x speed. Stopped, the drone may go on toward it
+            // only by probing, never by a free approach: no more than the gap ahead of the stop.
+            if (known(st_.obstacle_m)) {
+                st_.obstacle_m = std::min(st_.obstacle_m, st_.travelled_m + p_.hold_gap_m);
+                remaining = st_.obstacle_m - st_.travelled_m;
+            }
+        }
         if (timed_out && !slow) st_.speed_trusted = false;
     }
     const bool room_ahead = room();
@@ -196,7 +241,24 @@ AssistOutput Assist::step(const AssistInput& in) {
     } else if (st_.phase == Phase::Holding && room_ahead) {
         char buf[96];
         std::snprintf(buf, sizeof buf, "APPROACHING: obstacle remembered %.1f m ahead", remaining);
-        out.action = AssistAction::Watching;
+        out.action = AssistAction::Approaching;
+        out.reason = buf;
+    } else if (st_.phase == Phase::Holding && st_.probing) {
+        if (!pilot_backing && in.vx_mps > probe_mps) {
+            // Faster than a probe: nose-up in proportion to the excess (the drone's hover alone
+            // bleeds a few tenths of a metre per second over seconds).
+            if (!cmd.progressive) cmd = FlightCommand{true, 0, 0, 0, 0};
+            cmd.pitch =
+                static_cast<float>(std::clamp(p_.hold_gain * (in.vx_mps - probe_mps), 0.0, 1.0));
+        } else if (cmd.progressive && double{cmd.pitch} < -p_.probe_pitch) {
+            cmd.pitch = static_cast<float>(-p_.probe_pitch);
+        }
+        char buf[160];
+        std::snprintf(buf, sizeof buf,
+                      "PROBING: obstacle remembered %.1f m ahead reads clear, forward limited to "
+                      "%.2f m/s until it is seen again or forgotten",
+                      remaining, probe_mps);
+        out.action = AssistAction::Probing;
         out.reason = buf;
     } else if (st_.phase == Phase::Holding) {
         if (!vx_known && !pilot_backing) {
@@ -278,9 +340,13 @@ AssistOutput Assist::step(const AssistInput& in) {
         !(in.pilot == cmd))
         cmd.progressive = false;
 
-    if (out.action == AssistAction::Watching && !room_ahead) {
-        // Say what is not known: an unknown region is never a reason to brake.
-        if (pilot_forward && (centre == RegionState::Unknown || centre == RegionState::Stale))
+    if (st_.phase != Phase::Free) out.obstacle_m = remaining;
+    // Say what is not known: an unknown region is never a reason to brake.
+    out.unknown_ahead =
+        pilot_forward && (centre == RegionState::Unknown || centre == RegionState::Stale) &&
+        (out.action == AssistAction::Watching || out.action == AssistAction::Approaching);
+    if (out.action == AssistAction::Watching) {
+        if (out.unknown_ahead)
             out.reason = std::string("centre ") + to_string(centre) + ": no evidence, not braking";
         else if (!vx_known)
             out.reason = "watching (no velocity from navdata)";

@@ -12,6 +12,13 @@
 //    tests/app/assist_test.cpp, which measures both on the virtual drone's flight model). Without a
 //    velocity: hover at once. Then HOLD: the forward command stays at zero until the centre is
 //    clear (a valid, safe decision) or the drone has turned away (`release_turn_deg`).
+//    The obstacle is remembered ahead (from the time to contact, and once stopped never farther
+//    than `hold_gap_m`: a threshold time to contact may come from an obstacle seen late). "Clear"
+//    releases the hold only when the classifier could have seen it (see `detect_ttc_s`): a
+//    stopped drone sees no expansion. So a held drone, stopped with the centre clear for
+//    `probe_wait_s`, may PROBE: creep toward it at a capped speed, never closer than
+//    `probe_min_gap_m` plus its stopping distance; seen again, it brakes; seen clear while in
+//    sight, it is forgotten (a false alarm no longer holds the drone for the rest of a flight).
 //  - Left / right unsafe: the roll command toward that side is zeroed, and stays zeroed until the
 //    drone has flown past where the obstacle was seen (its time to contact x speed, plus
 //    `side_pass_margin_m`): the side of a pass goes out of the camera's view before the drone is
@@ -75,6 +82,12 @@ enum class AssistAction : std::uint8_t {
     LimitSides,  // both
     SteerLeft,   // rolling left, away from an obstacle on the right (and limiting toward it)
     SteerRight,  // rolling right, away from one on the left
+    // Held for an obstacle still remembered ahead but with room to stop short of it: the pilot's
+    // commands pass unchanged (not an intervention; shown so the pilot knows it is remembered).
+    Approaching,
+    // Stopped short of a remembered obstacle that the centre has since read clear: the pilot may
+    // creep toward it slowly enough for the classifier to see it again (forward pitch capped).
+    Probing,
 };
 const char* to_string(AssistAction a);  // "OFF", "OVERRIDE", "WATCHING", "BRAKING" ...
 // The assist acts on the pilot's commands (braking, holding, limiting, steering).
@@ -108,6 +121,23 @@ struct AssistParams {
     // decay over seconds.
     double hold_creep_mps = 0.05;
     double hold_gain = 2.0;
+    // Probing: a held drone that has stopped (forward speed under `probe_stop_mps`) with the
+    // centre read clear for `probe_wait_s` may creep toward the remembered obstacle. A stopped
+    // drone sees no expansion, so its "clear" proves nothing; moving slowly toward the obstacle,
+    // the classifier sees it again if it is there (and brakes the drone once more), or keeps
+    // reading clear while the obstacle is in sight and so forgets it (a false alarm: the take-off
+    // climb, the first metres from hover). The forward pitch is capped at `probe_pitch` up to a
+    // speed that puts the remembered obstacle `probe_ttc_s` ahead, well within the classifier's
+    // time to contact (remaining / probe_ttc_s, kept in [probe_min_mps, probe_max_mps]); faster
+    // than that, nose-up. Never closer than `probe_min_gap_m` plus the stopping distance.
+    double probe_stop_mps = 0.1;
+    double probe_wait_s = 1.0;
+    double probe_pitch = 0.3;
+    double probe_ttc_s = 2.2;
+    double probe_min_mps = 0.3;
+    double probe_max_mps = 0.6;
+    double probe_min_gap_m = 0.5;
+    double probe_rebrake_margin_mps = 0.35;  // probing: brake again above probe speed + this
     // The flow classifier's time to contact reads long while the obstacle grows (a fit over past
     // frames): 3.1 s for a true 2.45 s, 2.4 s for 1.74 s on the suite's ahead flights. The
     // remembered distance is this fraction of time to contact x speed.
@@ -131,6 +161,11 @@ struct AssistOutput {
     // "HOLDING: obstacle ahead, forward held at zero", "centre unknown: no evidence, not braking".
     std::string reason;
     bool changed = false;  // action or region changed since the previous step: log it
+    RegionState centre = RegionState::Unknown;  // the centre as the assist took it (aged)
+    // The pilot flies forward with no evidence about what is ahead (centre unknown or stale):
+    // the assist cannot brake for what it cannot see, and says so.
+    bool unknown_ahead = false;
+    double obstacle_m = kUnknown;  // the remembered obstacle ahead, metres (holding, probing)
 };
 
 class Assist {
@@ -149,7 +184,9 @@ private:
         double obstacle_m = kUnknown;  // remembered obstacle ahead, from the brake's position
         double travelled_m = 0;        // forward since then
         double clear_seen_s = 0;       // clear while the remembered obstacle was in sight
-        bool speed_trusted = true;     // false after a brake timed out with the speed still high
+        double stopped_clear_s = 0;    // held, stopped and the centre clear: towards a probe
+        bool probing = false;
+        bool speed_trusted = true;  // false after a brake timed out with the speed still high
         AssistAction last_action = AssistAction::Watching;
         vision::Region last_region = vision::Region::Centre;
         bool first = true;

@@ -16,11 +16,6 @@ std::optional<link::Move> path_move_of(const FlightCommand& c) {
     return link::Move{c.roll, c.pitch, c.gaz, c.yaw};
 }
 
-// "clear", "unsafe" ... of the reason the unit gave for not braking ("centre stale: ...").
-bool path_unknown_ahead(const AssistOutput& o) {
-    return o.action == AssistAction::Watching && o.reason.rfind("centre ", 0) == 0;
-}
-
 std::string path_command_text(const FlightCommand& c) {
     if (!c.progressive) return "hover";
     char buf[96];
@@ -78,7 +73,7 @@ AssistStatus PilotPath::status() const {
     s.override_held = gate_.override_held();
     s.dry_run = dry_;
     s.interventions = gate_.intervention_count();
-    s.unknown = s.enabled && !s.override_held && path_unknown_ahead(o);
+    s.unknown = s.enabled && !s.override_held && o.unknown_ahead;
     std::string line;
     switch (o.action) {
         case AssistAction::Off:
@@ -91,6 +86,7 @@ AssistStatus PilotPath::status() const {
             break;
         case AssistAction::Braking:
         case AssistAction::Holding:
+        case AssistAction::Probing:
             s.action = to_string(o.action);
             s.acting = true;
             line = o.reason;
@@ -117,12 +113,13 @@ AssistStatus PilotPath::status() const {
             line = o.reason;  // "STEERING right: obstacle left, contact in 1.7 s"
             break;
         case AssistAction::Watching:
+        case AssistAction::Approaching:
             if (s.unknown) {
                 s.action = "UNKNOWN";
-                const bool stale = o.reason.find("stale") != std::string::npos;
-                line = stale ? "UNKNOWN: classifier stale, no evidence ahead, not braking"
-                             : "UNKNOWN: no evidence ahead, not braking";
-            } else if (o.reason.rfind("APPROACHING", 0) == 0) {
+                line = o.centre == RegionState::Stale
+                           ? "UNKNOWN: classifier stale, no evidence ahead, not braking"
+                           : "UNKNOWN: no evidence ahead, not braking";
+            } else if (o.action == AssistAction::Approaching) {
                 s.action = "APPROACHING";
                 line = o.reason;
             } else {

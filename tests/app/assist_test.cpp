@@ -7,7 +7,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <vector>
 
 namespace gs::app {
 namespace {
@@ -131,18 +135,20 @@ TEST(Assist, HeldAndStillMovingTowardTheObstacleItBrakesAgain) {
     EXPECT_FLOAT_EQ(o.command.pitch, 1.0f);
 }
 
-TEST(Assist, AfterABrakeItLetsTheDroneOnlyUpToAGapBeforeTheRememberedObstacle) {
+TEST(Assist, AfterABrakeTheDroneIsHeldNoFartherThanTheGapFromWhereItStopped) {
     Assist a;
     // Unsafe with 3 s to contact at 1.2 m/s, on a frame 50 ms old: 3.54 m, remembered at 2.66 m.
+    // But a time to contact at the classifier's threshold may come from an obstacle seen late
+    // (much nearer): once stopped, it is remembered no farther than the gap ahead.
     AssistInput in = flying_forward(1.2, unsafe(3.0));
     ASSERT_EQ(a.step(in).action, AssistAction::Braking);
     in.t_s = 0.5;
     in.vx_mps = 0.1;
     in.regions[1] = {RegionState::Unknown, kUnknown, kUnknown};
     AssistOutput o = a.step(in);
-    EXPECT_EQ(o.action, AssistAction::Watching);  // 2.66 m - travelled: room to go on
-    EXPECT_EQ(o.command, forward());
-    EXPECT_NE(o.reason.find("APPROACHING: obstacle remembered"), std::string::npos) << o.reason;
+    EXPECT_EQ(o.action, AssistAction::Holding) << o.reason;
+    EXPECT_NEAR(o.obstacle_m, a.params().hold_gap_m, 1e-9);
+    EXPECT_TRUE(is_intervention(o.action));
     // Creeping on at 0.3 m/s for 10 s: 3 m more, under 1 m left: held, nose-up against the creep.
     for (int i = 1; i <= 100; ++i) {
         in.t_s = 0.5 + 0.1 * i;
@@ -154,19 +160,22 @@ TEST(Assist, AfterABrakeItLetsTheDroneOnlyUpToAGapBeforeTheRememberedObstacle) {
 }
 
 TEST(Assist, AnApproachingDroneIsStoppedWithItsStoppingDistanceBeforeTheGap) {
-    Assist a;
+    // Held without a brake (stopped, the pilot pushing forward at an unsafe centre with no time
+    // to contact): the obstacle is assumed default_obstacle_m ahead, here 3 m.
+    AssistParams params;
+    params.default_obstacle_m = 3.0;
+    Assist a(params);
     const AssistParams& p = a.params();
-    AssistInput in = flying_forward(1.0, unsafe(4.05));  // 4 m ahead (frame 50 ms old) ...
-    ASSERT_EQ(a.step(in).action, AssistAction::Braking);
+    AssistInput in = flying_forward(0.0, unsafe());
+    ASSERT_EQ(a.step(in).action, AssistAction::Holding);
     in.regions[1] = {RegionState::Unknown, kUnknown, kUnknown};
     in.t_s = 0.1;
-    in.vx_mps = 0.0;  // ... remembered at 3 m (ttc_trust); stopped at once
-    ASSERT_EQ(a.step(in).action, AssistAction::Watching);
+    ASSERT_EQ(a.step(in).action, AssistAction::Approaching);
     // Approaching at 0.8 m/s: it must brake while the stopping distance still fits in front of
     // the gap, not when the gap is reached.
     in.vx_mps = 0.8;
     const double stop = 0.8 * p.react_s + 0.8 * 0.8 / (2 * p.brake_decel_mps2);
-    double left = p.ttc_trust * 4.0, braked_at = -1;
+    double left = 3.0, braked_at = -1;
     for (int i = 1; i <= 200 && braked_at < 0; ++i) {
         in.t_s = 0.1 + 0.03 * i;
         left -= 0.8 * 0.03;
@@ -315,95 +324,164 @@ TEST(Assist, UnknownAndStaleEvidenceNeverBrakesAndSaysSo) {
     EXPECT_EQ(o.action, AssistAction::Watching);
     EXPECT_EQ(o.command, forward());
     EXPECT_EQ(o.reason, "centre unknown: no evidence, not braking");
+    EXPECT_TRUE(o.unknown_ahead);
+    EXPECT_EQ(o.centre, RegionState::Unknown);
     // An unsafe decision older than the staleness limit is no evidence either.
     o = a.step(flying_forward(1.5, {RegionState::Unsafe, 0.8, 1.0}));
     EXPECT_EQ(o.action, AssistAction::Watching);
     EXPECT_EQ(o.command, forward());
     EXPECT_EQ(o.reason, "centre stale: no evidence, not braking");
+    EXPECT_TRUE(o.unknown_ahead);
+    EXPECT_EQ(o.centre, RegionState::Stale);
+    // Not flying forward: nothing to say about what is ahead.
+    AssistInput still = flying_forward(0.0, {RegionState::Unknown, kUnknown, kUnknown});
+    still.pilot = FlightCommand{};
+    EXPECT_FALSE(a.step(still).unknown_ahead);
 }
 
-TEST(Assist, OverrideOffAndGroundPassThrough) {
-    Assist a;
-    AssistInput in = flying_forward(1.5, unsafe());
-    in.override = true;
-    AssistOutput o = a.step(in);
-    EXPECT_EQ(o.action, AssistAction::Override);
-    EXPECT_EQ(o.command, forward());
-    in.override = false;
-    in.enabled = false;
-    o = a.step(in);
-    EXPECT_EQ(o.action, AssistAction::Off);
-    EXPECT_EQ(o.command, forward());
-    in.enabled = true;
-    in.flying = false;
-    EXPECT_EQ(a.step(in).command, forward());
-    // Back on and flying: it brakes at once.
-    in.flying = true;
-    EXPECT_EQ(a.step(in).action, AssistAction::Braking);
+TEST(Assist, AStoppedHeldDroneWithTheCentreClearProbesSlowlyAfterAWait) {
+    const AssistParams p;
+    // Braked for an obstacle remembered 0.9 m ahead (0.75 x 1.2 s x 1 m/s, the frame 50 ms old):
+    // no room to approach (the gap is 1 m), room to probe (0.4 m plus the stopping distance).
+    Assist b(p);
+    AssistInput in = flying_forward(1.0, unsafe(1.25));
+    ASSERT_EQ(b.step(in).action, AssistAction::Braking);
+    in.regions[1] = clear();
+    in.vx_mps = 0.0;
+    AssistOutput o;
+    double t = 0.1;
+    for (; t < 0.1 + p.probe_wait_s - 0.05; t += 0.03) {
+        in.t_s = t;
+        o = b.step(in);
+        ASSERT_EQ(o.action, AssistAction::Holding) << "at " << t << " s: " << o.reason;
+        ASSERT_FALSE(o.command.progressive && o.command.pitch < 0);
+    }
+    for (int i = 0; i < 4; ++i) {
+        in.t_s = t += 0.03;
+        o = b.step(in);
+    }
+    ASSERT_EQ(o.action, AssistAction::Probing) << o.reason;
+    EXPECT_TRUE(o.intervened);
+    EXPECT_FLOAT_EQ(o.command.pitch, static_cast<float>(-p.probe_pitch));  // -0.5 capped
+    EXPECT_NEAR(o.obstacle_m, 0.9, 1e-9);
+    // Faster than the probe speed (1.2 x 0.9 / 3.3 = 0.33 m/s): nose-up, not yet a brake.
+    in.t_s = t += 0.03;
+    in.vx_mps = 0.5;
+    o = b.step(in);
+    ASSERT_EQ(o.action, AssistAction::Probing) << o.reason;
+    EXPECT_GT(o.command.pitch, 0.0f);
+    // The centre reads unsafe while probing toward it: brake again.
+    in.t_s = t += 0.03;
+    in.vx_mps = 0.4;
+    in.regions[1] = unsafe(2.0);
+    EXPECT_EQ(b.step(in).action, AssistAction::Braking);
 }
 
-TEST(Assist, WithoutNavdataVelocityItHoversRatherThanGuessing) {
-    Assist a;
-    AssistInput in = flying_forward(kUnknown, unsafe());
-    const AssistOutput o = a.step(in);
-    EXPECT_EQ(o.action, AssistAction::Holding);
-    EXPECT_EQ(o.command, FlightCommand{});  // hover: the drone's own velocity loop stops it
-}
+// The closed loop of the assist, the flight model and a classifier standing in for the real one,
+// a pilot holding forward for the whole flight (as eval-assist's pilot does): what it did.
+struct PilotRun {
+    double x_end_m = 0;
+    double min_gap_m = 1e9;  // to the obstacle's face, from the drone's centre
+    int brakes = 0;
+    bool probed = false;
+    AssistAction last = AssistAction::Watching;
+};
 
-TEST(Assist, BrakingNeverLastsLongerThanItsLimit) {
-    Assist a;
-    AssistInput in = flying_forward(2.0, unsafe());
-    EXPECT_EQ(a.step(in).action, AssistAction::Braking);
-    in.t_s = 2.5;  // a velocity that never drops (a broken estimate): hover after max_brake_s
-    EXPECT_EQ(a.step(in).action, AssistAction::Holding);
-}
-
-// On the virtual drone's flight model: from each of the thesis' speeds, the assist's brake (full
-// nose-up, then hover) stops at least as short as the drone's own hover, and within the thesis'
-// measured stopping distance of the AR.Drone (under 0.7 m up to 2 m/s) plus the attitude lag.
-double stopping_distance(double v0, bool assist) {
+// `classify(t, x, vx)` gives the centre's evidence at time t for a drone at x moving at vx.
+template <class Classify>
+PilotRun fly_with_pilot_forward(Assist& a, double seconds, double obstacle_x, Classify classify) {
     sim::FlightModel m;
     m.set_pose(0, 0, 1.0, 0);
-    sim::FlightInput in;
-    in.start = true;
-    in.progressive = true;
-    // Reach v0 with the tilt that holds it.
-    const double tilt = std::atan(0.55 * v0 / 9.81) * 180 / M_PI;
-    in.pitch = -tilt / (m.limits().euler_angle_max_rad * 180 / M_PI);
-    for (int i = 0; i < 2000 && m.state().vx_body_mps() < v0; ++i) {
-        sim::FlightInput boost = in;
-        boost.pitch = -1;
-        m.step(boost, 0.005);
-    }
-    for (int i = 0; i < 400; ++i) m.step(in, 0.005);  // settle at v0
+    sim::FlightInput hover;
+    hover.start = true;
+    for (int i = 0; i < 200; ++i) m.step(hover, 0.005);  // airborne, hovering
     const double x0 = m.state().x_m;
-    Assist a;
-    AssistInput ai;
-    ai.pilot = {true, 0, static_cast<float>(in.pitch), 0, 0};
-    ai.regions = {clear(), unsafe(), clear()};
-    for (int i = 0; i < 1000; ++i) {
-        ai.t_s = i * 0.005;
-        ai.vx_mps = m.state().vx_body_mps();
-        ai.yaw_deg = m.state().yaw_deg;
-        sim::FlightInput cmd;
-        cmd.start = true;
-        if (assist) {
-            const FlightCommand c = a.step(ai).command;
-            cmd.progressive = c.progressive;
-            cmd.pitch = c.pitch;
-        }  // else: hover
-        m.step(cmd, 0.005);
+    PilotRun r;
+    FlightCommand cmd;
+    AssistAction prev = AssistAction::Watching;
+    for (int i = 0; i * 0.005 < seconds; ++i) {
+        const double t = i * 0.005, x = m.state().x_m - x0, vx = m.state().vx_body_mps();
+        r.min_gap_m = std::min(r.min_gap_m, obstacle_x - x);
+        if (i % 6 == 0) {  // the AT beat, 30 ms
+            AssistInput in;
+            in.t_s = t;
+            in.pilot = forward(-0.4f);
+            in.regions = {clear(), classify(t, x, vx), clear()};
+            in.vx_mps = vx;
+            in.vy_mps = 0;
+            in.yaw_deg = m.state().yaw_deg;
+            const AssistOutput o = a.step(in);
+            cmd = o.command;
+            if (o.action == AssistAction::Braking && prev != AssistAction::Braking) ++r.brakes;
+            r.probed = r.probed || o.action == AssistAction::Probing;
+            if (std::getenv("ASSIST_TRACE") && o.action != prev)
+                std::printf("%6.2f x %5.2f vx %5.2f %-8s %s\n", t, x, vx,
+                            to_string(in.regions[1].state), o.reason.c_str());
+            prev = r.last = o.action;
+        }
+        sim::FlightInput fi;
+        fi.start = true;
+        fi.progressive = cmd.progressive;
+        fi.pitch = cmd.pitch;
+        fi.roll = cmd.roll;
+        m.step(fi, 0.005);
     }
-    return m.state().x_m - x0;
+    r.x_end_m = m.state().x_m - x0;
+    return r;
 }
 
-TEST(Assist, BrakingStopsNoLongerThanHoverOnTheFlightModel) {
-    for (double v : {0.6, 1.0, 1.5, 2.0}) {
-        const double hover = stopping_distance(v, false);
-        const double brake = stopping_distance(v, true);
-        EXPECT_LE(brake, hover + 1e-3) << v << " m/s";
-        EXPECT_LT(brake, 0.7 + 0.3 * v) << v << " m/s";
-        EXPECT_GT(brake, 0.05) << v << " m/s";
+// The centre as the flow classifier reads it on the virtual drone: stopped (under 0.2 m/s) clear,
+// since nothing approaches; slow (under 0.3 m/s, as on the suite) unknown, the direction of travel
+// too uncertain to judge the centre; faster, unsafe when the time to contact is under 3.3 s, read
+// 25 % long (a fit over past frames).
+RegionEvidence flow_like(double vx, double true_ttc_s) {
+    if (vx < 0.2) return clear();
+    if (vx < 0.3) return {RegionState::Unknown, 0.05, kUnknown};
+    return true_ttc_s < 3.3 ? unsafe(1.25 * true_ttc_s) : clear();
+}
+
+TEST(Assist, AFalseAlarmFromHoverIsProbedAndForgottenInsteadOfHoldingForEver) {
+    // Nothing ahead. The classifier flags the centre for 4 decisions (contact in 3.1 s) as the
+    // drone passes 0.75 m/s accelerating from hover, as on the suite's open flights (runs of 1-6
+    // AT cycles in the first metres), and reads as flow_like does otherwise.
+    Assist a;
+    int flagged = 0;
+    const PilotRun r = fly_with_pilot_forward(a, 25.0, 1e9, [&](double, double, double vx) {
+        if ((vx > 0.75 || flagged > 0) && flagged < 4) {
+            ++flagged;
+            return unsafe(3.1);
+        }
+        return flow_like(vx, 1e9);
+    });
+    // The brake, and those of the approach toward where the obstacle was placed (1.5 m ahead)
+    // until it is in sight and seen clear; then it is forgotten.
+    EXPECT_GE(r.brakes, 1);
+    EXPECT_TRUE(r.probed);
+    EXPECT_EQ(r.last, AssistAction::Watching) << "still held at the end";
+    EXPECT_GT(r.x_end_m, 10.0);  // the flight went on
+}
+
+TEST(Assist, AProbeTowardARealObstacleBrakesAgainAndNeverReachesIt) {
+    // An obstacle ahead, seen as flow_like sees it one decision (0.1 s) late.
+    for (double obstacle : {1.8, 3.0, 6.0}) {
+        Assist a;
+        struct Seen {
+            double t, x, vx;
+        };
+        std::vector<Seen> past;
+        const PilotRun r =
+            fly_with_pilot_forward(a, 30.0, obstacle, [&](double t, double x, double vx) {
+                past.push_back({t, x, vx});
+                std::size_t k = past.size() - 1;
+                while (k > 0 && past[k].t > t - 0.1) --k;
+                const Seen s = past[k];
+                RegionEvidence e = flow_like(s.vx, s.vx > 0 ? (obstacle - s.x) / s.vx : 1e9);
+                e.age_s = t - s.t;
+                return e;
+            });
+        EXPECT_GT(r.min_gap_m, 0.3) << obstacle << " m";
+        EXPECT_GE(r.brakes, 1) << obstacle << " m";
+        EXPECT_NE(r.last, AssistAction::Watching) << obstacle << " m: forgotten a real obstacle";
     }
 }
 
