@@ -10,6 +10,7 @@
 //   --compare FILE  compare every output frame with FILE's: max and mean absolute difference
 //   --png DIR       write every 30th output frame as PNG (and its clean render) to look at
 
+#include "bench/timing.hpp"
 #include "drone/core/camera_calibration.hpp"
 #include "drone/sim/realism.hpp"
 #include "drone/sim/renderer.hpp"
@@ -30,24 +31,8 @@
 
 namespace {
 
-// CPU time of this thread: the machine may be shared, wall time then overstates the cost.
-double thread_cpu_ms() {
-    timespec ts{};
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-    return double(ts.tv_sec) * 1e3 + double(ts.tv_nsec) * 1e-6;
-}
-
-void report(const char* what, std::vector<double> ms) {
-    if (ms.empty()) return;
-    std::sort(ms.begin(), ms.end());
-    auto pct = [&](double p) {
-        return ms[std::min(ms.size() - 1, std::size_t(p * double(ms.size())))];
-    };
-    double sum = 0;
-    for (double v : ms) sum += v;
-    std::printf("%-10s mean %6.2f ms  p50 %6.2f  p90 %6.2f  p99 %6.2f  max %6.2f  (%zu frames)\n",
-                what, sum / double(ms.size()), pct(0.5), pct(0.9), pct(0.99), ms.back(), ms.size());
-}
+using gs::bench::report;
+using gs::bench::thread_cpu_ms;
 
 }  // namespace
 

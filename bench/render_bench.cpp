@@ -3,6 +3,7 @@
 // the H.264 encoder. Usage: bench_render_bench [scene.json] [frames] [png_dir]
 // (png_dir: write every 30th frame there as PNG to look at).
 
+#include "bench/timing.hpp"
 #include "drone/core/camera_calibration.hpp"
 #include "drone/sim/renderer.hpp"
 #include "drone/sim/scene.hpp"
@@ -18,26 +19,14 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace {
 
-// CPU time of this thread: the machine may be shared, wall time then overstates the cost.
-double thread_cpu_ms() {
-    timespec ts{};
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-    return double(ts.tv_sec) * 1e3 + double(ts.tv_nsec) * 1e-6;
-}
-
+using gs::bench::thread_cpu_ms;
 void report(const char* what, std::vector<double> ms) {
-    std::sort(ms.begin(), ms.end());
-    auto pct = [&](double p) {
-        return ms[std::min(ms.size() - 1, std::size_t(p * double(ms.size())))];
-    };
-    double sum = 0;
-    for (double v : ms) sum += v;
-    std::printf("%-8s mean %6.2f ms  p50 %6.2f  p90 %6.2f  p99 %6.2f  max %6.2f  (%zu frames)\n",
-                what, sum / double(ms.size()), pct(0.5), pct(0.9), pct(0.99), ms.back(), ms.size());
+    gs::bench::report(what, std::move(ms), 8);
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 //
 // Usage: bench_vision_bench [frames=300] [classifier=all] [track_scale=0 (default)] [key=value ...]
 
+#include "bench/timing.hpp"
 #include "drone/core/unknown.hpp"
 #include "vision/classifier.hpp"
 #include "vision/synthetic_scene.hpp"
@@ -83,12 +84,7 @@ std::vector<Frame> render(int n, const CameraCalibration& calib) {
     return frames;
 }
 
-// CPU time of this thread: the machine is shared, wall time would count other processes.
-double thread_cpu_ms() {
-    timespec ts{};
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-    return static_cast<double>(ts.tv_sec) * 1e3 + static_cast<double>(ts.tv_nsec) * 1e-6;
-}
+using gs::bench::thread_cpu_ms;
 
 double pct(std::vector<double> v, double p) {
     if (v.empty()) return gs::kUnknown;
