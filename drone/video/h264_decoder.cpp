@@ -70,6 +70,7 @@ struct H264Decoder::Impl {
     AVPacket* pkt = nullptr;
     AVFrame* frame = nullptr;
     SwsContext* sws = nullptr;
+    cv::Mat conv;                      // the converter's padded output rows (see convert)
     std::vector<std::uint8_t> padded;  // input copy with the zero padding libavcodec requires
 
     bool waiting_idr = true;
@@ -151,9 +152,18 @@ struct H264Decoder::Impl {
             out.setTo(cv::Scalar::all(0));
             return;
         }
-        std::uint8_t* dst[4] = {out.data, nullptr, nullptr, nullptr};
-        int dst_stride[4] = {static_cast<int>(out.step[0]), 0, 0, 0};
+        // swscale's SIMD converters store whole vector words: a 24-bit row is written up to a
+        // few bytes past its last pixel, and past the end of a buffer that holds exactly h rows
+        // of 3w bytes (found by the h264 fuzzer: the heap header after the picture overwritten
+        // with converted grey). Convert into rows padded to 64 bytes plus a spare row, kept
+        // between frames, then copy the picture out.
+        const int stride = (w * 3 + 63) / 64 * 64 + 64;
+        conv.create(h + 1, stride, CV_8U);
+        std::uint8_t* dst[4] = {conv.data, nullptr, nullptr, nullptr};
+        int dst_stride[4] = {stride, 0, 0, 0};
         sws_scale(sws, frame->data, frame->linesize, 0, h, dst, dst_stride);
+        const std::size_t row = static_cast<std::size_t>(w) * 3;
+        for (int y = 0; y < h; ++y) std::memcpy(out.ptr(y), conv.ptr(y), row);
     }
 };
 
