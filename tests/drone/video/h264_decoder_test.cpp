@@ -224,6 +224,38 @@ TEST(H264Decoder, CodedSizeChangeReinitialises) {
     EXPECT_EQ(dec.stats().reinits, 1u);
 }
 
+// The picture is written within its own w x h x 3 bytes and not a byte after: swscale's SIMD
+// converters store whole vector words, past the last pixel of a 24-bit row (the h264 fuzzer found
+// the heap header after an exactly-sized picture overwritten with converted grey). The caller's
+// buffer is followed by canary bytes; display sizes that are not multiples of 8 or 16 too.
+TEST(H264Decoder, ThePictureIsWrittenWithinItsBufferAndNotAByteAfter) {
+    const auto small =
+        test::read_bytes(GS_TEST_DATA_DIR + std::string("/h264/testsrc_320x240_baseline.h264"));
+    const auto aus = split_annexb(small);
+    ASSERT_FALSE(aus.empty());
+    for (const cv::Size size : {cv::Size(320, 240), cv::Size(317, 237), cv::Size(318, 239),
+                                cv::Size(300, 200), cv::Size(301, 7)}) {
+        const std::size_t bytes = static_cast<std::size_t>(size.area()) * 3;
+        std::vector<std::uint8_t> backing(bytes + 256, 0xA5);
+        cv::Mat img(size, CV_8UC3, backing.data());  // create() keeps a buffer of the same size
+        H264Decoder dec;
+        int frames = 0;
+        for (const auto& au : aus) {
+            auto r = dec.decode(AccessUnit{au, std::nullopt, size.width, size.height, std::nullopt},
+                                img);
+            ASSERT_TRUE(r.has_value()) << size;
+            if (*r != DecodeStatus::Frame) continue;
+            ++frames;
+            ASSERT_EQ(img.size(), size);
+            ASSERT_EQ(img.data, backing.data()) << size;
+            std::size_t spoiled = 0;
+            for (std::size_t i = bytes; i < backing.size(); ++i) spoiled += backing[i] != 0xA5;
+            ASSERT_EQ(spoiled, 0u) << size << ": bytes written past the picture";
+        }
+        EXPECT_EQ(frames, static_cast<int>(aus.size())) << size;
+    }
+}
+
 TEST(H264Decoder, StreamIdOrDisplaySizeChangeReinitialisesAndWaitsForIdr) {
     const auto frames =
         run_framer(read_fixture("uav-pilot_ardrone_video_stream_dump.bin"), 0).frames;
