@@ -58,18 +58,29 @@ Expected<std::vector<RecordedCapture>, FileError> parse_capture_times(std::strin
     return out;
 }
 
+namespace {
+
+// An optional CSV of raw/ (docs/dataset.md 1.1): nothing when the file does not exist, else its
+// text (at most `limit` bytes) parsed by `parse`, or the first problem with either.
+template <class Parse>
+auto read_optional_raw(const std::filesystem::path& raw_dir, const char* name, std::size_t limit,
+                       Parse parse)
+    -> Expected<std::optional<typename decltype(parse(std::string()))::value_type>, FileError> {
+    using Value = typename decltype(parse(std::string()))::value_type;
+    std::error_code ec;
+    if (!std::filesystem::exists(raw_dir / name, ec)) return std::optional<Value>();
+    GS_TRY_ASSIGN(auto path, raw_file_path(raw_dir, name));
+    GS_TRY_ASSIGN(auto text, read_text_file(path, std::string("raw/") + name, limit));
+    GS_TRY_ASSIGN(auto value, parse(std::move(text)));
+    return std::optional<Value>(std::move(value));
+}
+
+}  // namespace
+
 Expected<std::optional<std::vector<RecordedCapture>>, FileError> read_capture_times(
     const std::filesystem::path& raw_dir) {
-    std::error_code ec;
-    if (!std::filesystem::exists(raw_dir / "capture_times.csv", ec))
-        return std::optional<std::vector<RecordedCapture>>();
-    auto p = raw_file_path(raw_dir, "capture_times.csv");
-    if (!p) return Unexpected(p.error());
-    auto text = read_text_file(*p, "raw/capture_times.csv", 256u << 20);
-    if (!text) return Unexpected(text.error());
-    auto c = parse_capture_times(std::move(*text));
-    if (!c) return Unexpected(c.error());
-    return std::optional(std::move(*c));
+    return read_optional_raw(raw_dir, "capture_times.csv", 256u << 20,
+                             [](std::string text) { return parse_capture_times(std::move(text)); });
 }
 
 std::map<std::uint32_t, std::int64_t> frames_of_pave_numbers(
@@ -101,16 +112,12 @@ Expected<std::vector<FrameRow>, FileError> replay_raw(const std::filesystem::pat
                 FileError{FileErrorCode::Missing, "raw/video.pave", 0, 0, "file not found"});
     }
     // Connection boundaries and recorded capture times (docs/dataset.md 1.1; both optional).
-    std::vector<VideoConnection> connections;
-    if (std::filesystem::exists(raw_dir / "video_connections.csv", ec)) {
-        auto p = raw_file_path(raw_dir, "video_connections.csv");
-        if (!p) return Unexpected(p.error());
-        auto text = read_text_file(*p, "raw/video_connections.csv", 64u << 20);
-        if (!text) return Unexpected(text.error());
-        auto c = parse_video_connections(std::move(*text));
-        if (!c) return Unexpected(c.error());
-        connections = std::move(*c);
-    }
+    GS_TRY_ASSIGN(auto recorded_connections,
+                  read_optional_raw(raw_dir, "video_connections.csv", 64u << 20, [](std::string text) {
+                      return parse_video_connections(std::move(text));
+                  }));
+    const std::vector<VideoConnection> connections =
+        recorded_connections ? std::move(*recorded_connections) : std::vector<VideoConnection>();
     if (dec.capture_times) {
         auto c = read_capture_times(raw_dir);
         if (!c) return Unexpected(c.error());

@@ -340,19 +340,24 @@ struct FloatLens {
 // the compiler's 4-lane vectors (GCC and Clang vector extensions; SSE on x86, NEON on ARM).
 using Px = float __attribute__((vector_size(16)));
 
-// Adds the bilinear sample of `src` (Px pixels, rows `step` pixels apart) at (x, y), clamped to
-// the image, to acc.
-inline void sample_bilinear(const Px* src, std::size_t step, int W, int H, float x, float y,
-                            Px& acc) {
-    x = std::clamp(x, 0.0f, float(W - 1));
-    y = std::clamp(y, 0.0f, float(H - 1));
-    const int x0 = std::min(int(x), W - 2), y0 = std::min(int(y), H - 2);
-    const float fx = x - float(x0), fy = y - float(y0);
+// Adds the bilinear interpolation of the 2x2 pixels at (x0, y0) of `src` (Px pixels, rows `step`
+// pixels apart) with weights (fx, fy) to acc. The caller keeps (x0 + 1, y0 + 1) inside the image.
+inline void bilinear_tap(const Px* src, std::size_t step, int x0, int y0, float fx, float fy,
+                         Px& acc) {
     const Px* a = src + std::size_t(y0) * step + std::size_t(x0);
     const Px* b = a + step;
     const Px top = a[0] + fx * (a[1] - a[0]);
     const Px bot = b[0] + fx * (b[1] - b[0]);
     acc += top + fy * (bot - top);
+}
+
+// Adds the bilinear sample of `src` at (x, y), clamped to the image, to acc.
+inline void sample_bilinear(const Px* src, std::size_t step, int W, int H, float x, float y,
+                            Px& acc) {
+    x = std::clamp(x, 0.0f, float(W - 1));
+    y = std::clamp(y, 0.0f, float(H - 1));
+    const int x0 = std::min(int(x), W - 2), y0 = std::min(int(y), H - 2);
+    bilinear_tap(src, step, x0, y0, x - float(x0), y - float(y0), acc);
 }
 
 // The warp's first pass over one row: each pixel's ray r = (rx, ry, 1) moves as
@@ -438,12 +443,7 @@ void CameraEffects::warp(const cv::Mat& src, cv::Mat& dst, const CameraMotion& m
                         const float f = (float(k) + 0.5f) * inv_taps;
                         const float px = ax + f * dx, py = ay + f * dy;
                         const int x0 = int(px), y0 = int(py);
-                        const float fx = px - float(x0), fy = py - float(y0);
-                        const Px* pa = s + std::size_t(y0) * step + std::size_t(x0);
-                        const Px* pb = pa + step;
-                        const Px top = pa[0] + fx * (pa[1] - pa[0]);
-                        const Px bot = pb[0] + fx * (pb[1] - pb[0]);
-                        acc += top + fy * (bot - top);
+                        bilinear_tap(s, step, x0, y0, px - float(x0), py - float(y0), acc);
                     }
                 } else {
                     for (int k = 0; k < taps; ++k) {
