@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 
 namespace gs::app {
@@ -169,6 +170,20 @@ std::optional<std::string> ReplayOutputs::write_plots(const fs::path& dir) const
     std::error_code ec;
     fs::create_directories(dir, ec);
     if (ec) return "cannot create " + dir.string() + ": " + ec.message();
+    // Every series the classifier published, as numbers: one row per series and frame in which
+    // it was updated ("series,frame,value", value empty when unknown), so a plot's figures can be
+    // read and compared (the FOE's place, the ego-motion's rejections, the corridor's points).
+    std::string csv = "series,frame,value\n";
+    char value[64];
+    for (const auto& [name, line] : series_)
+        for (std::size_t i = 0; i < line.x.size() && i < line.y.size(); ++i) {
+            if (std::isfinite(line.y[i]))
+                std::snprintf(value, sizeof value, "%.17g", line.y[i]);
+            else
+                value[0] = '\0';
+            csv += name + ',' + std::to_string(std::llround(line.x[i])) + ',' + value + '\n';
+        }
+    if (auto e = write_file_atomic(dir / "series.csv", csv, "plots/series.csv")) return to_string(*e);
     auto save = [&](const std::string& name,
                     const vision::PlotSpec& spec) -> std::optional<std::string> {
         const fs::path f = dir / name;

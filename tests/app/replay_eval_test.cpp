@@ -17,6 +17,7 @@ extern "C" {
 }
 
 #include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -200,6 +201,30 @@ TEST(ReplayCli, VideoShowsTheRegionBarAndPlotsAreWritten) {
             }
         EXPECT_GT(coloured, 200) << p;
     }
+    // plots/series.csv holds the plotted numbers: each region's score at every frame where the
+    // classifier published one, equal to the score in decisions.csv for that frame.
+    const dataset::csv::Table series = read_csv(out / "plots" / "series.csv");
+    ASSERT_EQ(series.header(), (std::vector<std::string>{"series", "frame", "value"}));
+    std::map<std::string, std::map<long, std::string>> by_name;
+    for (std::size_t i = 0; i < series.rows(); ++i)
+        by_name[std::string(series.field(i, 0))][std::stol(std::string(series.field(i, 1)))] =
+            std::string(series.field(i, 2));
+    for (const char* name : {"left.score", "centre.score", "right.score", "foe.x_px"})
+        EXPECT_TRUE(by_name.contains(name)) << name;
+    int compared = 0;
+    for (std::size_t i = 0; i < d.rows(); ++i) {
+        const std::string in_decisions(d.field(i, 5));  // left_score
+        const auto& left = by_name["left.score"];
+        const auto it = left.find(std::stol(std::string(d.field(i, 0))));
+        if (in_decisions.empty()) {
+            EXPECT_TRUE(it == left.end() || it->second.empty()) << "frame " << i;
+            continue;
+        }
+        ASSERT_NE(it, left.end()) << "frame " << i;
+        EXPECT_NEAR(std::stod(it->second), std::stod(in_decisions), 1e-9) << "frame " << i;
+        ++compared;
+    }
+    EXPECT_GT(compared, kFlightFrames / 2);
 }
 
 TEST(ReplayCli, UndistortedVideoStraightensTheImage) {
