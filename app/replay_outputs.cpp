@@ -183,7 +183,8 @@ std::optional<std::string> ReplayOutputs::write_plots(const fs::path& dir) const
                 value[0] = '\0';
             csv += name + ',' + std::to_string(std::llround(line.x[i])) + ',' + value + '\n';
         }
-    if (auto e = write_file_atomic(dir / "series.csv", csv, "plots/series.csv")) return to_string(*e);
+    if (auto e = write_file_atomic(dir / "series.csv", csv, "plots/series.csv"))
+        return to_string(*e);
     auto save = [&](const std::string& name,
                     const vision::PlotSpec& spec) -> std::optional<std::string> {
         const fs::path f = dir / name;

@@ -112,10 +112,11 @@ Expected<std::vector<FrameRow>, FileError> replay_raw(const std::filesystem::pat
                 FileError{FileErrorCode::Missing, "raw/video.pave", 0, 0, "file not found"});
     }
     // Connection boundaries and recorded capture times (docs/dataset.md 1.1; both optional).
-    GS_TRY_ASSIGN(auto recorded_connections,
-                  read_optional_raw(raw_dir, "video_connections.csv", 64u << 20, [](std::string text) {
-                      return parse_video_connections(std::move(text));
-                  }));
+    GS_TRY_ASSIGN(
+        auto recorded_connections,
+        read_optional_raw(raw_dir, "video_connections.csv", 64u << 20, [](std::string text) {
+            return parse_video_connections(std::move(text));
+        }));
     const std::vector<VideoConnection> connections =
         recorded_connections ? std::move(*recorded_connections) : std::vector<VideoConnection>();
     if (dec.capture_times) {
