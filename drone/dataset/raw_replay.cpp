@@ -62,11 +62,10 @@ namespace {
 
 // An optional CSV of raw/ (docs/dataset.md 1.1): nothing when the file does not exist, else its
 // text (at most `limit` bytes) parsed by `parse`, or the first problem with either.
-template <class Parse>
-auto read_optional_raw(const std::filesystem::path& raw_dir, const char* name, std::size_t limit,
-                       Parse parse)
-    -> Expected<std::optional<typename decltype(parse(std::string()))::value_type>, FileError> {
-    using Value = typename decltype(parse(std::string()))::value_type;
+template <class Value>
+Expected<std::optional<Value>, FileError> read_optional_raw(
+    const std::filesystem::path& raw_dir, const char* name, std::size_t limit,
+    Expected<Value, FileError> (*parse)(std::string)) {
     std::error_code ec;
     if (!std::filesystem::exists(raw_dir / name, ec)) return std::optional<Value>();
     GS_TRY_ASSIGN(auto path, raw_file_path(raw_dir, name));
@@ -79,8 +78,7 @@ auto read_optional_raw(const std::filesystem::path& raw_dir, const char* name, s
 
 Expected<std::optional<std::vector<RecordedCapture>>, FileError> read_capture_times(
     const std::filesystem::path& raw_dir) {
-    return read_optional_raw(raw_dir, "capture_times.csv", 256u << 20,
-                             [](std::string text) { return parse_capture_times(std::move(text)); });
+    return read_optional_raw(raw_dir, "capture_times.csv", 256u << 20, parse_capture_times);
 }
 
 std::map<std::uint32_t, std::int64_t> frames_of_pave_numbers(
@@ -112,13 +110,10 @@ Expected<std::vector<FrameRow>, FileError> replay_raw(const std::filesystem::pat
                 FileError{FileErrorCode::Missing, "raw/video.pave", 0, 0, "file not found"});
     }
     // Connection boundaries and recorded capture times (docs/dataset.md 1.1; both optional).
-    GS_TRY_ASSIGN(
-        auto recorded_connections,
-        read_optional_raw(raw_dir, "video_connections.csv", 64u << 20, [](std::string text) {
-            return parse_video_connections(std::move(text));
-        }));
+    GS_TRY_ASSIGN(auto recorded_connections, read_optional_raw(raw_dir, "video_connections.csv",
+                                                               64u << 20, parse_video_connections));
     const std::vector<VideoConnection> connections =
-        recorded_connections ? std::move(*recorded_connections) : std::vector<VideoConnection>();
+        std::move(recorded_connections).value_or(std::vector<VideoConnection>());
     if (dec.capture_times) {
         auto c = read_capture_times(raw_dir);
         if (!c) return Unexpected(c.error());

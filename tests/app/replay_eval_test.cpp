@@ -212,9 +212,9 @@ TEST(ReplayCli, VideoShowsTheRegionBarAndPlotsAreWritten) {
     for (const char* name : {"left.score", "centre.score", "right.score", "foe.x_px"})
         EXPECT_TRUE(by_name.contains(name)) << name;
     int compared = 0;
+    const auto& left = by_name["left.score"];
     for (std::size_t i = 0; i < d.rows(); ++i) {
         const std::string in_decisions(d.field(i, 5));  // left_score
-        const auto& left = by_name["left.score"];
         const auto it = left.find(std::stol(std::string(d.field(i, 0))));
         if (in_decisions.empty()) {
             EXPECT_TRUE(it == left.end() || it->second.empty()) << "frame " << i;
