@@ -9,6 +9,10 @@ using protocol::navdata::DroneState;
 
 namespace {
 
+// How far back a packet may come late or twice (80 ms of 200 Hz navdata; loopback and Wi-Fi
+// reorder by one or two). A step back further than this is the drone starting again.
+constexpr std::uint32_t kReorderWindow = 16;
+
 std::string trimmed(std::string s) {
     auto sp = [](char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n'; };
     while (!s.empty() && sp(s.back())) s.pop_back();
@@ -85,6 +89,7 @@ void LinkStateMachine::start(TimeNs now, LinkActions& out) {
     last_trigger_ns_ = now;
     last_navdata_ns_ = 0;
     last_seq_.reset();
+    restart_allowed_ = false;
     last_state_.reset();
     configured_ = false;
     out.send_trigger = true;
@@ -161,31 +166,37 @@ void LinkStateMachine::begin_configuration() {
 bool LinkStateMachine::on_navdata(const NavdataHeaderInfo& nav, TimeNs now, LinkActions& out) {
     if (state_ == ConnectionState::Disconnected) return false;
     const bool bootstrap = DroneState{nav.drone_state}.navdata_bootstrap();
+    const bool comwdg_bit = DroneState{nav.drone_state}.com_watchdog();
     if (last_seq_ && nav.sequence <= *last_seq_) {
-        if (bootstrap && configured_) {
-            // The drone restarted: its sequence began again and it waits to be configured.
-            last_seq_.reset();
-            ++counters_.sequence_resets;
-        } else {
+        // The drone starts its sequence again when it restarts (bootstrap after configuration)
+        // or when it re-opens the navdata stream after losing us (the SDK resets its expectation
+        // whenever the COM_WATCHDOG bit is set). A step back of a few packets is still a late or
+        // duplicated packet, whatever the bits say: a restart goes back further. After a link
+        // loss any sequence is taken, as the SDK does after its receive timeout: whatever
+        // happened in the silence, a drone that talks again must not be refused for ever.
+        const bool restarted = (bootstrap && configured_) || restart_allowed_ ||
+                               (comwdg_bit && *last_seq_ - nav.sequence >= kReorderWindow);
+        if (!restarted) {
             ++counters_.out_of_order;
             return false;
         }
+        last_seq_.reset();
+        ++counters_.sequence_resets;
     }
+    // The expectation is kept across a watchdog event or a link loss: if the sequence goes on,
+    // what is missing from it was lost on the way and is counted.
     if (last_seq_ && nav.sequence > *last_seq_ + 1) {
         counters_.sequence_gaps += nav.sequence - *last_seq_ - 1;
     }
     last_seq_ = nav.sequence;
+    restart_allowed_ = false;
     last_state_ = nav.drone_state;
     last_navdata_ns_ = now;
     ++counters_.packets_accepted;
 
     // The AT sender answers the bit with AT*COMWDG every cycle while it is set.
-    const bool comwdg = DroneState{nav.drone_state}.com_watchdog() && !bootstrap;
-    if (comwdg && !prev_comwdg_) {
-        ++counters_.com_watchdog_events;
-        last_seq_.reset();  // the SDK resets its expectation after a watchdog event
-        ++counters_.sequence_resets;
-    }
+    const bool comwdg = comwdg_bit && !bootstrap;
+    if (comwdg && !prev_comwdg_) ++counters_.com_watchdog_events;
     prev_comwdg_ = comwdg;
 
     switch (state_) {
@@ -361,8 +372,7 @@ void LinkStateMachine::tick(TimeNs now, LinkActions& out) {
         last_navdata_ns_ != 0 && since > t.link_lost_after_ns) {
         ++counters_.link_losses;
         out.link_lost = true;
-        last_seq_.reset();
-        ++counters_.sequence_resets;
+        restart_allowed_ = true;
         cancel_jobs(out);
         configured_ = configured_ && state_ == ConnectionState::Connected;
         enter(ConnectionState::LinkLost,

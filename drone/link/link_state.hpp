@@ -88,7 +88,7 @@ struct LinkCounters {
     std::uint64_t packets_accepted = 0;
     std::uint64_t sequence_gaps = 0;    // packets missing between accepted ones
     std::uint64_t out_of_order = 0;     // dropped: sequence not greater than the last accepted
-    std::uint64_t sequence_resets = 0;  // expectation reset (watchdog, link loss, reboot)
+    std::uint64_t sequence_resets = 0;  // a new sequence began (reboot, watchdog, after a loss)
     std::uint64_t link_losses = 0;
     std::uint64_t triggers_sent = 0;
     std::uint64_t configs_sent = 0;
@@ -162,6 +162,7 @@ private:
     LinkCounters counters_;
     std::optional<std::uint32_t> last_state_;
     std::optional<std::uint32_t> last_seq_;
+    bool restart_allowed_ = false;  // after a link loss the next packet may begin a new sequence
     TimeNs last_navdata_ns_ = 0;
     TimeNs last_trigger_ns_ = 0;
     TimeNs started_ns_ = 0;

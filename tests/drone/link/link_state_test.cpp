@@ -224,7 +224,7 @@ TEST(LinkState, SilenceIsLinkLostWithinHalfASecondAndRecoveredAtOnce) {
     EXPECT_EQ(h.sm.counters().link_losses, 1u);
     h.tick_for(1000);
     EXPECT_TRUE(h.out.send_trigger);
-    // Data flows again, with a lower sequence (expectations were reset): connected at once.
+    // Data flows again, with a lower sequence (a new stream after the silence): connected at once.
     EXPECT_TRUE(h.nav(kThreads | kDemo | kFly, 50));
     EXPECT_TRUE(h.out.link_restored);
     EXPECT_EQ(h.sm.state(), ConnectionState::Connected);
@@ -232,6 +232,24 @@ TEST(LinkState, SilenceIsLinkLostWithinHalfASecondAndRecoveredAtOnce) {
     ASSERT_TRUE(h.out.connected);
     EXPECT_EQ(*h.out.connected, kThreads | kDemo | kFly);
     EXPECT_FALSE(h.out.drone_restarted);
+    EXPECT_EQ(h.sm.counters().sequence_resets, 1u);
+    EXPECT_FALSE(h.nav(kThreads | kDemo | kFly, 49));  // once: from then on, order again
+    const auto gaps0 = h.sm.counters().sequence_gaps;
+    EXPECT_TRUE(h.nav(kThreads | kDemo | kFly, 53));
+    EXPECT_EQ(h.sm.counters().sequence_gaps - gaps0, 2u);
+}
+
+TEST(LinkState, ALinkLossWhoseSequenceGoesOnCountsWhatWasLostInTheSilence) {
+    Harness h;
+    h.connect_demo();
+    h.nav(kThreads | kDemo, 1000);
+    h.tick_for(600);
+    ASSERT_EQ(h.sm.state(), ConnectionState::LinkLost);
+    const auto gaps0 = h.sm.counters().sequence_gaps;
+    EXPECT_TRUE(h.nav(kThreads | kDemo, 1120));  // 600 ms of 200 Hz navdata went missing
+    EXPECT_EQ(h.sm.state(), ConnectionState::Connected);
+    EXPECT_EQ(h.sm.counters().sequence_gaps - gaps0, 119u);
+    EXPECT_EQ(h.sm.counters().sequence_resets, 0u);
 }
 
 TEST(LinkState, EnteringConnectedIsAnEdgeCarryingTheDroneState) {
@@ -267,16 +285,28 @@ TEST(LinkState, ADroneRestartIsDetectedAndReconfigured) {
     EXPECT_EQ(h.sm.state(), ConnectionState::Connected);
 }
 
-TEST(LinkState, AComWatchdogEventIsCountedOnceAndResetsTheSequence) {
+TEST(LinkState, AComWatchdogEventIsCountedOnceAndNeitherHidesLossesNorLetsLatePacketsIn) {
     Harness h;
     h.connect_demo();
     h.nav(kThreads | kDemo | kComWdg, 900);
     h.nav(kThreads | kDemo | kComWdg, 901);
     EXPECT_EQ(h.sm.counters().com_watchdog_events, 1u);  // AtScheduler answers it every cycle
-    // The reset lets a lower sequence through once after the event.
-    h.nav(kThreads | kDemo, 902);
-    h.nav(kThreads | kDemo | kComWdg, 903);
-    EXPECT_TRUE(h.nav(kThreads | kDemo, 10));
+    // The sequence goes on: what went missing around the event is counted, as anywhere else.
+    const auto gaps0 = h.sm.counters().sequence_gaps;
+    EXPECT_TRUE(h.nav(kThreads | kDemo, 905));
+    EXPECT_EQ(h.sm.counters().sequence_gaps - gaps0, 3u);
+    // A late packet is late even with the bit set; a step far back with it is a new stream.
+    EXPECT_FALSE(h.nav(kThreads | kDemo | kComWdg, 903));
+    EXPECT_EQ(h.sm.counters().sequence_resets, 0u);
+    EXPECT_TRUE(h.nav(kThreads | kDemo | kComWdg, 1));
+    EXPECT_EQ(h.sm.counters().sequence_resets, 1u);
+    EXPECT_EQ(h.sm.counters().com_watchdog_events, 2u);
+    EXPECT_TRUE(h.nav(kThreads | kDemo, 2));
+    EXPECT_FALSE(h.nav(kThreads | kDemo, 1));  // and the new stream has its own order
+    EXPECT_EQ(h.sm.counters().sequence_gaps - gaps0, 3u);
+    // Without the bit (and without a restart) a step far back is only old.
+    EXPECT_FALSE(h.nav(kThreads | kDemo, 0));
+    EXPECT_EQ(h.sm.counters().out_of_order, 3u);
 }
 
 TEST(LinkState, AVerifiedWriteReadsTheValueBack) {
