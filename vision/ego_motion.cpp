@@ -558,4 +558,37 @@ const EgoMotion& EgoMotionEstimator::estimate(const CameraCalibration& calib,
     return m_;
 }
 
+void NavdataRateError::reset(const RateErrorParams& p) {
+    p_ = p;
+    const double sb = p_.bias_sigma_dps * kRadPerDeg;
+    for (Axis& a : axes_) a = {{0, 0}, cv::Matx22d(sb * sb, 0, 0, p_.scale_sigma * p_.scale_sigma)};
+}
+
+cv::Vec3d NavdataRateError::update(const cv::Vec3d& image_rad, const cv::Vec3d& image_var,
+                                   const cv::Vec3d& nav_rot, double dt) {
+    if (!(dt > 0)) return {0, 0, 0};
+    const double a = std::exp(-dt / p_.bias_tau_s);
+    const double sb = p_.bias_sigma_dps * kRadPerDeg;
+    const double qs = p_.scale_walk * p_.scale_walk * dt;
+    cv::Vec3d corr;
+    for (int k = 0; k < 3; ++k) {
+        Axis& e = axes_[static_cast<std::size_t>(k)];
+        // Predict: the bias decays toward zero and its variance toward sb^2; the scale walks.
+        e.x[0] *= a;
+        e.p(0, 0) = a * a * e.p(0, 0) + (1 - a * a) * sb * sb;
+        e.p(0, 1) *= a;
+        e.p(1, 0) *= a;
+        e.p(1, 1) += qs;
+        // Update with this frame's measured rate error, z = b + s w.
+        const cv::Vec2d h(1, nav_rot[k] / dt);
+        const cv::Vec2d ph = e.p * h;
+        const double s = h.dot(ph) + image_var[k] / (dt * dt);
+        const cv::Vec2d gain = ph * (1 / s);
+        e.x += gain * (image_rad[k] / dt - h.dot(e.x));
+        e.p -= gain * ph.t();
+        corr[k] = h.dot(e.x) * dt;
+    }
+    return corr;
+}
+
 }  // namespace gs::vision

@@ -32,6 +32,7 @@
 
 #include <opencv2/core.hpp>
 
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <span>
@@ -142,6 +143,41 @@ private:
     std::vector<Pt> pts_;
     std::vector<double> wt_, res_, res_rot_, scratch_;
     std::vector<std::uint8_t> outlier_;
+};
+
+// The navdata rotation's error over frames, per camera axis, as an IMU's errors are: a rate
+// bias b (a Gauss-Markov process: standard deviation, correlation time) plus a scale error s
+// (starting within a standard deviation, drifting by a walk per square-root second), so that the
+// navdata rate w reads b + s w too much. Each frame the images measure that error (EgoMotion's
+// image_rad over the frame time, with image_var); a Kalman filter on [b, s] per axis follows it.
+// A bias is a fraction of a degree per second, so a steady disagreement while the drone flies
+// straight (a close obstacle on one side pulls the image rotation) barely moves it; a scale
+// error shows while turning, and is learnt then.
+struct RateErrorParams {
+    double bias_sigma_dps = 0.5;
+    double bias_tau_s = 10;
+    double scale_sigma = 0.2;
+    double scale_walk = 0.01;
+};
+
+class NavdataRateError {
+public:
+    explicit NavdataRateError(const RateErrorParams& p = {}) { reset(p); }
+    void reset(const RateErrorParams& p);
+    // nav_rot: the navdata rotation over the frame (rad, camera axes); dt: the frame time (s).
+    // Returns the rotation to add to the navdata's for this frame (rad), after the update.
+    cv::Vec3d update(const cv::Vec3d& image_rad, const cv::Vec3d& image_var,
+                     const cv::Vec3d& nav_rot, double dt);
+    double bias_rad_s(int axis) const { return axes_[static_cast<std::size_t>(axis)].x[0]; }
+    double scale(int axis) const { return axes_[static_cast<std::size_t>(axis)].x[1]; }
+
+private:
+    struct Axis {
+        cv::Vec2d x{0, 0};
+        cv::Matx22d p = cv::Matx22d::zeros();
+    };
+    RateErrorParams p_;
+    std::array<Axis, 3> axes_{};
 };
 
 }  // namespace gs::vision

@@ -92,8 +92,8 @@ void TrajectoryTracker::reset() {
     mask_roll_deg_ = kUnknown;
     last_rotation_rad_ = {0, 0, 0};
     have_rotation_ = false;
-    bias_ = {0, 0, 0};
-    bias_var_ = cv::Vec3d::all(std::pow(p_.ego_image_floor_deg * kRadPerDeg, 2));
+    nav_error_.reset(
+        {p_.ego_bias_sigma_dps, p_.ego_bias_tau_s, p_.ego_scale_sigma, p_.ego_scale_walk});
     image_roll_deg_ = 0;
     roll_used_deg_ = 0;
     correction_deg_ = {0, 0, 0};
@@ -231,27 +231,18 @@ void TrajectoryTracker::update(const cv::Mat& image, std::int64_t t_ns, double r
                                                 std::span<const float>(err_.data(), n));
             if (em.valid) {
                 // On top of the navdata, what the images find is an error of the attitude
-                // samples: mostly slow (latency against the video, a bias, a scale), so it is
-                // followed over frames by a Kalman filter per axis (a random walk seen through
-                // each frame's image estimate, never taken as better than image_floor_deg): one
-                // frame where the images trade a rotation for a shift of the FOE (a wall seen
-                // head-on makes the two look alike) barely moves it, a persistent error is
-                // learnt in about a second. A sample the images reject outright (stale, from
-                // the wrong instant) is replaced by the images' own rotation. Without navdata
-                // the images' rotation is the rotation itself.
+                // samples. An IMU's errors are a small bias and a scale, so the error is followed
+                // over frames as such (follow_navdata_error): one frame where the images trade a
+                // rotation for a shift of the FOE barely moves it, and neither does a steady pull
+                // while flying straight (a near obstacle on one side), which no real gyro bias
+                // could be. A sample the images reject outright (stale, from the wrong instant)
+                // is replaced by the images' own rotation. Without navdata the images' rotation
+                // is the rotation itself.
                 cv::Vec3d corr = em.correction_rad;
-                if (navdata_rotation && em.prior_rotation_used) {
-                    const double q = p_.ego_bias_walk_deg * kRadPerDeg;
-                    for (int k = 0; k < 3; ++k) {
-                        bias_var_[k] += q * q;
-                        const double gain = bias_var_[k] / (bias_var_[k] + em.image_var[k]);
-                        bias_[k] += gain * (em.image_rad[k] - bias_[k]);
-                        bias_var_[k] *= 1 - gain;
-                    }
-                    corr = bias_;
-                } else if (navdata_rotation) {
+                if (navdata_rotation && em.prior_rotation_used)
+                    corr = nav_error_.update(em.image_rad, em.image_var, base_rot, dt);
+                else if (navdata_rotation)
                     corr = em.image_rad;
-                }
                 if (corr != em.correction_rad) ego_.refine(calib_, corr);
                 const cv::Matx33d hr = small_rotation_homography(calib_, corr);
                 for (cv::Point2f& q : pred_) q = apply_homography(hr, q);

@@ -34,12 +34,17 @@ struct TrackerParams {
     double ego_prior_gate = 4.0;        // reject a navdata prior this many sigmas off the images
     double ego_image_floor_deg = 0.3;   // one frame's image rotation never better known than this
     double ego_max_rotation_deg = 10;   // a larger image correction per frame is not believed
+    // Without navdata: a translation needs its FOE this well placed (else: still camera, moving
+    // objects).
     double ego_reliable_foe_sigma_px = 80;
     double ego_prediction_sigma_deg = 0.5;  // without navdata: the last frame's rotation predicts
                                             // this one's to this (per axis)
-    double ego_bias_walk_deg =
-        0.01;  // the navdata rotation's error drifts by this per frame  // without navdata: a
-               // translation needs its FOE this well placed (else: still camera, moving objects)
+    // The navdata rotation's error followed over frames (NavdataRateError): a rate bias and a
+    // scale error.
+    double ego_bias_sigma_dps = 0.5;
+    double ego_bias_tau_s = 10;
+    double ego_scale_sigma = 0.2;
+    double ego_scale_walk = 0.01;
     // Without navdata roll, roll-stabilise with the roll the images measure (their rotation about
     // the optical axis, integrated and leaking back to level with this time constant: the drone
     // flies level on average, and an integrated rate drifts).
@@ -108,8 +113,14 @@ void describe_tracker_params(ParamTable<P>& t) {
              "ego-motion without navdata: a translation needs its FOE placed this well")
         .add("ego.prediction_sigma_deg", &P::ego_prediction_sigma_deg, 0.01, 30,
              "ego-motion without navdata: the last rotation predicts this one's to this")
-        .add("ego.bias_walk_deg", &P::ego_bias_walk_deg, 0, 10,
-             "ego-motion: the navdata rotation's error drifts by this per frame (filter)")
+        .add("ego.bias_sigma_dps", &P::ego_bias_sigma_dps, 0, 100,
+             "ego-motion: the navdata rotation rate's bias, standard deviation (deg/s)")
+        .add("ego.bias_tau_s", &P::ego_bias_tau_s, 0.1, 1000,
+             "ego-motion: ... and its correlation time (s)")
+        .add("ego.scale_sigma", &P::ego_scale_sigma, 0, 2,
+             "ego-motion: the navdata rotation's scale error, initial standard deviation")
+        .add("ego.scale_walk", &P::ego_scale_walk, 0, 1,
+             "ego-motion: ... and its drift per square-root second")
         .add("track.image_roll", &P::image_roll, 0, 1,
              "without navdata roll, stabilise with the roll the images measure")
         .add("track.image_roll_tau_s", &P::image_roll_tau_s, 0.1, 60,
@@ -258,8 +269,8 @@ private:
     std::vector<std::size_t> order_;
     std::vector<std::uint8_t> drop_;
     EgoMotionEstimator ego_;
-    cv::Vec3d last_rotation_rad_{0, 0, 0};         // whole camera rotation of the last frame
-    cv::Vec3d bias_{0, 0, 0}, bias_var_{0, 0, 0};  // the navdata rotation's error (filter)
+    cv::Vec3d last_rotation_rad_{0, 0, 0};  // whole camera rotation of the last frame
+    NavdataRateError nav_error_;            // the navdata rotation's error, followed over frames
     bool have_rotation_ = false;
     double image_roll_deg_ = 0;
     double roll_used_deg_ = 0;
