@@ -107,6 +107,9 @@ FlowClassifier::FlowClassifier(const CameraCalibration& calib, const FlowParams&
     s_hazards_ = add_series("corridor.points");
     s_residual_yaw_ = add_series("derotation.residual_yaw_deg");
     s_residual_pitch_ = add_series("derotation.residual_pitch_deg");
+    // What the images alone say of the navdata rotation's error this frame (before the filter).
+    s_image_yaw_ = add_series("derotation.image_yaw_deg");
+    s_image_pitch_ = add_series("derotation.image_pitch_deg");
     s_foe_sigma_ = add_series("ego.foe_sigma_px");
     s_prior_rejected_ = add_series("ego.navdata_rejected");
     s_moving_ = add_series("ego.moving_points");
@@ -294,6 +297,9 @@ void FlowClassifier::classify(const FrameInput& in) {
     plot(s_residual_yaw_, -tracker_.image_correction_deg()[1]);
     plot(s_residual_pitch_, -tracker_.image_correction_deg()[0]);
     const EgoMotion& em = tracker_.ego();
+    const bool nav_judged = em.valid && (em.prior_rotation_used || em.prior_rotation_rejected);
+    plot(s_image_yaw_, nav_judged ? -em.image_rad[1] * 180.0 / CV_PI : kUnknown);
+    plot(s_image_pitch_, nav_judged ? -em.image_rad[0] * 180.0 / CV_PI : kUnknown);
     UnknownReason why = UnknownReason::None;
     const bool known = choose_foe(in, why);
     plot(s_prior_rejected_, em.prior_rotation_rejected || nav_rejected_ ? 1 : 0);
