@@ -41,12 +41,17 @@ struct AssistEvalOptions {
     bool assist = true;
     AssistParams params;
     std::string classifier = "flow";
+    std::vector<std::string> set;   // classifier parameters, key=value (checked by the caller)
     double video_latency_s = 0.12;  // capture to decision at the ground station (AR.Drone 2 Wi-Fi)
     double settle_s = 2.0;          // hover after take-off (frames flow to the classifier)
     double after_s = 4.0;           // the flight goes on this long past its nominal duration
     // A CSV of every AT cycle (time, position, speed, clearance, the regions the assist saw, its
     // action and command) for looking into one flight; empty: none.
     std::string trace_path;
+    // The flight as a dataset (docs/dataset.md: video.h264, frames.csv with the navdata the
+    // classifier was given and the ground-truth pose, flight.json), for `replay` to show what
+    // the classifier saw; empty: none. The directory must not exist or be empty.
+    std::string record_dir;
 };
 
 struct AssistFlightResult {

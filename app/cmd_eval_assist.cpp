@@ -6,7 +6,9 @@
 #include "app/assist_eval.hpp"
 #include "app/cli_options.hpp"
 #include "app/command.hpp"
+#include "app/pipeline.hpp"
 #include "app/replay_outputs.hpp"
+#include "app/replay_run.hpp"
 #include "drone/sim/rng.hpp"
 #include "drone/sim/scenarios.hpp"
 
@@ -37,7 +39,10 @@ struct Opts {
     std::uint64_t seed = 2027;
     bool quiet = false;
     bool trace = false;
+    bool record = false;
     std::string only;
+    std::string classifier = "flow";
+    std::vector<std::string> set;  // classifier parameters, key=value
 };
 
 std::vector<double> parse_speeds(const std::string& text) {
@@ -189,6 +194,12 @@ int run(const Opts& o) {
             return f.name.find(o.only) == std::string::npos;
         });
     if (specs.empty()) throw fail("no flight matches --only " + o.only);
+    {
+        // Bad --set values are refused before anything flies.
+        ObstaclePipeline probe(o.classifier, builtin_calibration(CameraId::Front));
+        if (!probe.ok()) throw fail("unknown classifier '" + o.classifier + "'");
+        if (auto e = apply_overrides(probe.classifier(), o.set)) throw fail(*e);
+    }
     std::vector<bool> modes;
     if (o.assist != "off") modes.push_back(true);
     if (o.assist != "on") modes.push_back(false);
@@ -216,10 +227,15 @@ int run(const Opts& o) {
         for (std::size_t i = next++; i < jobs.size(); i = next++) {
             AssistEvalOptions eo;
             eo.assist = jobs[i].assist;
+            eo.classifier = o.classifier;
+            eo.set = o.set;
             if (o.trace)
                 eo.trace_path =
                     (out / (specs[jobs[i].spec].name + (eo.assist ? "-on" : "-off") + ".trace.csv"))
                         .string();
+            if (o.record)
+                eo.record_dir =
+                    (out / (specs[jobs[i].spec].name + (eo.assist ? "-on" : "-off"))).string();
             auto r = fly_assist_flight(specs[jobs[i].spec], eo);
             std::lock_guard lock(mu);
             ++done;
@@ -270,6 +286,8 @@ int run(const Opts& o) {
     nlohmann::ordered_json j;
     j["suite"] = o.suite;
     j["seed"] = o.seed;
+    j["classifier"] = o.classifier;
+    j["set"] = o.set;
     j["speeds"] = speeds;
     j["elapsed_s"] = elapsed;
     j["jobs"] = o.jobs;
@@ -306,8 +324,11 @@ int run(const Opts& o) {
     std::ostringstream md;
     md << "# Collision-prevention assist, closed loop\n\n"
        << "`ardrone-gs eval-assist --suite " << o.suite << " --speeds " << o.speeds << " --assist "
-       << o.assist << " --seed " << o.seed << "`: " << rs.size() << " flights in "
-       << fixed(elapsed, 0) << " s (" << o.jobs << " jobs).\n\n";
+       << o.assist << " --seed " << o.seed;
+    if (o.classifier != "flow") md << " --classifier " << o.classifier;
+    for (const auto& kv : o.set) md << " --set " << kv;
+    md << "`: " << rs.size() << " flights in " << fixed(elapsed, 0) << " s (" << o.jobs
+       << " jobs).\n\n";
     md << "| | flights | collisions | obstacle flights collided | min clearance mean / min (m) "
           "| nuisance brakes (open) | completed |\n|---|---|---|---|---|---|---|\n";
     auto row = [&](const char* name, const Summary& s) {
@@ -386,7 +407,11 @@ CommandRegistration reg(47, [](CLI::App& root) {
     sub->add_flag("--quiet,-q", o->quiet, "No per-flight lines or summary");
     sub->add_flag("--trace", o->trace,
                   "Also write DIR/<flight>-on|off.trace.csv: every AT cycle of every flight");
+    sub->add_flag("--record", o->record,
+                  "Also write DIR/<flight>-on|off/: each flight as a dataset, to replay (what "
+                  "the classifier saw, with the ground truth)");
     sub->add_option("--only", o->only, "Only the flights whose name contains this");
+    add_classifier_options(*sub, o->classifier, o->set);
     set_action(*sub, [o] { return run(*o); });
 });
 

@@ -78,5 +78,46 @@ TEST(EvalAssistCli, SmokeSuiteWritesReportsThatAgreeWithFlightsCsv) {
     EXPECT_NE(read_text(out / "stopping.svg").find("<svg"), std::string::npos);
 }
 
+TEST(EvalAssistCli, RecordWritesEachFlightAsADatasetThatReplays) {
+    // --record: each flight as a dataset (what the classifier was given, with the ground truth),
+    // for `replay` to show why the assist did what it did. --set reaches the classifier.
+    const fs::path out = scratch_dir("eval_assist_cli", "record");
+    const CmdResult r = run_cli(
+        "eval-assist --suite smoke --speeds 1.0 --assist on --only open-none -q --seed 3 "
+        "--record --set confirm_frames=3 --out " +
+        out.string());
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    std::ifstream js(out / "report.json");
+    const auto j = nlohmann::json::parse(js);
+    EXPECT_EQ(j["set"], nlohmann::json::array({"confirm_frames=3"}));
+    const auto rows = eval_rows(out / "flights.csv");
+    ASSERT_EQ(rows.size(), 1u);
+    const fs::path flight = out / (rows[0].at("name") + "-on");
+    for (const char* f : {"flight.json", "frames.csv", "video.h264"})
+        ASSERT_TRUE(fs::exists(flight / f)) << flight / f;
+    const auto frames = eval_rows(flight / "frames.csv");
+    // Every frame from the hover before the pilot's start, so at least the flight's own.
+    EXPECT_GE(frames.size(), static_cast<std::size_t>(std::stoi(rows[0].at("frames"))));
+    EXPECT_FALSE(frames.front().at("gt_x_m").empty());  // the ground truth is there
+
+    const fs::path replayed = out / "replayed";
+    const CmdResult rp = run_cli("replay " + flight.string() +
+                                 " --strict -q --set confirm_frames=3 --out " + replayed.string());
+    ASSERT_EQ(rp.exit_code, 0) << rp.out;
+    std::ifstream sj(replayed / "summary.json");
+    const auto summary = nlohmann::json::parse(sj);
+    EXPECT_EQ(summary["frames"].get<std::size_t>(), frames.size());
+    EXPECT_EQ(summary["decode_errors"].get<int>(), 0);
+}
+
+TEST(EvalAssistCli, ABadClassifierParameterIsRefusedBeforeAnythingFlies) {
+    const fs::path out = scratch_dir("eval_assist_cli", "bad_set");
+    const CmdResult r = run_cli(
+        "eval-assist --suite smoke --speeds 1.0 -q --set no_such_key=1 --out " + out.string());
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_NE(r.out.find("no_such_key"), std::string::npos) << r.out;
+    EXPECT_FALSE(fs::exists(out / "report.json"));
+}
+
 }  // namespace
 }  // namespace gs::test
