@@ -108,15 +108,20 @@ TEST_F(AssistWiring, ForwardAtTheCentrePillarIsBrakedOverrideAndToggleOffPassEme
         EXPECT_GE(rows, 1) << "no intervention recorded";
     }
 
-    // Escape (a desktop reflex) does not switch the assist off: forward stays held.
+    // Escape (a desktop reflex) does not switch the assist off nor end what it does after the
+    // brake: it still remembers the pillar (holding, or letting the pilot approach while the
+    // remembered obstacle is farther than the gap plus the stopping distance, or probing).
     (void)sent_forward_pitches(*raw);
     InputState esc;
     esc.keys.set(GLFW_KEY_ESCAPE);
     step(esc);
-    for (int i = 0; i < 10; ++i) step();
-    EXPECT_TRUE(snap.assist.enabled);
-    EXPECT_FALSE(assist_has_pitch(sent_forward_pitches(*raw), -0.3f))
-        << "forward passed after Escape";
+    for (int i = 0; i < 10; ++i) {
+        step();
+        EXPECT_TRUE(snap.assist.enabled) << "Escape switched the assist off";
+        const std::string& a = snap.assist.action;
+        EXPECT_TRUE(a == "BRAKING" || a == "HOLDING" || a == "APPROACHING" || a == "PROBING")
+            << "Escape ended the hold: " << snap.assist.line;
+    }
 
     // Override held: the forward command passes while the key is down.
     const InputState shift = key(PilotKey::AssistOverride);
