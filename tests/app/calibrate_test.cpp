@@ -10,7 +10,6 @@
 #include <opencv2/imgproc.hpp>
 
 #include <sys/wait.h>
-#include <unistd.h>
 
 #include <array>
 #include <cstdio>
@@ -33,12 +32,8 @@ std::string frame(int i) {
     return kFrames + name;
 }
 
-// A fresh directory under /tmp for one test.
 fs::path scratch(const std::string& name) {
-    const fs::path d = fs::path("/tmp") / ("gs_calibrate_test_" + std::to_string(getpid())) / name;
-    fs::remove_all(d);
-    fs::create_directories(d);
-    return d;
+    return gs::test::scratch_dir("calibrate_test", name);
 }
 
 TEST(CalibrateCli, RealFramesWriteACalibration) {

@@ -15,7 +15,9 @@ struct CmdResult {
 CmdResult run_cli(const std::string& args);
 // The same, stdout only (stderr goes to the test's own): for output parsed as JSON.
 CmdResult run_cli_stdout(const std::string& args);
-// A fresh, empty directory /tmp/gs_<suite>_<pid>/<name>.
+// A fresh, empty directory /tmp/gs_<suite>_<pid>/<name>; /tmp/gs_<suite>_<pid> is removed when
+// the test program exits with every test passed (kept when one failed, or GS_KEEP_TEST_OUTPUT is
+// set).
 std::filesystem::path scratch_dir(const std::string& suite, const std::string& name);
 std::string read_text(const std::filesystem::path& p);
 

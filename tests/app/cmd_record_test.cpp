@@ -243,6 +243,13 @@ TEST(Record, FailsClearlyWhenNoDroneAnswers) {
 // message naming the dataset and the disk, and what is on disk opens and replays every frame.
 TEST(Record, AFullDiskStopsTheRecordingWithAClearMessageAndLeavesADatasetThatReplays) {
     const fs::path tmp = make_temp_dir();
+    struct RemoveAll {  // declared first: runs after the unmount below
+        fs::path p;
+        ~RemoveAll() {
+            std::error_code ec;
+            fs::remove_all(p, ec);
+        }
+    } remove_tmp{tmp};
     const fs::path mnt = tmp / "tiny";
     fs::create_directories(mnt);
     if (std::system(("mount -t tmpfs -o size=3m tmpfs " + mnt.string() + " 2>/dev/null").c_str()) !=

@@ -1,6 +1,7 @@
 // Scene files, JSON error reporting, ground-truth queries and the seeded generator.
 
 #include "drone/sim/scene.hpp"
+#include "support/dataset_fixtures.hpp"
 
 #include <gtest/gtest.h>
 
@@ -13,8 +14,10 @@ namespace {
 
 const std::string kScenes = std::string(GS_ASSETS_DIR) + "/scenes/";
 
+// In one directory of this process's own, removed at exit.
 std::string write_temp(const std::string& name, const std::string& text) {
-    const auto path = (std::filesystem::temp_directory_path() / ("gs_sim_" + name)).string();
+    static const gs::test::TempDir dir;
+    const auto path = (dir / name).string();
     std::ofstream(path) << text;
     return path;
 }
