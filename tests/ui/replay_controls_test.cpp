@@ -69,9 +69,8 @@ TEST_F(ReplayControls, PlayPauseStepSeekSpeedAndLoopOnTheShippedFlight) {
 
     // Pause: the position holds.
     step([](Actions& a) { a.replay_pause = true; });
-    ASSERT_TRUE(run_until([&] { return !snap.replay.playing; }, 5s));
-    std::this_thread::sleep_for(100ms);  // a frame in flight may still land
-    step();
+    // A frame in flight when the pause landed: wait until the frame shown is the position held.
+    ASSERT_TRUE(run_until([&] { return !snap.replay.playing && showing(snap.replay.frame); }, 5s));
     const std::int64_t held = snap.replay.frame;
     EXPECT_EQ(advance_during(300ms), 0);
     EXPECT_EQ(snap.replay.frame, held);
