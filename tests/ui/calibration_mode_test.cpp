@@ -22,7 +22,6 @@
 #include <cmath>
 #include <filesystem>
 #include <functional>
-#include <thread>
 
 namespace gs::ui::test {
 namespace {
