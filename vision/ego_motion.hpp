@@ -158,12 +158,18 @@ struct RateErrorParams {
     double bias_tau_s = 10;
     double scale_sigma = 0.2;
     double scale_walk = 0.01;
+    bool operator==(const RateErrorParams&) const = default;
 };
 
 class NavdataRateError {
 public:
     explicit NavdataRateError(const RateErrorParams& p = {}) { reset(p); }
     void reset(const RateErrorParams& p);
+    // New parameters: the filter starts again from their priors (what it learnt under others
+    // is dropped); the same ones change nothing.
+    void set_params(const RateErrorParams& p) {
+        if (!(p == p_)) reset(p);
+    }
     // nav_rot: the navdata rotation over the frame (rad, camera axes); dt: the frame time (s).
     // Returns the rotation to add to the navdata's for this frame (rad), after the update.
     cv::Vec3d update(const cv::Vec3d& image_rad, const cv::Vec3d& image_var,

@@ -92,8 +92,7 @@ void TrajectoryTracker::reset() {
     mask_roll_deg_ = kUnknown;
     last_rotation_rad_ = {0, 0, 0};
     have_rotation_ = false;
-    nav_error_.reset(
-        {p_.ego_bias_sigma_dps, p_.ego_bias_tau_s, p_.ego_scale_sigma, p_.ego_scale_walk});
+    nav_error_.reset(rate_error_params());
     image_roll_deg_ = 0;
     roll_used_deg_ = 0;
     correction_deg_ = {0, 0, 0};
@@ -113,6 +112,15 @@ cv::Point2f TrajectoryTracker::to_track(cv::Point2f p) const {
     if (p_.track_scale == 1.0) return p;
     const auto s = static_cast<float>(p_.track_scale);
     return {(p.x + 0.5f) * s - 0.5f, (p.y + 0.5f) * s - 0.5f};
+}
+
+void TrajectoryTracker::set_params(const TrackerParams& p) {
+    p_ = p;
+    nav_error_.set_params(rate_error_params());
+}
+
+RateErrorParams TrajectoryTracker::rate_error_params() const {
+    return {p_.ego_bias_sigma_dps, p_.ego_bias_tau_s, p_.ego_scale_sigma, p_.ego_scale_walk};
 }
 
 EgoMotionParams TrajectoryTracker::ego_params() const {

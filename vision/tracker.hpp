@@ -204,8 +204,9 @@ public:
     TrajectoryTracker() = default;
     void configure(const CameraCalibration& calib, const TrackerParams& p);
     // New values for parameters that do not change sizes (TrackerParams marked without
-    // resets_state): takes effect on the next update, keeps the trajectories.
-    void set_params(const TrackerParams& p) { p_ = p; }
+    // resets_state): takes effect on the next update, keeps the trajectories (the navdata
+    // rotation error filter starts again when its own parameters change).
+    void set_params(const TrackerParams& p);
     void reset();
 
     // image: grey or BGR at the calibration's size. base_h maps the previous frame's undistorted
@@ -225,6 +226,7 @@ public:
     // Roll used to stabilise the last frame (navdata's, or the images' when it had none).
     double roll_deg() const { return roll_used_deg_; }
     EgoMotionParams ego_params() const;
+    RateErrorParams rate_error_params() const;
 
     const std::vector<Trajectory>& tracks() const { return tracks_; }
     const CameraCalibration& calibration() const { return calib_; }

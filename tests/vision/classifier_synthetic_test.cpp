@@ -117,6 +117,27 @@ TEST(SyntheticFlight, TheImagesCorrectAnUnderReportingYaw) {
     EXPECT_NEAR(std::abs(v[v.size() / 2]), 3.0 / f.fps, 0.04);
 }
 
+TEST(SyntheticFlight, RateErrorParametersSetOnARunningClassifierTakeEffect) {
+    // The same under-reporting yaw, with the bias and scale the filter may learn set to zero
+    // through set_param (as the window's sliders and --set do, after construction): the images'
+    // correction must then stay near zero instead of finding the 3 degrees/s.
+    Flight f = make_flight(Motion::Yaw);
+    f.navdata_yaw_scale = 0.8;
+    auto c = make_classifier("flow", synthetic_calibration());
+    ASSERT_EQ(c->set_param("ego.bias_sigma_dps", 0), ParamStatus::Ok);
+    ASSERT_EQ(c->set_param("ego.scale_sigma", 0), ParamStatus::Ok);
+    ASSERT_EQ(c->set_param("ego.scale_walk", 0), ParamStatus::Ok);
+    fly(f, *c);
+    const PlotSeries* yaw = c->process({}).find_series("derotation.residual_yaw_deg");
+    ASSERT_NE(yaw, nullptr);
+    std::vector<double> v;
+    for (std::size_t i = yaw->points.size() / 2; i < yaw->points.size(); ++i)
+        v.push_back(std::abs(yaw->points[i].y));
+    ASSERT_FALSE(v.empty());
+    std::sort(v.begin(), v.end());
+    EXPECT_LT(v[v.size() / 2], 0.2 * 3.0 / f.fps);
+}
+
 TEST(SyntheticFlight, PureRollIsSafeForBoth) {
     for (const char* name : {"thesis", "flow"}) {
         const auto& rec = flown(Motion::Roll, name);
