@@ -103,6 +103,16 @@ Expected<void, StartError> DroneLink::start() {
     at_queue_.reopen();
     nav_queue_.reopen();
     dump_queue_.reopen();
+    {
+        // A started link is bootstrapping from this moment: without this, status() read before
+        // the AT thread's first snapshot said "Disconnected" (the window showed NO SOURCE for a
+        // frame while connecting). The AT thread's state machine says the same when it starts.
+        MachineSnapshot m;
+        m.state = ConnectionState::Bootstrapping;
+        m.reason = "waking navdata up; waiting for the first packet";
+        if (auto prev = machine_slot_.latest()) m.counters = prev->counters;
+        machine_slot_.publish(std::move(m));
+    }
     running_ = true;
     threads_.emplace_back([this] { navdata_loop(); });
     threads_.emplace_back([this] { at_loop(); });

@@ -277,6 +277,29 @@ TEST(LinkIntegration, VideoFramesCarryThePaveFrameNumberAndTimestampTheDroneSent
     EXPECT_GT(units_checked, 15);
 }
 
+TEST(LinkIntegration, AStartedLinkSaysBootstrappingFromTheMomentStartReturns) {
+    // Nobody answers on these ports: the link must say it is connecting (bootstrapping) from the
+    // first status read after start(), never "Disconnected" before its AT thread has run (the
+    // window showed NO SOURCE for a frame while connecting, a CI failure of CockpitLive).
+    auto quiet = transport::UdpSocket::bind(transport::Endpoint::loopback(0));
+    ASSERT_TRUE(quiet);
+    LinkConfig lc;
+    lc.drone_address = "127.0.0.1";
+    lc.bind_address = "127.0.0.1";
+    lc.at_port = lc.navdata_port = quiet->local_endpoint()->port;
+    lc.video = false;
+    lc.control = false;
+    DroneLink link(lc);
+    EXPECT_EQ(link.status().state, ConnectionState::Disconnected);
+    ASSERT_TRUE(link.start());
+    EXPECT_EQ(link.state(), ConnectionState::Bootstrapping);
+    const LinkStatus st = link.status();
+    EXPECT_EQ(st.state, ConnectionState::Bootstrapping) << st.reason;
+    EXPECT_NE(st.reason.find("waking navdata up"), std::string::npos) << st.reason;
+    link.stop();
+    EXPECT_EQ(link.state(), ConnectionState::Disconnected);
+}
+
 TEST(LinkIntegration, PaveFramesInAnotherCodecAreCountedNotDecoded) {
     // A crafted stream on a loopback video port: MPEG-4 frames (what 5555 carries in the record
     // codec modes, docs/protocol.md §4.5) between two ends of nothing else.
