@@ -109,7 +109,7 @@ Expected<void, StartError> DroneLink::start() {
         // frame while connecting). The AT thread's state machine says the same when it starts.
         MachineSnapshot m;
         m.state = ConnectionState::Bootstrapping;
-        m.reason = "waking navdata up; waiting for the first packet";
+        m.reason = std::string(kBootstrappingReason);
         if (auto prev = machine_slot_.latest()) m.counters = prev->counters;
         machine_slot_.publish(std::move(m));
     }

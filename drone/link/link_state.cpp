@@ -94,7 +94,7 @@ void LinkStateMachine::start(TimeNs now, LinkActions& out) {
     configured_ = false;
     out.send_trigger = true;
     ++counters_.triggers_sent;
-    enter(ConnectionState::Bootstrapping, "waking navdata up; waiting for the first packet");
+    enter(ConnectionState::Bootstrapping, std::string(kBootstrappingReason));
 }
 
 void LinkStateMachine::stop(LinkActions& out) {

@@ -14,6 +14,7 @@
 #include <deque>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace gs::link {
@@ -102,6 +103,11 @@ struct NavdataHeaderInfo {
     std::uint32_t drone_state = 0;
     std::uint32_t sequence = 0;
 };
+
+// Why a started link is in Bootstrapping: the state machine's reason on start(), which the link
+// also publishes the moment it starts, before its threads run the machine.
+inline constexpr std::string_view kBootstrappingReason =
+    "waking navdata up; waiting for the first packet";
 
 class LinkStateMachine {
 public:
