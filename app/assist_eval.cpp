@@ -4,7 +4,7 @@
 #include "app/pipeline.hpp"
 #include "app/replay_run.hpp"
 #include "drone/core/camera_calibration.hpp"
-#include "drone/dataset/writer.hpp"
+#include "drone/dataset/video_dataset_writer.hpp"
 #include "drone/protocol/at.hpp"
 #include "drone/sim/collision.hpp"
 #include "drone/sim/drone_core.hpp"
@@ -123,20 +123,13 @@ Expected<AssistFlightResult, std::string> fly_assist_flight(const AssistFlightSp
         trace << "t_s,x_m,y_m,vx_mps,clearance_m,left,centre,right,centre_ttc_s,age_s,action,"
                  "pilot_pitch,sent_pitch,sent_roll,reason\n";
     }
-    // Recording: every encoded access unit, and a frames.csv row for each with what the
-    // classifier was given (the truth without noise for a unit that gave no picture).
-    std::ofstream rec_video;
-    std::string rec_frames;
-    std::int64_t rec_count = 0;
-    const std::filesystem::path rec_dir(opt.record_dir);
+    // Recording: every encoded access unit, with a frames.csv row of what the classifier was
+    // given.
+    std::optional<dataset::VideoDatasetWriter> rec;
     if (!opt.record_dir.empty()) {
-        std::error_code fe;
-        if (std::filesystem::exists(rec_dir, fe) && !std::filesystem::is_empty(rec_dir, fe))
-            return Unexpected(rec_dir.string() + " exists and is not empty");
-        std::filesystem::create_directories(rec_dir, fe);
-        rec_video.open(rec_dir / "video.h264", std::ios::binary);
-        if (fe || !rec_video) return Unexpected("cannot create " + rec_dir.string());
-        rec_frames = dataset::frames_csv_header();
+        auto w = dataset::VideoDatasetWriter::create(opt.record_dir);
+        if (!w) return Unexpected(w.error());
+        rec.emplace(std::move(w).value());
     }
     for (TimeNs t = 0;; t += kStepNs) {
         const sim::FlightState& s = core.flight();
@@ -253,40 +246,33 @@ Expected<AssistFlightResult, std::string> fly_assist_flight(const AssistFlightSp
             unit.data = au;
             unit.frame_number = static_cast<std::uint32_t>(frame_index + 1);
             auto got = decoder.decode(unit, decoded);
-            dataset::FrameRow row;
-            if (rec_video.is_open()) {
-                rec_video.write(reinterpret_cast<const char*>(au.data()),
-                                static_cast<std::streamsize>(au.size()));
+            const bool picture = got && *got == video::DecodeStatus::Frame;
+            // The navdata the classifier is given: the state with the navdata's noise, drawn for
+            // a frame with a picture only (a unit without one is recorded with the exact state).
+            const auto an = [&] { return picture ? anoise(noise) : 0.0; };
+            const auto vn = [&] { return picture ? vnoise(noise) : 0.0; };
+            NavState nav;
+            nav.t_ns = capture;
+            nav.roll_deg = st.roll_deg + an();
+            nav.pitch_deg = st.pitch_deg + an();
+            nav.yaw_deg = st.yaw_deg + an();
+            nav.vx_mps = st.vx_body_mps() + vn();
+            nav.vy_mps = st.vy_body_mps() + vn();
+            nav.vz_mps = st.vz_mps + vn();
+            nav.altitude_m = st.z_m;
+            if (rec) {
                 const sim::Pose pose = core.pose();
-                row.frame = rec_count++;
-                row.nav.t_ns = capture;
-                row.nav.roll_deg = st.roll_deg;
-                row.nav.pitch_deg = st.pitch_deg;
-                row.nav.yaw_deg = st.yaw_deg;
-                row.nav.vx_mps = st.vx_body_mps();
-                row.nav.vy_mps = st.vy_body_mps();
-                row.nav.vz_mps = st.vz_mps;
-                row.nav.altitude_m = st.z_m;
+                dataset::FrameRow row;
+                row.nav = nav;
                 row.gt = {pose.x_m, pose.y_m, pose.z_m, pose.yaw_deg};
+                rec->add(au, row);
             }
-            if (got && *got == video::DecodeStatus::Frame) {
+            if (picture) {
                 FrameSample fs;
                 fs.index = frame_index;
                 fs.t_ns = capture;
                 fs.image = decoded;
-                fs.nav.t_ns = capture;
-                fs.nav.roll_deg = st.roll_deg + anoise(noise);
-                fs.nav.pitch_deg = st.pitch_deg + anoise(noise);
-                fs.nav.yaw_deg = st.yaw_deg + anoise(noise);
-                fs.nav.vx_mps = st.vx_body_mps() + vnoise(noise);
-                fs.nav.vy_mps = st.vy_body_mps() + vnoise(noise);
-                fs.nav.vz_mps = st.vz_mps + vnoise(noise);
-                fs.nav.altitude_m = st.z_m;
-                if (rec_video.is_open()) {
-                    const std::int64_t t_row = row.nav.t_ns;
-                    row.nav = fs.nav;
-                    row.nav.t_ns = t_row;
-                }
+                fs.nav = nav;
                 const vision::FrameResult& r = pipeline.process(fs);
                 Decision dec;
                 dec.capture_ns = capture;
@@ -295,7 +281,6 @@ Expected<AssistFlightResult, std::string> fly_assist_flight(const AssistFlightSp
                 if (pilot_from_ns && !r.regions[1].valid) ++res.unknown_centre_frames;
                 in_flight.push_back(dec);
             }
-            if (rec_video.is_open()) rec_frames += dataset::frames_csv_row(row);
             ++frame_index;
             if (pilot_from_ns) ++res.frames;
         }
@@ -304,25 +289,16 @@ Expected<AssistFlightResult, std::string> fly_assist_flight(const AssistFlightSp
             in_flight.pop_front();
         }
     }
-    if (rec_video.is_open()) {
-        rec_video.close();
+    if (rec) {
         dataset::DatasetInfo info;
         info.camera = CameraId::Front;
         info.width = calib.width;
         info.height = calib.height;
         info.fps = kFps;
-        info.frames = rec_count;
         info.calibration = calib;
         info.source = "rendered: ardrone-gs eval-assist (" + spec.name + ", assist " +
                       (opt.assist ? "on" : "off") + ", seed " + std::to_string(spec.seed) + ")";
-        std::ofstream frames(rec_dir / "frames.csv", std::ios::binary);
-        frames << rec_frames;
-        frames.close();
-        // flight.json last: a half-written flight is not a dataset.
-        std::ofstream flight(rec_dir / "flight.json", std::ios::binary);
-        flight << dataset::flight_json_text(info);
-        flight.close();
-        if (!rec_video || !frames || !flight) return Unexpected("cannot write " + rec_dir.string());
+        if (auto e = rec->finish(info)) return Unexpected(*e);
     }
     res.bumps = static_cast<int>(core.counters().bumps);
     if (!res.completed && pilot_from_ns)

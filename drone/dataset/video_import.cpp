@@ -1,7 +1,6 @@
 #include "drone/dataset/video_import.hpp"
 
-#include "drone/core/file_io.hpp"
-#include "drone/dataset/writer.hpp"
+#include "drone/dataset/video_dataset_writer.hpp"
 #include "drone/video/h264_decoder.hpp"
 #include "drone/video/h264_encoder.hpp"
 
@@ -17,7 +16,6 @@ extern "C" {
 #include <opencv2/core.hpp>
 
 #include <cmath>
-#include <fstream>
 #include <limits>
 #include <vector>
 
@@ -106,42 +104,6 @@ private:
     std::int64_t last_ = 0, n_ = 0, repairs_ = 0;
 };
 
-class Output {
-public:
-    explicit Output(fs::path dir) : dir_(std::move(dir)), csv_(frames_csv_header()) {}
-    std::optional<std::string> open() {
-        video_.open(dir_ / "video.h264", std::ios::binary);
-        if (!video_) return "cannot create " + (dir_ / "video.h264").string();
-        return std::nullopt;
-    }
-    void add(std::span<const std::uint8_t> au, std::int64_t t_ns) {
-        video_.write(reinterpret_cast<const char*>(au.data()),
-                     static_cast<std::streamsize>(au.size()));
-        FrameRow row;
-        row.frame = frames_;
-        row.nav.t_ns = t_ns;  // attitude, velocity, altitude: unknown (empty cells)
-        csv_ += frames_csv_row(row);
-        ++frames_;
-    }
-    std::int64_t frames() const { return frames_; }
-    std::optional<std::string> finish(const DatasetInfo& info) {
-        video_.close();
-        if (!video_) return "cannot write " + (dir_ / "video.h264").string();
-        if (auto e = write_file_atomic(dir_ / "frames.csv", csv_, "frames.csv"))
-            return to_string(*e);
-        // flight.json last: a half-written import is not a dataset.
-        if (auto e = write_file_atomic(dir_ / "flight.json", flight_json_text(info), "flight.json"))
-            return to_string(*e);
-        return std::nullopt;
-    }
-
-private:
-    fs::path dir_;
-    std::ofstream video_;
-    std::string csv_;
-    std::int64_t frames_ = 0;
-};
-
 double stream_rate(const AVStream* st) {
     for (AVRational r : {st->avg_frame_rate, st->r_frame_rate})
         if (r.num > 0 && r.den > 0) {
@@ -187,10 +149,14 @@ Expected<VideoImportSummary, std::string> import_video(const fs::path& input,
     sum.copied =
         o.mode == VideoImportMode::Copy || (o.mode == VideoImportMode::Auto && h264 && !reorders);
 
-    fs::create_directories(out_dir, ec);
-    if (ec) return Unexpected("cannot create " + out_dir.string() + ": " + ec.message());
-    Output out(out_dir);
-    if (auto e = out.open()) return Unexpected(*e);
+    GS_TRY_ASSIGN(VideoDatasetWriter out, VideoDatasetWriter::create(out_dir));
+    // Imported footage has a time per frame and nothing else: attitude, velocity and altitude
+    // are unknown (empty cells).
+    auto add = [&out](std::span<const std::uint8_t> au, std::int64_t t_ns) {
+        FrameRow row;
+        row.nav.t_ns = t_ns;
+        out.add(au, row);
+    };
 
     const double rate = stream_rate(st);
     FrameClock clock(st->time_base, o.fps, rate);
@@ -232,7 +198,7 @@ Expected<VideoImportSummary, std::string> import_video(const fs::path& input,
                         sum.width = image.cols;
                         sum.height = image.rows;
                     }
-                    out.add(au, clock.next(pts));
+                    add(au, clock.next(pts));
                     if (o.progress) o.progress(out.frames());
                 }
                 av_packet_unref(fpkt.p);
@@ -300,7 +266,7 @@ Expected<VideoImportSummary, std::string> import_video(const fs::path& input,
             bool idr = false;
             auto n = enc->encode(bgr, au, idr);
             if (!n) return "H.264 encoder: " + to_string(n.error());
-            out.add(au, clock.next(fr->best_effort_timestamp));
+            add(au, clock.next(fr->best_effort_timestamp));
             if (o.progress) o.progress(out.frames());
             return std::nullopt;
         };

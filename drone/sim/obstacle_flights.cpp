@@ -2,6 +2,7 @@
 #include "drone/core/unknown.hpp"
 
 #include "drone/dataset/csv.hpp"
+#include "drone/dataset/video_dataset_writer.hpp"
 #include "drone/dataset/writer.hpp"
 #include "drone/sim/drone_core.hpp"
 #include "drone/sim/realism.hpp"
@@ -12,7 +13,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <fstream>
 #include <numbers>
 #include <optional>
 
@@ -45,18 +45,6 @@ namespace {
 double since_ms(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
-
-std::optional<std::string> write_text(const fs::path& p, const std::string& text) {
-    std::ofstream f(p, std::ios::binary);
-    f << text;
-    f.close();
-    if (!f) return "cannot write " + p.string();
-    return std::nullopt;
-}
-
-}  // namespace
-
-namespace {
 
 // One recorded frame of a flight: the drone's state and pose, and where the target is.
 struct FlightFrame {
@@ -210,9 +198,6 @@ Expected<ObstacleFlightSummary, std::string> write_obstacle_flight(const fs::pat
             if (target) target = find_obstacle(scene, scene.target_id);
         }
     }
-    fs::create_directories(dir, ec);
-    if (ec) return Unexpected("cannot create " + dir.string() + ": " + ec.message());
-
     if (auto e = p.realism.check()) return Unexpected(*e);
     // The realism layer's scene effects (plain walls ...): what the camera sees, not the flight.
     const SceneEffects scene_fx = apply_scene_effects(scene, p.realism, mix_seed(p.seed, 0x5ce4e));
@@ -228,9 +213,7 @@ Expected<ObstacleFlightSummary, std::string> write_obstacle_flight(const fs::pat
     auto encoder = video::H264Encoder::create(ec_cfg);
     if (!encoder) return Unexpected("H.264 encoder: " + to_string(encoder.error()));
 
-    std::ofstream video(dir / "video.h264", std::ios::binary);
-    if (!video) return Unexpected("cannot create " + (dir / "video.h264").string());
-    std::string frames_csv = dataset::frames_csv_header();
+    GS_TRY_ASSIGN(dataset::VideoDatasetWriter out, dataset::VideoDatasetWriter::create(dir));
     std::string labels_csv = "frame,distance_m,lateral_m\n";
 
     Rng noise(mix_seed(p.seed, 0x0b5));
@@ -281,12 +264,7 @@ Expected<ObstacleFlightSummary, std::string> write_obstacle_flight(const fs::pat
             sum.encode_ms += since_ms(t0);
             damage.apply(au, idr);
             t0 = std::chrono::steady_clock::now();
-            video.write(reinterpret_cast<const char*>(au.data()),
-                        static_cast<std::streamsize>(au.size()));
-            sum.video_bytes += au.size();
-
             dataset::FrameRow row;
-            row.frame = f.index;
             row.nav.t_ns = f.t_ns;
             NavState truth;
             truth.t_ns = f.t_ns;
@@ -311,36 +289,29 @@ Expected<ObstacleFlightSummary, std::string> write_obstacle_flight(const fs::pat
             row.nav.altitude_m = truth.altitude_m;
             row.nav.battery_pct = std::floor(s.battery_pct);
             row.gt = dataset::GroundTruthPose{f.pose.x_m, f.pose.y_m, f.pose.z_m, f.pose.yaw_deg};
-            frames_csv += dataset::frames_csv_row(row);
-            labels_csv += std::to_string(f.index) + ',' +
+            labels_csv += std::to_string(out.frames()) + ',' +
                           dataset::csv::format_number(f.distance_m) + ',' +
                           dataset::csv::format_number(f.lateral_m) + '\n';
+            out.add(au, row);
+            sum.video_bytes += au.size();
             if (f.index == 0) sum.start_distance_m = f.distance_m;
             sum.end_distance_m = f.distance_m;
             sum.write_ms += since_ms(t0);
             return std::nullopt;
         });
     if (!flown) return Unexpected(flown.error());
-    video.close();
-    if (!video) return Unexpected("cannot write " + (dir / "video.h264").string());
     sum.frames = static_cast<int>(flown->frames);
     sum.slices_lost = damage.damaged();
     sum.duration_s = flown->duration_s;
-    const std::int64_t index = flown->frames;
 
     dataset::DatasetInfo info;
     info.camera = CameraId::Front;
     info.width = calib.width;
     info.height = calib.height;
     info.fps = p.fps;
-    info.frames = index;
+    info.frames = out.frames();
     info.calibration = calib;
     info.source = "rendered: ardrone-gs virtual drone (" + fl.name + ")";
-    if (auto e = write_text(dir / "frames.csv", frames_csv)) return Unexpected(*e);
-    if (auto e = write_text(dir / "labels.csv", labels_csv)) return Unexpected(*e);
-    if (auto e = write_text(dir / "labels.json", fl.extra_labels().dump(2) + "\n"))
-        return Unexpected(*e);
-    // flight.json last: a half-written flight is not a dataset.
     std::string flight_json = dataset::flight_json_text(info);
     if (p.realism.any()) {
         // What the realism layer did (docs/dataset.md "realism"), beside the standard keys.
@@ -358,7 +329,9 @@ Expected<ObstacleFlightSummary, std::string> write_obstacle_flight(const fs::pat
         j["realism"] = r;
         flight_json = j.dump(2) + "\n";
     }
-    if (auto e = write_text(dir / "flight.json", flight_json)) return Unexpected(*e);
+    if (auto e = out.finish_with(flight_json, {{"labels.csv", labels_csv},
+                                               {"labels.json", fl.extra_labels().dump(2) + "\n"}}))
+        return Unexpected(*e);
     return sum;
 }
 
