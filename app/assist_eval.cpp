@@ -195,6 +195,12 @@ Expected<AssistFlightResult, std::string> fly_assist_flight(const AssistFlightSp
                     collider.clearance(s.x_m, s.y_m, s.z_m, s.yaw_deg, false);
                 brake_x = s.x_m;
                 brake_y = s.y_m;
+                const double h = s.yaw_deg * std::numbers::pi / 180.0;
+                if (auto a = sim::ray_distance(scene, s.x_m, s.y_m, s.z_m, std::cos(h), std::sin(h),
+                                               0.0)) {
+                    res.brake_ahead_m = *a;
+                    if (res.brake_speed_mps > 0) res.brake_ahead_ttc_s = *a / res.brake_speed_mps;
+                }
             }
             if (trace.is_open())
                 trace << ai.t_s << ',' << s.x_m << ',' << s.y_m << ',' << s.vx_body_mps() << ','

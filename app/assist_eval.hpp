@@ -69,6 +69,12 @@ struct AssistFlightResult {
     double brake_speed_mps = kUnknown;         // forward speed when the first brake began
     double stop_distance_m = kUnknown;         // travelled from that brake until stopped
     double first_brake_distance_m = kUnknown;  // clearance when it began
+    // Ground truth when the first brake began: the distance straight ahead (along the heading, at
+    // the drone's height) to the first surface, wall or obstacle, and the time to reach it at the
+    // speed then. A brake with a surface nearer than the classifier's time-to-contact threshold
+    // ahead (a room's far wall at 2 m/s) saw something real, even in an open space.
+    double brake_ahead_m = kUnknown;
+    double brake_ahead_ttc_s = kUnknown;
     double flight_s = 0;
     int frames = 0;
     int unknown_centre_frames = 0;  // frames whose centre decision was unknown

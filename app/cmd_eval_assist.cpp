@@ -307,7 +307,8 @@ int run(const Opts& o) {
     std::ofstream csv(out / "flights.csv");
     csv << "name,kind,obstacle,speed_mps,assist,collided,hit,hit_speed_mps,bumps,completed,"
            "braked,interventions,min_clearance_m,brake_speed_mps,stop_distance_m,"
-           "brake_clearance_m,flight_s,frames,unknown_centre_frames\n";
+           "brake_clearance_m,brake_ahead_m,brake_ahead_ttc_s,flight_s,frames,unknown_centre_"
+           "frames\n";
     auto num = [](double v, int d) { return std::isfinite(v) ? fixed(v, d) : std::string(); };
     for (const auto& r : rs)
         csv << r.name << ',' << r.kind << ',' << r.obstacle << ',' << fixed(r.speed_mps, 2) << ','
@@ -316,6 +317,7 @@ int run(const Opts& o) {
             << r.completed << ',' << r.braked << ',' << r.interventions << ','
             << num(r.min_clearance_m, 3) << ',' << num(r.brake_speed_mps, 3) << ','
             << num(r.stop_distance_m, 3) << ',' << num(r.first_brake_distance_m, 3) << ','
+            << num(r.brake_ahead_m, 3) << ',' << num(r.brake_ahead_ttc_s, 2) << ','
             << fixed(r.flight_s, 2) << ',' << r.frames << ',' << r.unknown_centre_frames << '\n';
 
     std::ofstream svg(out / "stopping.svg");

@@ -73,6 +73,23 @@ TEST(EvalAssistCli, SmokeSuiteWritesReportsThatAgreeWithFlightsCsv) {
         EXPECT_NEAR(s["collision_rate"].get<double>(),
                     flights ? static_cast<double>(collisions) / flights : 0.0, 1e-9);
     }
+    // Each brake says what was really ahead when it began: on the pillar flight the pillar,
+    // straight ahead, at least as far as the nearest obstacle's clearance (the ray starts at the
+    // drone's centre, the clearance at its hull) and within a metre of it.
+    int ahead_brakes = 0;
+    for (const auto& row : rows) {
+        if (row.at("assist") != "on" || row.at("kind") != "ahead" || row.at("braked") != "1")
+            continue;
+        ++ahead_brakes;
+        const double ahead = std::stod(row.at("brake_ahead_m"));
+        const double clearance = std::stod(row.at("brake_clearance_m"));
+        EXPECT_GE(ahead, clearance) << row.at("name");
+        EXPECT_LT(ahead, clearance + 1.0) << row.at("name");
+        EXPECT_NEAR(std::stod(row.at("brake_ahead_ttc_s")),
+                    ahead / std::stod(row.at("brake_speed_mps")), 0.01)
+            << row.at("name");
+    }
+    EXPECT_GE(ahead_brakes, 1);
     const std::string md = read_text(out / "report.md");
     EXPECT_NE(md.find("# Collision-prevention assist"), std::string::npos);
     EXPECT_NE(read_text(out / "stopping.svg").find("<svg"), std::string::npos);
