@@ -97,7 +97,8 @@ void GuiAdapter::fill_link(ui::GuiSnapshot& s, TimeNs now) {
     a = ui::StreamHealth{};
     a.active = source_.link->running();
     a.rate_hz = at_rate_.update(st.at.counters.datagrams, now);
-    a.age_ms = st.at.period_ms_last;
+    // Since the last command went out (not the last period, which a stalled sender keeps).
+    a.age_ms = age_ms(st.now_ns, st.at.last_cycle_ns);
     a.packets = st.at.counters.datagrams;
     a.bytes_per_s = at_bytes_rate_.update(st.at.bytes_sent, now);
     a.drops = st.at.counters.stale_moves_dropped;

@@ -654,6 +654,7 @@ void DroneLink::at_loop() {
             if (std::abs(gap - ns_to_ms(config_.at_period_ns)) > 3.0) ++stats.periods_off_by_3ms;
         }
         last_cycle = now;
+        stats.last_cycle_ns = now;
         stats.counters = sched.counters();
         stats.intent = sched.intent();
         at_stats_slot_.publish(stats);

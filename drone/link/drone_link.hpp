@@ -165,6 +165,7 @@ struct AtStats {
     std::uint64_t bytes_sent = 0;  // AT datagram bytes handed to the socket (counted only)
     double period_ms_last = 0;
     double period_ms_max = 0;  // worst gap between two cycles since start
+    TimeNs last_cycle_ns = 0;  // when the last cycle sent (0: none yet); its age says a stall
     // Every gap between two cycles since start: bin i counts gaps in [i, i + 1) ms, the last bin
     // everything longer. The AR.Drone wants a command at least every 30 ms or so; a pilot's
     // input waits for the next beat.

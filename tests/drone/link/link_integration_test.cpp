@@ -300,6 +300,34 @@ TEST(LinkIntegration, AStartedLinkSaysBootstrappingFromTheMomentStartReturns) {
     EXPECT_EQ(link.state(), ConnectionState::Disconnected);
 }
 
+TEST(LinkIntegration, TheAtStreamsAgeIsTheTimeSinceItsLastCycle) {
+    // The window's link health shows each stream's age; for AT it showed the last gap between two
+    // cycles, which a stalled sender keeps for ever ("30 ms" with nothing sent). It is the time
+    // since the last cycle: unknown before the first, small while the sender runs, growing once
+    // it has stopped.
+    auto quiet = transport::UdpSocket::bind(transport::Endpoint::loopback(0));
+    ASSERT_TRUE(quiet);
+    LinkConfig lc;
+    lc.drone_address = "127.0.0.1";
+    lc.bind_address = "127.0.0.1";
+    lc.at_port = lc.navdata_port = quiet->local_endpoint()->port;
+    lc.video = false;
+    lc.control = false;
+    DroneLink link(lc);
+    EXPECT_EQ(link.status().at.last_cycle_ns, 0);
+    ASSERT_TRUE(link.start());
+    ASSERT_TRUE(wait_until([&] { return link.status().at.counters.datagrams >= 5; }, 10s));
+    LinkStatus st = link.status();
+    ASSERT_GT(st.at.last_cycle_ns, 0);
+    EXPECT_LE(st.at.last_cycle_ns, st.now_ns);
+    link.stop();
+    const TimeNs last = link.status().at.last_cycle_ns;
+    ASSERT_TRUE(wait_until([&] { return link.status().now_ns - last > 200'000'000; }, 10s));
+    st = link.status();
+    EXPECT_EQ(st.at.last_cycle_ns, last);  // nothing sent since: the age grows
+    EXPECT_GT(st.now_ns - st.at.last_cycle_ns, 200'000'000);
+}
+
 TEST(LinkIntegration, PaveFramesInAnotherCodecAreCountedNotDecoded) {
     // A crafted stream on a loopback video port: MPEG-4 frames (what 5555 carries in the record
     // codec modes, docs/protocol.md §4.5) between two ends of nothing else.
