@@ -5,21 +5,25 @@
 namespace gs::ui {
 
 namespace {
-void row(const char* name, const char* value, std::uint32_t col = colors::kText) {
-    ImGui::TableNextRow();
-    ImGui::TableSetColumnIndex(0);
-    ImGui::TextColored(colors::v4(colors::kDim), "%s", name);
-    ImGui::TableSetColumnIndex(1);
-    ImGui::TextColored(colors::v4(col), "%s", value);
-}
-void num(const char* name, double v, int decimals, bool sign = false) {
-    char buf[64];
-    if (known(v))
-        std::snprintf(buf, sizeof buf, sign ? "%+.*f" : "%.*f", decimals, v);
-    else
-        std::snprintf(buf, sizeof buf, "unknown");
-    row(name, buf, known(v) ? colors::kText : colors::kDim);
-}
+// Table rows; the values of a stale sample are drawn dimmed: they are what the drone said then.
+struct Rows {
+    bool stale = false;
+    void row(const char* name, const char* value, std::uint32_t col = colors::kText) const {
+        ImGui::TableNextRow();
+        ImGui::TableSetColumnIndex(0);
+        ImGui::TextColored(colors::v4(colors::kDim), "%s", name);
+        ImGui::TableSetColumnIndex(1);
+        ImGui::TextColored(colors::v4(stale ? colors::kDim : col), "%s", value);
+    }
+    void num(const char* name, double v, int decimals, bool sign = false) const {
+        char buf[64];
+        if (known(v))
+            std::snprintf(buf, sizeof buf, sign ? "%+.*f" : "%.*f", decimals, v);
+        else
+            std::snprintf(buf, sizeof buf, "unknown");
+        row(name, buf, known(v) ? colors::kText : colors::kDim);
+    }
+};
 }  // namespace
 
 void TelemetryWindow::draw(const GuiSnapshot& s, ViewState& v) {
@@ -28,7 +32,19 @@ void TelemetryWindow::draw(const GuiSnapshot& s, ViewState& v) {
         return;
     }
     const Telemetry& t = s.telemetry;
-    if (!t.valid) ImGui::TextColored(colors::v4(colors::kWarn), "No navdata received.");
+    // Say what the values are: none yet, or the last ones received before the navdata stopped.
+    std::string& note = v.layout.telemetry_note;
+    if (!t.valid) {
+        note = "No navdata received.";
+    } else if (t.stale) {
+        char buf[128];
+        std::snprintf(buf, sizeof buf,
+                      "STALE %.1f s: no navdata since; the values below are the last received.",
+                      t.age_ms / 1000.0);
+        note = buf;
+    }
+    if (!note.empty()) ImGui::TextColored(colors::v4(colors::kWarn), "%s", note.c_str());
+    const Rows r{t.valid && t.stale};
     const ImGuiTableFlags tf =
         ImGuiTableFlags_RowBg | ImGuiTableFlags_BordersInnerV | ImGuiTableFlags_SizingStretchProp;
     if (ImGui::CollapsingHeader("State", ImGuiTreeNodeFlags_DefaultOpen) &&
@@ -36,20 +52,20 @@ void TelemetryWindow::draw(const GuiSnapshot& s, ViewState& v) {
         const NavState& n = t.nav;
         char buf[64];
         std::snprintf(buf, sizeof buf, "%.3f s", static_cast<double>(n.t_ns) * 1e-9);
-        row("time", t.valid ? buf : "unknown");
+        r.row("time", t.valid ? buf : "unknown");
         if (n.seq) {
             std::snprintf(buf, sizeof buf, "%u", *n.seq);
-            row("seq", buf);
+            r.row("seq", buf);
         }
-        row("ctrl_state", t.ctrl_state.empty() ? "unknown" : t.ctrl_state.c_str());
-        num("roll_deg", n.roll_deg, 2, true);
-        num("pitch_deg", n.pitch_deg, 2, true);
-        num("yaw_deg", n.yaw_deg, 2, true);
-        num("altitude_m", n.altitude_m, 3);
-        num("vx_mps", n.vx_mps, 3, true);
-        num("vy_mps", n.vy_mps, 3, true);
-        num("vz_mps", n.vz_mps, 3, true);
-        num("battery_pct", n.battery_pct, 0);
+        r.row("ctrl_state", t.ctrl_state.empty() ? "unknown" : t.ctrl_state.c_str());
+        r.num("roll_deg", n.roll_deg, 2, true);
+        r.num("pitch_deg", n.pitch_deg, 2, true);
+        r.num("yaw_deg", n.yaw_deg, 2, true);
+        r.num("altitude_m", n.altitude_m, 3);
+        r.num("vx_mps", n.vx_mps, 3, true);
+        r.num("vy_mps", n.vy_mps, 3, true);
+        r.num("vz_mps", n.vz_mps, 3, true);
+        r.num("battery_pct", n.battery_pct, 0);
         ImGui::EndTable();
     }
     if (t.state && ImGui::CollapsingHeader("drone_state bits")) {
@@ -78,7 +94,7 @@ void TelemetryWindow::draw(const GuiSnapshot& s, ViewState& v) {
         while (j < t.fields.size() && t.fields[j].group == group) ++j;
         if (ImGui::CollapsingHeader(group.c_str()) && ImGui::BeginTable(group.c_str(), 2, tf)) {
             for (std::size_t k = i; k < j; ++k)
-                row(t.fields[k].name.c_str(), t.fields[k].value.c_str());
+                r.row(t.fields[k].name.c_str(), t.fields[k].value.c_str());
             ImGui::EndTable();
         }
         i = j;

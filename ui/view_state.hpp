@@ -70,6 +70,8 @@ struct LayoutReport {
     std::vector<std::pair<std::string, Rect>> labels;  // text items checked for overlap
     std::string tooltip;           // a tooltip shown this frame by the overlay (region bars)
     std::string video_stale_text;  // "VIDEO STALE 1.6 s" when drawn
+    // The Telemetry window's note above its values ("No navdata received.", "STALE 3.4 s: ...").
+    std::string telemetry_note;
     // Drone settings as drawn: key -> "confirmed", "ignored by the drone", "sending" ...
     std::vector<std::pair<std::string, std::string>> setting_status;
     // Controls drawn disabled this frame, with the reason shown as their tooltip.

@@ -27,6 +27,11 @@ protected:
     static bool has_reason(const std::vector<Reason>& rs, const std::string& title) {
         return std::any_of(rs.begin(), rs.end(), [&](const Reason& r) { return r.title == title; });
     }
+    static bool drawn_window(const Gui& gui, const std::string& name) {
+        for (const auto& [n, r] : gui.view().layout.windows)
+            if (n == name) return true;
+        return false;
+    }
     static std::string disabled_why(const Gui& gui, const std::string& id) {
         for (const auto& [n, why] : gui.view().layout.disabled)
             if (n == id) return why;
@@ -118,6 +123,27 @@ TEST_F(CockpitIndicators, StaleVideoShowsAnOverlayAndTurnsEveryRegionUnknown) {
     frame(gui, s);
     EXPECT_TRUE(gui.view().layout.video_stale_text.empty());
     EXPECT_TRUE(gui.view().layout.region_bars[0].known);
+}
+
+// Stale navdata: the Telemetry window says its values are the last received and how old they
+// are, instead of listing them as the drone's state now; none at all says so too.
+TEST_F(CockpitIndicators, TelemetryOfStaleNavdataSaysItIsTheLastReceived) {
+    Gui gui;
+    GuiSnapshot s = sim_flying();
+    ASSERT_TRUE(s.telemetry.valid);
+    s.telemetry.age_ms = 40;
+    s.telemetry.stale = false;
+    frame(gui, s);
+    ASSERT_TRUE(drawn_window(gui, "Telemetry"));
+    EXPECT_TRUE(gui.view().layout.telemetry_note.empty()) << gui.view().layout.telemetry_note;
+    s.telemetry.age_ms = 3420;
+    s.telemetry.stale = true;
+    frame(gui, s);
+    EXPECT_EQ(gui.view().layout.telemetry_note,
+              "STALE 3.4 s: no navdata since; the values below are the last received.");
+    s.telemetry = Telemetry{};
+    frame(gui, s);
+    EXPECT_EQ(gui.view().layout.telemetry_note, "No navdata received.");
 }
 
 // Point 7: the status bar a QGroundControl user recognises.
