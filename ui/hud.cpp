@@ -56,6 +56,11 @@ void Hud::draw(ImDrawList* dl, ImVec2 p0, ImVec2 p1, const GuiSnapshot& s, ViewS
     const float fs = ImGui::GetFontSize();
     const NavState& n = s.telemetry.nav;
     const bool nav = s.telemetry.valid;
+    // Stale navdata (live, older than kStaleAfterMs): the attitude, heading, speeds and altitude
+    // are the last received, drawn dimmed under a NAVDATA STALE label, never as the state now.
+    const bool stale = nav && s.telemetry.stale;
+    const std::uint32_t value_col = stale ? colors::kDim : kHud;
+    const std::uint32_t value_soft = stale ? colors::kDim : IM_COL32(235, 242, 248, 170);
     const ImVec2 c{p0.x + W * 0.5f, p0.y + H * 0.5f};
     char buf[128];
     dl->PushClipRect(p0, p1, true);
@@ -76,13 +81,12 @@ void Hud::draw(ImDrawList* dl, ImVec2 p0, ImVec2 p1, const GuiSnapshot& s, ViewS
             const ImVec2 a{m.x - dir.x * half, m.y - dir.y * half},
                 b{m.x + dir.x * half, m.y + dir.y * half};
             if (k == 0) {
-                line(dl, a, b, kHud, 2.0f);
+                line(dl, a, b, value_col, 2.0f);
             } else {
-                line(dl, a, b, IM_COL32(235, 242, 248, 170), 1.0f);
+                line(dl, a, b, value_soft, 1.0f);
                 if (k % 10 == 0) {
                     std::snprintf(buf, sizeof buf, "%d", k);
-                    text(dl, {b.x + 4, b.y - fs * 0.5f}, IM_COL32(235, 242, 248, 190), buf,
-                         fs * 0.8f);
+                    text(dl, {b.x + 4, b.y - fs * 0.5f}, value_soft, buf, fs * 0.8f);
                 }
             }
         }
@@ -90,11 +94,19 @@ void Hud::draw(ImDrawList* dl, ImVec2 p0, ImVec2 p1, const GuiSnapshot& s, ViewS
         std::snprintf(buf, sizeof buf, "R %+5.1f\xc2\xb0  P %+5.1f\xc2\xb0", n.roll_deg,
                       n.pitch_deg);
         const ImVec2 ts = text_size(buf);
-        text(dl, {c.x - ts.x * 0.5f, c.y + hr + 4}, kHud, buf);
+        text(dl, {c.x - ts.x * 0.5f, c.y + hr + 4}, value_col, buf);
     } else {
         const char* msg = "NO ATTITUDE";
         const ImVec2 ts = text_size(msg);
         text(dl, {c.x - ts.x * 0.5f, c.y + hr * 0.4f}, colors::kWarn, msg);
+    }
+    if (stale) {
+        std::snprintf(buf, sizeof buf, "NAVDATA STALE %.1f s", s.telemetry.age_ms / 1000.0);
+        const ImVec2 ts = text_size(buf);
+        const ImVec2 b0{c.x - ts.x * 0.5f - 6, c.y - hr * 0.55f - 2};
+        dl->AddRectFilled(b0, {b0.x + ts.x + 12, b0.y + ts.y + 4}, IM_COL32(0, 0, 0, 200), 3.0f);
+        text(dl, {b0.x + 6, b0.y + 2}, colors::kWarn, buf);
+        v.layout.hud_stale_text = buf;
     }
     // Fixed aircraft symbol.
     const float sw = hr * 0.22f;
@@ -118,7 +130,7 @@ void Hud::draw(ImDrawList* dl, ImVec2 p0, ImVec2 p1, const GuiSnapshot& s, ViewS
         for (int d = first; d <= hdg + 40; d += 5) {
             const float x = c.x + static_cast<float>(d - hdg) * ppd;
             const bool major = (d % 10) == 0;
-            line(dl, {x, t1.y - (major ? fs * 0.7f : fs * 0.4f)}, {x, t1.y}, kHud, 1.0f);
+            line(dl, {x, t1.y - (major ? fs * 0.7f : fs * 0.4f)}, {x, t1.y}, value_col, 1.0f);
             if (d % 30 == 0) {
                 const int dd = ((d % 360) + 360) % 360;
                 if (dd % 90 == 0)
@@ -126,7 +138,7 @@ void Hud::draw(ImDrawList* dl, ImVec2 p0, ImVec2 p1, const GuiSnapshot& s, ViewS
                 else
                     std::snprintf(buf, sizeof buf, "%d", dd);
                 const ImVec2 ts = text_size(buf, fs * 0.85f);
-                text(dl, {x - ts.x * 0.5f, t0.y + 2}, kHud, buf, fs * 0.85f);
+                text(dl, {x - ts.x * 0.5f, t0.y + 2}, value_col, buf, fs * 0.85f);
             }
         }
         dl->PopClipRect();
@@ -135,8 +147,8 @@ void Hud::draw(ImDrawList* dl, ImVec2 p0, ImVec2 p1, const GuiSnapshot& s, ViewS
         const ImVec2 b0{c.x - ts.x * 0.5f - 5, t1.y + 2},
             b1{c.x + ts.x * 0.5f + 5, t1.y + ts.y + 5};
         dl->AddRectFilled(b0, b1, IM_COL32(0, 0, 0, 210), 2.0f);
-        dl->AddRect(b0, b1, kHud, 2.0f);
-        text(dl, {b0.x + 5, b0.y + 1}, kHud, buf);
+        dl->AddRect(b0, b1, value_col, 2.0f);
+        text(dl, {b0.x + 5, b0.y + 1}, value_col, buf);
         dl->AddTriangleFilled({c.x - 5, t1.y}, {c.x + 5, t1.y}, {c.x, t1.y - 6}, kSymbol);
     } else {
         const ImVec2 ts = text_size("HDG ---");
@@ -151,17 +163,17 @@ void Hud::draw(ImDrawList* dl, ImVec2 p0, ImVec2 p1, const GuiSnapshot& s, ViewS
         std::snprintf(buf, sizeof buf, "%.2f m/s", gs);
     else
         std::snprintf(buf, sizeof buf, "--- m/s");
-    readout(dl, {p0.x + W * 0.06f, side_y}, false, "GROUND SPEED", buf, kHud);
+    readout(dl, {p0.x + W * 0.06f, side_y}, false, "GROUND SPEED", buf, value_col);
     if (nav && known(n.vz_mps))
         std::snprintf(buf, sizeof buf, "%+.2f m/s", n.vz_mps);
     else
         std::snprintf(buf, sizeof buf, "--- m/s");
-    readout(dl, {p0.x + W * 0.06f, side_y + fs * 3.4f}, false, "VERTICAL SPEED", buf, kHud);
+    readout(dl, {p0.x + W * 0.06f, side_y + fs * 3.4f}, false, "VERTICAL SPEED", buf, value_col);
     if (nav && known(n.altitude_m))
         std::snprintf(buf, sizeof buf, "%.2f m", n.altitude_m);
     else
         std::snprintf(buf, sizeof buf, "--- m");
-    readout(dl, {p1.x - W * 0.06f, side_y}, true, "ALTITUDE", buf, kHud);
+    readout(dl, {p1.x - W * 0.06f, side_y}, true, "ALTITUDE", buf, value_col);
 
     // ---- Bottom strip: battery, control state, link, video --------------------------------
     const float strip_h = fs * 1.9f;

@@ -72,6 +72,7 @@ struct LayoutReport {
     std::string video_stale_text;  // "VIDEO STALE 1.6 s" when drawn
     // The Telemetry window's note above its values ("No navdata received.", "STALE 3.4 s: ...").
     std::string telemetry_note;
+    std::string hud_stale_text;  // "NAVDATA STALE 3.4 s" over the HUD's horizon when drawn
     // Drone settings as drawn: key -> "confirmed", "ignored by the drone", "sending" ...
     std::vector<std::pair<std::string, std::string>> setting_status;
     // Controls drawn disabled this frame, with the reason shown as their tooltip.

@@ -125,9 +125,9 @@ TEST_F(CockpitIndicators, StaleVideoShowsAnOverlayAndTurnsEveryRegionUnknown) {
     EXPECT_TRUE(gui.view().layout.region_bars[0].known);
 }
 
-// Stale navdata: the Telemetry window says its values are the last received and how old they
-// are, instead of listing them as the drone's state now; none at all says so too.
-TEST_F(CockpitIndicators, TelemetryOfStaleNavdataSaysItIsTheLastReceived) {
+// Stale navdata: the Telemetry window and the HUD say their values are the last received and how
+// old they are, instead of showing them as the drone's state now; none at all says so too.
+TEST_F(CockpitIndicators, StaleNavdataIsShownAsTheLastReceivedInTelemetryAndTheHud) {
     Gui gui;
     GuiSnapshot s = sim_flying();
     ASSERT_TRUE(s.telemetry.valid);
@@ -136,11 +136,14 @@ TEST_F(CockpitIndicators, TelemetryOfStaleNavdataSaysItIsTheLastReceived) {
     frame(gui, s);
     ASSERT_TRUE(drawn_window(gui, "Telemetry"));
     EXPECT_TRUE(gui.view().layout.telemetry_note.empty()) << gui.view().layout.telemetry_note;
+    EXPECT_TRUE(gui.view().layout.hud_stale_text.empty());
     s.telemetry.age_ms = 3420;
     s.telemetry.stale = true;
     frame(gui, s);
     EXPECT_EQ(gui.view().layout.telemetry_note,
               "STALE 3.4 s: no navdata since; the values below are the last received.");
+    // The HUD's horizon, heading, speeds and altitude are dimmed under a label saying so.
+    EXPECT_EQ(gui.view().layout.hud_stale_text, "NAVDATA STALE 3.4 s");
     s.telemetry = Telemetry{};
     frame(gui, s);
     EXPECT_EQ(gui.view().layout.telemetry_note, "No navdata received.");
