@@ -277,19 +277,26 @@ TEST(LinkIntegration, VideoFramesCarryThePaveFrameNumberAndTimestampTheDroneSent
     EXPECT_GT(units_checked, 15);
 }
 
+namespace {
+// A navdata and AT link (no video, no control) to a loopback socket that never answers.
+LinkConfig unanswered_link(const transport::UdpSocket& quiet) {
+    LinkConfig lc;
+    lc.drone_address = "127.0.0.1";
+    lc.bind_address = "127.0.0.1";
+    lc.at_port = lc.navdata_port = quiet.local_endpoint()->port;
+    lc.video = false;
+    lc.control = false;
+    return lc;
+}
+}  // namespace
+
 TEST(LinkIntegration, AStartedLinkSaysBootstrappingFromTheMomentStartReturns) {
     // Nobody answers on these ports: the link must say it is connecting (bootstrapping) from the
     // first status read after start(), never "Disconnected" before its AT thread has run (the
     // window showed NO SOURCE for a frame while connecting, a CI failure of CockpitLive).
     auto quiet = transport::UdpSocket::bind(transport::Endpoint::loopback(0));
     ASSERT_TRUE(quiet);
-    LinkConfig lc;
-    lc.drone_address = "127.0.0.1";
-    lc.bind_address = "127.0.0.1";
-    lc.at_port = lc.navdata_port = quiet->local_endpoint()->port;
-    lc.video = false;
-    lc.control = false;
-    DroneLink link(lc);
+    DroneLink link(unanswered_link(*quiet));
     EXPECT_EQ(link.status().state, ConnectionState::Disconnected);
     ASSERT_TRUE(link.start());
     EXPECT_EQ(link.state(), ConnectionState::Bootstrapping);
@@ -307,13 +314,7 @@ TEST(LinkIntegration, TheAtStreamsAgeIsTheTimeSinceItsLastCycle) {
     // it has stopped.
     auto quiet = transport::UdpSocket::bind(transport::Endpoint::loopback(0));
     ASSERT_TRUE(quiet);
-    LinkConfig lc;
-    lc.drone_address = "127.0.0.1";
-    lc.bind_address = "127.0.0.1";
-    lc.at_port = lc.navdata_port = quiet->local_endpoint()->port;
-    lc.video = false;
-    lc.control = false;
-    DroneLink link(lc);
+    DroneLink link(unanswered_link(*quiet));
     EXPECT_EQ(link.status().at.last_cycle_ns, 0);
     ASSERT_TRUE(link.start());
     ASSERT_TRUE(wait_until([&] { return link.status().at.counters.datagrams >= 5; }, 10s));
