@@ -19,12 +19,10 @@ TimeNs NavTimeline::newest_t() const {
     return size_ == 0 ? 0 : at(size_ - 1).t_ns;
 }
 
-NavState NavTimeline::state_at(TimeNs t) const {
-    if (size_ == 0) {
-        NavState none;
-        none.t_ns = t;
-        return none;
-    }
+NavState NavTimeline::state_at(TimeNs t, TimeNs max_gap_ns) const {
+    NavState none;
+    none.t_ns = t;
+    if (size_ == 0) return none;
     // First sample at or after t (binary search over the ring's logical order).
     std::size_t lo = 0, hi = size_;
     while (lo < hi) {
@@ -34,12 +32,19 @@ NavState NavTimeline::state_at(TimeNs t) const {
         else
             hi = mid;
     }
-    if (lo == size_ || lo == 0 || at(lo).t_ns == t) {
-        NavState r = lo == size_ ? at(size_ - 1) : at(lo);
+    auto gap = [t](const NavState& s) { return s.t_ns > t ? s.t_ns - t : t - s.t_ns; };
+    auto nearest = [&](const NavState& s) {
+        if (gap(s) > max_gap_ns) return none;
+        NavState r = s;
         r.t_ns = t;
         return r;
-    }
-    return interpolate(at(lo - 1), at(lo), t);
+    };
+    if (lo == size_) return nearest(at(size_ - 1));
+    if (lo == 0 || at(lo).t_ns == t) return nearest(at(lo));
+    const NavState& before = at(lo - 1);
+    const NavState& after = at(lo);
+    if (gap(before) <= max_gap_ns && gap(after) <= max_gap_ns) return interpolate(before, after, t);
+    return nearest(gap(before) <= gap(after) ? before : after);
 }
 
 }  // namespace gs::inline core

@@ -12,7 +12,7 @@ bool NavAligner::pop_ready(TimeNs now_ns, std::int64_t& index, NavState& nav) {
     const bool bracketed = !navs_.empty() && navs_.newest_t() >= f.capture_ns;
     if (!bracketed && !finished_ && now_ns - f.capture_ns <= max_wait_ns_) return false;
     index = f.index;
-    nav = navs_.state_at(f.capture_ns);
+    nav = navs_.state_at(f.capture_ns, kFrameNavMaxGapNs);  // as the live link does
     frames_.pop_front();
     return true;
 }

@@ -781,9 +781,12 @@ void DroneLink::video_loop() {
                 fs.concealed = u->fate == video::UnitFate::Concealed;
                 fs.image = std::move(u->image);  // a pooled buffer, free again when dropped
                 // The attitude at the capture time, interpolated as a recording does
-                // (drone/core/nav_timeline.hpp), not the newest sample relabelled.
-                fs.nav = navs.state_at(t_ns);
-                if (!navs.empty() && navs.newest_t() >= t_ns)
+                // (drone/core/nav_timeline.hpp), not the newest sample relabelled; unknown when
+                // no sample is within kFrameNavMaxGapNs of it (a navdata blackout).
+                fs.nav = navs.state_at(t_ns, kFrameNavMaxGapNs);
+                if (std::isnan(fs.nav.roll_deg))  // every navdata sample has its attitude
+                    ++stats.nav_missing;
+                else if (navs.newest_t() >= t_ns)
                     ++stats.nav_interpolated;
                 else
                     ++stats.nav_nearest;

@@ -153,6 +153,7 @@ struct VideoStats {
     std::uint64_t nav_interpolated = 0;  // frames whose attitude lies between two samples
     std::uint64_t nav_nearest = 0;       // frames captured past the newest sample (or before the
                                          // oldest): the nearest one is used
+    std::uint64_t nav_missing = 0;       // frames with no sample within kFrameNavMaxGapNs: unknown
     double fps = 0;
     double decode_ms_last = 0;
     TimeNs last_frame_ns = 0;

@@ -211,6 +211,36 @@ TEST(LinkIntegration, ABlackoutIsLinkLostWithinHalfASecondAndRecoveredWithinOne)
     EXPECT_EQ(rig.link->status().machine.link_losses, 1u);
 }
 
+TEST(LinkIntegration, FramesCapturedInANavdataBlackoutHaveUnknownNavdataNotTheLastSample) {
+    // Video goes on through a navdata blackout: those frames' attitude and velocity are unknown
+    // (the classifier judges them from the images), never the last sample relabelled with a
+    // time seconds later; frames after it have navdata again.
+    Rig rig;
+    ASSERT_TRUE(wait_until([&] { return rig.connected(); }, 5s));
+    ASSERT_TRUE(wait_until([&] { return rig.link->status().video.decoded > 5; }, 20s));
+    auto frames = rig.link->subscribe_frames(512);
+    rig.drone->inject(sim::FaultBlackout{2000});
+    ASSERT_TRUE(wait_until([&] { return rig.link->status().video.nav_missing >= 10; }, 10s));
+    ASSERT_TRUE(wait_until([&] { return rig.connected(); }, 10s));
+    const auto after = rig.link->status().video.decoded;
+    ASSERT_TRUE(wait_until([&] { return rig.link->status().video.decoded > after + 10; }, 10s));
+    rig.link->unsubscribe(frames.get());
+    int unknown = 0, known_after = 0;
+    bool seen_unknown = false;
+    while (auto f = frames->try_pop()) {
+        EXPECT_EQ(f->nav.t_ns, f->t_ns);
+        if (std::isnan(f->nav.roll_deg)) {
+            ++unknown;
+            seen_unknown = true;
+            EXPECT_TRUE(std::isnan(f->nav.vx_mps) && std::isnan(f->nav.altitude_m));
+        } else if (seen_unknown) {
+            ++known_after;
+        }
+    }
+    EXPECT_GE(unknown, 10);
+    EXPECT_GE(known_after, 5);
+}
+
 TEST(LinkIntegration, AVideoResetMidFrameReconnectsAndResumesAtTheNextIdr) {
     Rig rig;
     ASSERT_TRUE(wait_until([&] { return rig.connected(); }, 5s));
