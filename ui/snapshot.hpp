@@ -36,8 +36,8 @@ const char* to_string(SourceKind k);
 struct ConnectionInfo {
     LinkState state = LinkState::Disconnected;
     SourceKind source = SourceKind::Drone;
-    std::string
-        reason;  // human text: why Connecting / Lost / Disconnected ("no navdata for 2.1 s")
+    std::string reason;  // human text: why Connecting / Lost / Disconnected ("no navdata for more
+                         // than 500 ms")
     // What is happening now, as it happens: "Starting virtual drone 'warehouse'...",
     // "Connecting to 192.168.1.1...", "Waiting for video...", "" when nothing is pending.
     std::string activity;

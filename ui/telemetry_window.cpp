@@ -43,7 +43,11 @@ void TelemetryWindow::draw(const GuiSnapshot& s, ViewState& v) {
                       t.age_ms / 1000.0);
         note = buf;
     }
-    if (!note.empty()) ImGui::TextColored(colors::v4(colors::kWarn), "%s", note.c_str());
+    if (!note.empty()) {  // wrapped: a narrow window must not cut it off
+        ImGui::PushStyleColor(ImGuiCol_Text, colors::v4(colors::kWarn));
+        ImGui::TextWrapped("%s", note.c_str());
+        ImGui::PopStyleColor();
+    }
     const Rows r{t.valid && t.stale};
     const ImGuiTableFlags tf =
         ImGuiTableFlags_RowBg | ImGuiTableFlags_BordersInnerV | ImGuiTableFlags_SizingStretchProp;

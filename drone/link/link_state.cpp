@@ -375,8 +375,11 @@ void LinkStateMachine::tick(TimeNs now, LinkActions& out) {
         restart_allowed_ = true;
         cancel_jobs(out);
         configured_ = configured_ && state_ == ConnectionState::Connected;
-        enter(ConnectionState::LinkLost,
-              "no navdata for " + std::to_string(since / 1'000'000) + " ms");
+        // No running figure here: the reason stays while the link is lost, and the window shows
+        // the live age beside it ("LOST 6.8 s"); "504 ms" would soon be untrue.
+        enter(
+            ConnectionState::LinkLost,
+            "no navdata for more than " + std::to_string(t.link_lost_after_ns / 1'000'000) + " ms");
         return;
     }
     if (state_ == ConnectionState::Bootstrapping) {

@@ -222,8 +222,11 @@ TEST(LinkState, SilenceIsLinkLostWithinHalfASecondAndRecoveredAtOnce) {
     EXPECT_EQ(h.sm.state(), ConnectionState::LinkLost);
     EXPECT_TRUE(h.out.link_lost);
     EXPECT_EQ(h.sm.counters().link_losses, 1u);
+    EXPECT_EQ(h.sm.state_reason(), "no navdata for more than 500 ms");
     h.tick_for(1000);
     EXPECT_TRUE(h.out.send_trigger);
+    // The reason stays true however long the silence lasts (no figure frozen at the loss).
+    EXPECT_EQ(h.sm.state_reason(), "no navdata for more than 500 ms");
     // Data flows again, with a lower sequence (a new stream after the silence): connected at once.
     EXPECT_TRUE(h.nav(kThreads | kDemo | kFly, 50));
     EXPECT_TRUE(h.out.link_restored);
