@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 
 namespace gs::vision {
@@ -137,6 +138,46 @@ double position_scale(double x, double width, double edge, double centre) {
     const double half = width / 2;
     const double t = std::clamp(std::abs(x - half) / half, 0.0, 1.0);
     return centre + (edge - centre) * t;
+}
+
+cv::Vec3f structure_tensor(const cv::Mat& g, cv::Point2f p, int half) {
+    if (g.type() != CV_8UC1) return {0, 0, 0};
+    const int x0 = cvRound(p.x), y0 = cvRound(p.y);
+    float a = 0, b = 0, c = 0;
+    for (int y = std::max(1, y0 - half); y <= std::min(g.rows - 2, y0 + half); ++y) {
+        const std::uint8_t* r = g.ptr<std::uint8_t>(y);
+        const std::uint8_t* up = g.ptr<std::uint8_t>(y - 1);
+        const std::uint8_t* dn = g.ptr<std::uint8_t>(y + 1);
+        for (int x = std::max(1, x0 - half); x <= std::min(g.cols - 2, x0 + half); ++x) {
+            const float ix = 0.5f * static_cast<float>(r[x + 1] - r[x - 1]);
+            const float iy = 0.5f * static_cast<float>(dn[x] - up[x]);
+            a += ix * ix;
+            b += ix * iy;
+            c += iy * iy;
+        }
+    }
+    return {a, b, c};
+}
+
+EdgeNormal edge_normal(const cv::Matx22d& g, double edge_ratio) {
+    const double tr = g(0, 0) + g(1, 1);
+    const double det = g(0, 0) * g(1, 1) - g(0, 1) * g(1, 0);
+    const double disc = std::sqrt(std::max(0.0, 0.25 * tr * tr - det));
+    const double l1 = 0.5 * tr + disc, l2 = 0.5 * tr - disc;
+    EdgeNormal e;
+    if (!(l1 > 0) || l2 >= edge_ratio * l1) return e;  // a corner, or no texture at all
+    // (g - l1 I) v = 0: v = (g01, l1 - g00), or (l1 - g11, g10) when that one vanishes.
+    double nx = g(0, 1), ny = l1 - g(0, 0);
+    if (std::abs(nx) + std::abs(ny) < 1e-9 * l1) {
+        nx = l1 - g(1, 1);
+        ny = g(1, 0);
+    }
+    const double n = std::hypot(nx, ny);
+    if (!(n > 0)) return e;
+    e.edge = true;
+    e.nx = nx / n;
+    e.ny = ny / n;
+    return e;
 }
 
 }  // namespace gs::vision

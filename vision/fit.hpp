@@ -44,6 +44,20 @@ double median_inplace(std::span<double> values);
 // k-th largest (k = 1 is the maximum), reorders. NaN when k > size or k < 1.
 double kth_largest_inplace(std::span<double> values, int k);
 
+// The image's structure tensor at p: sums of Ix^2, Ix Iy, Iy^2 (central differences) over the
+// (2 half + 1)^2 window around p's pixel, inside the image. 8-bit grey only (else zeros).
+cv::Vec3f structure_tensor(const cv::Mat& grey, cv::Point2f p, int half);
+
+// The aperture problem at a point: when the smaller eigenvalue of its structure tensor g is
+// below edge_ratio of the larger, the point lies on an edge and only its flow along the edge's
+// normal (unit, the larger eigenvalue's eigenvector) is measured: the component along the edge
+// is the tracker's guess.
+struct EdgeNormal {
+    bool edge = false;
+    double nx = 0, ny = 0;
+};
+EdgeNormal edge_normal(const cv::Matx22d& g, double edge_ratio);
+
 // Scale factor for a point at horizontal position x in an image of width w: linear from `edge` at
 // x = 0 to `centre` at x = w/2 and back to `edge` at x = w (thesis fig. 3.26, 3 -> 1 -> 3).
 double position_scale(double x, double width, double edge, double centre);

@@ -26,6 +26,12 @@ const ParamTable<FlowParams>& FlowParams::table() {
                  "place the focus of expansion from navdata velocity when known")
             .add("foe_sigma_k", &P::foe_sigma_k, 0, 20,
                  "also keep this many standard errors of the FOE's place away from it")
+            .add("aperture_edge_ratio", &P::aperture_edge_ratio, 0, 1,
+                 "a point whose structure tensor's eigenvalues differ by more than this ratio "
+                 "is an edge: only its flow across the edge is used")
+            .add("aperture_min_cos", &P::aperture_min_cos, 0, 1,
+                 "an edge point is not rated when its edge normal's cosine with the FOE ray is "
+                 "below this")
             .add("max_tangential_ratio", &P::max_tangential_ratio, 0, 10,
                  "distrust a point whose flow across the FOE ray exceeds this share of ...")
             .add("flow_noise_px_s", &P::flow_noise_px_s, 0, 200,
@@ -60,6 +66,13 @@ const ParamTable<FlowParams>& FlowParams::table() {
                  "looming: fewest neighbours for a rate")
             .add("loom_min_spread_px", &P::loom_min_spread_px, 1, 300,
                  "looming: pairs closer than this are left out (tracking noise dominates)")
+            .add("loom_consistency", &P::loom_consistency, 0, 1,
+                 "a static point whose like-rated neighbours spread slower than this share of "
+                 "its rate is moving (0: off)")
+            .add("confirm_radius_px", &P::confirm_radius_px, 5, 1000,
+                 "a side point that must be borne out looks this far for like-rated neighbours")
+            .add("loom_confirm_sides", &P::loom_confirm_sides, 0, 1,
+                 "flying forward, a side point counts only when its neighbours bear its rate out")
             .add("moving_frames", &P::moving_frames, 1, 30,
                  "a point is moving after this many frames off the camera's motion")
             .add("side_inv_ttc_threshold", &P::side_inv_ttc_threshold, 0, 20,
@@ -332,7 +345,14 @@ void FlowClassifier::classify(const FrameInput& in) {
         return;
     }
     rate_points(in);
-    if (p_.looming) rate_moving_points();
+    if (p_.looming) {
+        check_static_looming();
+        rate_moving_points();
+    }
+    for (std::size_t i = 0; i < class_.size(); ++i)
+        if (class_[i] == PointClass::Hazard)
+            hazard_[static_cast<std::size_t>(region_of(tracker_.tracks()[i].at_back(0).stab.x))]
+                .push_back(track_score_[i]);
     plot(s_moving_, static_cast<double>(moving_idx_.size()));
     const double hom =
         p_.centre_homography && foe_source_ != FoeSource::Still ? homography_rate(in) : kUnknown;
@@ -427,8 +447,22 @@ void FlowClassifier::rate_points(const FrameInput& in) {
         const double dn = std::sqrt(d2);
         // Radial flow about the FOE divided by the distance to it: 1/TTC for a static point, the
         // x and y versions of (dx/dt)/(x - x_foe) combined by least squares.
-        const double radial = (fx.slope * dx + fy.slope * dy) / dn;
-        const double tangential = (fx.slope * dy - fy.slope * dx) / dn;
+        double radial = (fx.slope * dx + fy.slope * dy) / dn;
+        double tangential = (fx.slope * dy - fy.slope * dx) / dn;
+        // On an edge only the flow across it is measured; along it LK guesses, and the point
+        // slides (a wall's foot, the line between two plain walls: lines toward the FOE, along
+        // which a slide is a radial flow, a false approach). Such a point's radial flow comes
+        // from its flow across the edge alone, and when the edge runs too near the FOE's
+        // direction for that, it is not rated.
+        const Aperture ap = aperture(t, dx / dn, dy / dn);
+        if (ap.edge) {
+            if (std::abs(ap.cos) < p_.aperture_min_cos) {
+                class_[i] = PointClass::Aperture;
+                continue;
+            }
+            radial = (fx.slope * ap.nx + fy.slope * ap.ny) / ap.cos;
+            tangential = 0;  // not measured
+        }
         const double rate_then = radial / dn;
         // Time to contact now is `lag` less than it was then.
         const double ttc_now = 1.0 / rate_then - lag;
@@ -470,52 +504,128 @@ void FlowClassifier::rate_points(const FrameInput& in) {
                 continue;
             }
         }
-        class_[i] = PointClass::Hazard;
-        hazard_[ri].push_back(rate);
+        class_[i] = PointClass::Hazard;  // counted in classify, unless its looming says not
     }
+}
+
+double FlowClassifier::looming_rate(std::size_t a, bool moving_only, double lo, double hi,
+                                    double radius) {
+    // The median rate at which a's distances to its neighbours grow (1/TTC for a roughly
+    // fronto-parallel patch: the trajectories' derot positions are free of the rotation). The
+    // neighbours: moving points, or static ones whose own rate lies in [lo, hi] (the same
+    // surface). NaN with fewer than loom_min_neighbours of them.
+    const auto& tracks = tracker_.tracks();
+    const auto win = static_cast<std::size_t>(std::max(2, p_.velocity_window));
+    const double r2max = radius * radius;
+    const double min2 = p_.loom_min_spread_px * p_.loom_min_spread_px;
+    const Trajectory& ta = tracks[a];
+    loom_.clear();
+    const auto consider = [&](std::size_t b) {
+        if (a == b) return;
+        const Trajectory& tb = tracks[b];
+        const cv::Point2f d_now = ta.at_back(0).derot - tb.at_back(0).derot;
+        const double n2 = static_cast<double>(d_now.dot(d_now));
+        if (n2 > r2max || n2 < min2) return;
+        const std::size_t n = std::min({win, ta.history_size(), tb.history_size()});
+        if (n < 2) return;
+        const TrackPoint& pa = ta.at_back(n - 1);
+        const TrackPoint& pb = tb.at_back(n - 1);
+        const cv::Point2f d_then = pa.derot - pb.derot;
+        const double t2 = static_cast<double>(d_then.dot(d_then));
+        const double dt = ta.at_back(0).t_s - pa.t_s;
+        if (t2 < min2 || !(dt > 0)) return;
+        // Two points of one approaching object move apart along the line joining them; a
+        // pair whose separation turns more than it stretches is not on one rigid patch (a
+        // point sliding along an occluding edge, a turning head).
+        const cv::Point2f ds = d_now - d_then;
+        const double along = static_cast<double>(ds.dot(d_then)) / std::sqrt(t2);
+        const double across =
+            std::abs(static_cast<double>(ds.x * d_then.y - ds.y * d_then.x)) / std::sqrt(t2);
+        if (across > std::abs(along) + p_.flow_noise_px_s * dt) return;
+        loom_.push_back(0.5 * std::log(n2 / t2) / dt);
+    };
+    if (moving_only) {
+        for (std::size_t b : moving_idx_) consider(b);
+    } else {
+        for (std::size_t b = 0; b < tracks.size(); ++b)
+            if (class_[b] == PointClass::Hazard && track_score_[b] >= lo && track_score_[b] <= hi)
+                consider(b);
+    }
+    if (static_cast<int>(loom_.size()) < p_.loom_min_neighbours) return kUnknown;
+    return median_inplace(loom_);
+}
+
+void FlowClassifier::check_static_looming() {
+    // A static point's rate about the FOE and the rate at which its distances to its neighbours
+    // on the same surface grow are one and the same 1/TTC. Something moving across the view
+    // away from the FOE (a person walking out of the path) has a radial flow too, read as a
+    // near static point, but its points' distances grow only as fast as it really nears. A
+    // point whose neighbours at a like rate (same surface) spread at less than
+    // loom_consistency of its own rate is taken for a moving one, judged by its looming.
+    // With too few such neighbours to tell, the point counts (a hand before a still camera: its
+    // points cluster too closely to measure a spread; a plain pillar ahead shows a few specks),
+    // except in the side regions while the navdata says the drone flies forward
+    // (loom_confirm_sides): something there is in the corridor only when it is near (0.6 m off
+    // the flight line is outside the centre band beyond about 4 m), so it spans enough of the
+    // image for its points' spread to be measured, and a lone rate there (a slide along a
+    // wall's foot, a point on a person walking off the path) has nothing to bear it out.
+    if (!(p_.loom_consistency > 0)) return;
+    const bool confirm_sides = p_.loom_confirm_sides && nav_moving_;
+    const auto& tracks = tracker_.tracks();
+    check_.clear();
+    for (std::size_t i = 0; i < class_.size(); ++i) {
+        if (class_[i] != PointClass::Hazard) continue;
+        const double r = track_score_[i];
+        double loom = looming_rate(i, false, 0.5 * r, 2.0 * r, p_.loom_radius_px);
+        const bool confirm =
+            confirm_sides && region_of(tracks[i].at_back(0).stab.x) != Region::Centre;
+        // A near surface's points lie far apart: look farther for those that must confirm.
+        if (std::isnan(loom) && confirm)
+            loom = looming_rate(i, false, 0.5 * r, 2.0 * r, p_.confirm_radius_px);
+        if (!std::isnan(loom) && loom < p_.loom_consistency * r)
+            check_.push_back(i);  // moving
+        else if (std::isnan(loom) && confirm)
+            class_[i] = PointClass::Unrated;  // nothing bears it out
+    }
+    for (std::size_t i : check_) {
+        class_[i] = PointClass::Moving;
+        track_score_[i] = kUnknown;
+        moving_idx_.push_back(i);
+    }
+}
+
+FlowClassifier::Aperture FlowClassifier::aperture(const Trajectory& t, double rx, double ry) const {
+    // The structure tensor is the raw image's; in undistorted pixels it is D^T G D, D the
+    // distortion's Jacobian there (gradients are covectors).
+    const cv::Point2f r0 = calib_.distort_point(t.undist);
+    const cv::Point2f ex = calib_.distort_point(t.undist + cv::Point2f(1, 0)) - r0;
+    const cv::Point2f ey = calib_.distort_point(t.undist + cv::Point2f(0, 1)) - r0;
+    const cv::Matx22d d(static_cast<double>(ex.x), static_cast<double>(ey.x),
+                        static_cast<double>(ex.y), static_cast<double>(ey.y));
+    const auto a = static_cast<double>(t.structure[0]);
+    const auto b = static_cast<double>(t.structure[1]);
+    const auto c = static_cast<double>(t.structure[2]);
+    const EdgeNormal e = edge_normal(d.t() * cv::Matx22d(a, b, b, c) * d, p_.aperture_edge_ratio);
+    Aperture ap;
+    if (!e.edge) return ap;
+    ap.edge = true;
+    ap.nx = e.nx;
+    ap.ny = e.ny;
+    ap.cos = e.nx * rx + e.ny * ry;
+    return ap;
 }
 
 void FlowClassifier::rate_moving_points() {
     // A moving object approaching grows in the image: the distances between its points grow at
-    // 1/TTC (for a roughly fronto-parallel patch), whatever the camera does, since the
-    // trajectories' derot positions are free of its rotation. Median over neighbours on the same
-    // object (moving points nearby), so one slipping point cannot decide.
-    const auto& tracks = tracker_.tracks();
-    const auto win = static_cast<std::size_t>(std::max(2, p_.velocity_window));
-    const double r2max = p_.loom_radius_px * p_.loom_radius_px;
-    const double min2 = p_.loom_min_spread_px * p_.loom_min_spread_px;
+    // 1/TTC (for a roughly fronto-parallel patch), whatever the camera does. Median over
+    // neighbours on the same object (moving points nearby), so one slipping point cannot decide.
     for (std::size_t a : moving_idx_) {
-        const Trajectory& ta = tracks[a];
-        loom_.clear();
-        for (std::size_t b : moving_idx_) {
-            if (a == b) continue;
-            const Trajectory& tb = tracks[b];
-            const cv::Point2f d_now = ta.at_back(0).derot - tb.at_back(0).derot;
-            const double n2 = static_cast<double>(d_now.dot(d_now));
-            if (n2 > r2max || n2 < min2) continue;
-            const std::size_t n = std::min({win, ta.history_size(), tb.history_size()});
-            if (n < 2) continue;
-            const TrackPoint& pa = ta.at_back(n - 1);
-            const TrackPoint& pb = tb.at_back(n - 1);
-            const cv::Point2f d_then = pa.derot - pb.derot;
-            const double t2 = static_cast<double>(d_then.dot(d_then));
-            const double dt = ta.at_back(0).t_s - pa.t_s;
-            if (t2 < min2 || !(dt > 0)) continue;
-            // Two points of one approaching object move apart along the line joining them; a
-            // pair whose separation turns more than it stretches is not on one rigid patch (a
-            // point sliding along an occluding edge, a turning head).
-            const cv::Point2f ds = d_now - d_then;
-            const double along = static_cast<double>(ds.dot(d_then)) / std::sqrt(t2);
-            const double across =
-                std::abs(static_cast<double>(ds.x * d_then.y - ds.y * d_then.x)) / std::sqrt(t2);
-            if (across > std::abs(along) + p_.flow_noise_px_s * dt) continue;
-            loom_.push_back(0.5 * std::log(n2 / t2) / dt);
-        }
-        if (static_cast<int>(loom_.size()) < p_.loom_min_neighbours) continue;
-        const double rate = median_inplace(loom_);
+        const double rate = looming_rate(a, true, 0, 0, p_.loom_radius_px);
+        if (std::isnan(rate)) continue;
         track_score_[a] = rate;
         if (rate > 0) {
-            const auto ri = static_cast<std::size_t>(region_of(ta.at_back(0).stab.x));
+            const auto ri =
+                static_cast<std::size_t>(region_of(tracker_.tracks()[a].at_back(0).stab.x));
             hazard_[ri].push_back(rate);
         }
     }
@@ -605,6 +715,7 @@ void FlowClassifier::add_overlay_points() {
                 break;
             case PointClass::Outside:
             case PointClass::Inconsistent:
+            case PointClass::Aperture:
                 o.points.push_back({tracks[i].raw, 2, kGrey, false});
                 break;
         }

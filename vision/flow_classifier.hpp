@@ -43,6 +43,12 @@ struct FlowParams : TrackerParams {
     double min_foe_distance_px = 30;   // the rate is ill-conditioned near the FOE
     bool use_velocity_for_foe = true;  // place the FOE from navdata velocity when known
     double foe_sigma_k = 3;  // and keep this many standard errors of its place away from it
+    // The aperture problem: a point whose smaller structure-tensor eigenvalue is below this share
+    // of the larger lies on an edge, and only its flow across the edge is used (radial flow =
+    // normal flow / cos of the angle between the edge's normal and the FOE ray); below
+    // aperture_min_cos the edge runs too close to the ray for that, and the point is not rated.
+    double aperture_edge_ratio = 0.2;
+    double aperture_min_cos = 0.5;
     // Flow consistency: the tangential part of a point's derotated flow must stay below this
     // share of the radial part plus flow_noise_px_s, or the point is not a static one we approach.
     double max_tangential_ratio = 0.5;
@@ -74,6 +80,16 @@ struct FlowParams : TrackerParams {
     double loom_radius_px = 90;
     int loom_min_neighbours = 3;
     double loom_min_spread_px = 8;
+    // A static point's rate about the FOE must be borne out by its neighbours on the same
+    // surface spreading apart at that rate: below this share of it, the point is moving
+    // (check_static_looming). 0: off.
+    double loom_consistency = 0.5;
+    // A point that must be borne out (loom_confirm_sides) and has too few such neighbours
+    // within loom_radius_px looks this far: a near surface's points lie far apart.
+    double confirm_radius_px = 200;
+    // Flying forward (navdata), a side point counts only when its neighbours bear it out
+    // (check_static_looming); elsewhere, or without them, it counts unconfirmed.
+    bool loom_confirm_sides = true;
     int moving_frames = 2;  // a point is moving after this many frames off the camera's motion
     double side_inv_ttc_threshold = 0.3;  // 1/s: unsafe when time to contact < 3.3 s
     int side_min_support = 4;             // region score = k-th largest point rate
@@ -135,6 +151,7 @@ public:
     enum class PointClass : std::uint8_t {
         Unrated,       // too short, too near the FOE, or receding
         Inconsistent,  // flow not radial from the FOE
+        Aperture,      // on an edge that runs toward the FOE: its radial flow is not measured
         Outside,       // placed outside the corridor (beside it, floor, overhead)
         Hazard,        // counts toward its region's score
         Moving,        // does not move with the scene; rated by its looming (may count too)
@@ -152,6 +169,13 @@ private:
     bool choose_foe(const FrameInput& in, UnknownReason& why);
     void rate_points(const FrameInput& in);
     void rate_moving_points();
+    void check_static_looming();
+    double looming_rate(std::size_t a, bool moving_only, double lo, double hi, double radius);
+    struct Aperture {
+        bool edge = false;
+        double nx = 0, ny = 0, cos = 1;  // edge normal (undistorted px), its cosine with the ray
+    };
+    Aperture aperture(const Trajectory& t, double rx, double ry) const;
     double homography_rate(const FrameInput& in);
     void confirm(Region r, bool raw);
     double recent_median(double now_s);
@@ -195,6 +219,7 @@ private:
     std::size_t s_foe_img_x_, s_foe_nav_x_, s_foe_x_;
     std::vector<std::size_t> moving_idx_;
     std::vector<double> loom_;
+    std::vector<std::size_t> check_;
 };
 
 }  // namespace gs::vision

@@ -1,6 +1,7 @@
 #include "vision/tracker.hpp"
 #include "drone/core/geometry.hpp"
 #include "vision/common.hpp"
+#include "vision/fit.hpp"
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
@@ -276,6 +277,7 @@ void TrajectoryTracker::update(const cv::Mat& image, std::int64_t t_ns, double r
             if (m != i) tr = tracks_[i];
             const cv::Point2f derot = tr.at_back(0).derot + (und_[i] - pred_[i]);
             tr.raw = raw_[i];
+            tr.structure = structure_tensor(grey_track_, to_track(raw_[i]), p_.lk_window_px / 2);
             tr.moving_streak = p_.ego_motion && ego_.outlier(i) ? tr.moving_streak + 1 : 0;
             tr.undist_prev = tr.undist;
             tr.undist = und_[i];

@@ -179,6 +179,10 @@ struct Trajectory {
     cv::Point2f undist;       // newest position, undistorted pixels
     cv::Point2f undist_prev;  // the one before (== undist on the first frame)
     int moving_streak = 0;    // consecutive frames it did not follow the camera's motion
+    // The image's structure tensor over the LK window at the newest position (sums of Ix^2,
+    // Ix Iy, Iy^2; raw image axes): a corner constrains the flow in every direction, an edge only
+    // across itself (its flow along the edge is LK's guess, and slides).
+    cv::Vec3f structure{0, 0, 0};
     std::array<TrackPoint, kHistory> hist{};
 
     std::size_t history_size() const {

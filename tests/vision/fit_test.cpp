@@ -109,3 +109,47 @@ TEST(Fit, RobustStatistics) {
     std::vector<double> none;
     EXPECT_TRUE(std::isnan(median_inplace(none)));
 }
+
+TEST(Fit, AnEdgeConstrainsOnlyTheFlowAcrossIt) {
+    // A vertical step edge: the gradient is horizontal, so the tensor says "edge" with its
+    // normal along x; a chequer corner constrains every direction.
+    cv::Mat edge(40, 40, CV_8UC1, cv::Scalar(40));
+    edge(cv::Rect(20, 0, 20, 40)).setTo(200);
+    const cv::Vec3f ge = structure_tensor(edge, {20, 20}, 5);
+    EXPECT_GT(ge[0], 0.f);
+    EXPECT_EQ(ge[1], 0.f);
+    EXPECT_EQ(ge[2], 0.f);
+    const auto as_matx = [](cv::Vec3f s) {
+        return cv::Matx22d(static_cast<double>(s[0]), static_cast<double>(s[1]),
+                           static_cast<double>(s[1]), static_cast<double>(s[2]));
+    };
+    const EdgeNormal n = edge_normal(as_matx(ge), 0.2);
+    ASSERT_TRUE(n.edge);
+    EXPECT_NEAR(std::abs(n.nx), 1.0, 1e-9);
+    EXPECT_NEAR(n.ny, 0.0, 1e-9);
+    // A point on it whose true flow is (3, 0) px/frame but which LK lets slide 5 px/frame along
+    // the edge: only the normal component is real, and it gives the true flow along a ray.
+    const cv::Vec2d tracked(3, 5), ray(1, 0);
+    const double normal_flow = tracked[0] * n.nx + tracked[1] * n.ny;
+    const double along_ray = normal_flow / (n.nx * ray[0] + n.ny * ray[1]);
+    EXPECT_NEAR(along_ray, 3.0, 1e-9);
+
+    cv::Mat corner(40, 40, CV_8UC1, cv::Scalar(40));
+    corner(cv::Rect(20, 0, 20, 20)).setTo(200);
+    corner(cv::Rect(0, 20, 20, 20)).setTo(200);
+    EXPECT_FALSE(edge_normal(as_matx(structure_tensor(corner, {20, 20}, 5)), 0.2).edge);
+    // No texture: no edge either (nothing measured at all).
+    const cv::Mat flat(40, 40, CV_8UC1, cv::Scalar(90));
+    EXPECT_FALSE(edge_normal(as_matx(structure_tensor(flat, {20, 20}, 5)), 0.2).edge);
+    // Only 8-bit grey; the window is clipped at the border.
+    EXPECT_EQ(structure_tensor(cv::Mat(10, 10, CV_32FC1), {5, 5}, 3), cv::Vec3f(0, 0, 0));
+    EXPECT_GT(structure_tensor(edge, {20, 0}, 5)[0], 0.f);
+    // A diagonal edge: the normal is at 45 degrees.
+    cv::Mat diag(40, 40, CV_8UC1);
+    for (int y = 0; y < 40; ++y)
+        for (int x = 0; x < 40; ++x) diag.at<std::uint8_t>(y, x) = x + y < 40 ? 40 : 200;
+    const EdgeNormal d = edge_normal(as_matx(structure_tensor(diag, {20, 20}, 5)), 0.2);
+    ASSERT_TRUE(d.edge);
+    EXPECT_NEAR(std::abs(d.nx), std::sqrt(0.5), 0.02);
+    EXPECT_NEAR(d.nx, d.ny, 0.02);
+}

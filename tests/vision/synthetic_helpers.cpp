@@ -42,6 +42,15 @@ Flight make_flight(Motion m) {
             // 0.6 m below, from 2 m ahead (the bottom of the view is 1.85 m ahead) to 29 m.
             f.planes.push_back(make_plane({0, 0.6, 15.5}, {1, 0, 0}, {0, 0, 1}, 8, 27, 0.06, 14));
             break;
+        case Motion::Crossing:
+            f.frames = 75;
+            f.planes.push_back(make_plane({0, 0, 30}, {1, 0, 0}, {0, 1, 0}, 44, 26, 0.08, 11));
+            // 0.5 x 1.75 m, facing the camera, starting 0.4 m right of the flight line (inside
+            // the centre band), walking right: out of the corridor at once, never in the way.
+            f.planes.push_back(make_plane({0.4, 0, 7}, {1, 0, 0}, {0, 1, 0}, 0.5, 1.75, 0.01, 41));
+            f.moving_plane = 1;
+            f.plane_velocity = {1.3, 0, 0};
+            break;
         case Motion::Roll:
         case Motion::Yaw:
             f.frames = 75;
@@ -63,6 +72,7 @@ CameraPose Flight::pose_at(int i) const {
         case Motion::Approach:
         case Motion::WidePass:
         case Motion::Floor:
+        case Motion::Crossing:
             p.position = {0, 0, kSpeed * t};
             break;
         case Motion::Roll:
@@ -86,9 +96,14 @@ std::vector<FrameRecord> fly(const Flight& f, ObstacleClassifier& c) {
     const CameraCalibration calib = synthetic_calibration();
     std::vector<FrameRecord> out;
     cv::Mat img;
+    std::vector<TexturedPlane> planes = f.planes;
     for (int i = 0; i < f.frames; ++i) {
         const CameraPose pose = f.pose_at(i);
-        render_scene(f.planes, calib, pose, img);
+        if (f.moving_plane >= 0) {
+            const auto k = static_cast<std::size_t>(f.moving_plane);
+            planes[k].origin = f.planes[k].origin + f.plane_velocity * (i / f.fps);
+        }
+        render_scene(planes, calib, pose, img);
         FrameInput in;
         in.image = img;
         in.t_ns = static_cast<std::int64_t>(std::llround(i * 1e9 / f.fps));

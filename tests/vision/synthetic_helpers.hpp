@@ -18,6 +18,8 @@ enum class Motion {
     Yaw,       // hovering, yawing at 15 degrees/s, far wall
     WidePass,  // forward at 1 m/s past a wall 1.5 m to the right: beside the corridor
     Floor,     // forward at 1 m/s, 0.6 m above a textured floor, far wall
+    Crossing,  // forward at 1 m/s, far wall; a person-sized board 7 m ahead walks off the path
+               // to the right at 1.3 m/s
 };
 
 struct FrameRecord {
@@ -37,6 +39,8 @@ struct Flight {
     bool navdata_altitude = true;  // ... and the height above the floor (Floor only)
     double navdata_yaw_scale = 1;  // navdata reports this share of the true yaw
     std::vector<TexturedPlane> planes;
+    int moving_plane = -1;  // this plane moves at plane_velocity (m/s, world axes)
+    cv::Vec3d plane_velocity{0, 0, 0};
     CameraPose pose_at(int i) const;
     double distance_at(int i) const;
 };
