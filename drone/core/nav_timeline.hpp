@@ -1,7 +1,8 @@
 #pragma once
 // The drone state at any instant of a navdata stream, by the one rule of docs/dataset.md (docs/):
-// the samples around it interpolated, the nearest sample when there is none on one side. Pure:
-// times are stream times (ns from the start of the flight), no clock.
+// the samples around it interpolated, the nearest sample when there is none on one side, and
+// nothing (unknown) when no sample is within the allowed gap of it (kFrameNavMaxGapNs for a
+// frame). Pure: times are stream times (ns from the start of the flight), no clock.
 
 #include "drone/core/sample.hpp"
 
@@ -13,9 +14,9 @@ namespace gs::inline core {
 
 // The recent navdata samples in time order, in a fixed ring (no allocation after construction),
 // and the drone state at any instant by the one rule of docs/dataset.md: interpolated between the
-// two samples around it, the nearest sample when there is none on one side. Used live (the link's
-// frames) and when recording or replaying (NavAligner), so a flight gets the same attitude at a
-// frame's capture time on every path.
+// two samples around it, the nearest sample when there is none on one side, unknown when none is
+// within the gap the caller allows. Used live (the link's frames) and when recording or replaying
+// (NavAligner), so a flight gets the same attitude at a frame's capture time on every path.
 // How far from a frame's capture the navdata that gives its attitude may be, live and when
 // recording: farther (a navdata blackout, a lost link) the frame's navdata is unknown, so the
 // classifier judges it from the images alone instead of from a velocity seconds old. The same
