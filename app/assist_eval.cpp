@@ -5,13 +5,17 @@
 #include "app/replay_run.hpp"
 #include "drone/core/camera_calibration.hpp"
 #include "drone/dataset/video_dataset_writer.hpp"
+#include "drone/dataset/writer.hpp"
 #include "drone/protocol/at.hpp"
 #include "drone/sim/collision.hpp"
 #include "drone/sim/drone_core.hpp"
+#include "drone/sim/realism.hpp"
 #include "drone/sim/renderer.hpp"
 #include "drone/sim/rng.hpp"
 #include "drone/video/h264_decoder.hpp"
 #include "drone/video/h264_encoder.hpp"
+
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -58,14 +62,22 @@ Expected<AssistFlightResult, std::string> fly_assist_flight(const AssistFlightSp
 
     const sim::Scene& scene = spec.scene;
     const CameraCalibration calib = builtin_calibration(CameraId::Front);
-    auto renderer = sim::Renderer::create(scene, calib, sim::CameraKind::Front);
+    const sim::RealismOptions& fx = opt.realism;
+    if (auto e = fx.check()) return Unexpected("realism: " + *e);
+    // What the camera sees: the scene with the realism layer's scene effects (plain walls, a
+    // glossy floor); the flight and its collisions keep the scene itself.
+    sim::Scene seen = scene;
+    if (fx.scene()) sim::apply_scene_effects(seen, fx, sim::mix_seed(spec.seed, 0x5ce4e));
+    auto renderer =
+        sim::Renderer::create(seen, calib, sim::CameraKind::Front, sim::render_options(fx));
     if (!renderer) return Unexpected("renderer: " + sim::to_string(renderer.error()));
     video::H264EncoderConfig ec;
     ec.width = calib.width;
     ec.height = calib.height;
     ec.fps = static_cast<int>(kFps);
     ec.gop = 15;
-    ec.bitrate_bps = 1'500'000;
+    // A real drone's link runs nearer 1 Mbit/s than the clean render's 1.5.
+    ec.bitrate_bps = fx.any() ? 1'000'000 : 1'500'000;
     auto encoder = video::H264Encoder::create(ec);
     if (!encoder) return Unexpected("H.264 encoder: " + video::to_string(encoder.error()));
     video::H264Decoder decoder;
@@ -99,6 +111,12 @@ Expected<AssistFlightResult, std::string> fly_assist_flight(const AssistFlightSp
     std::vector<sim::OutDatagram> sink;
     cv::Mat image, decoded;
     std::vector<std::uint8_t> au;
+    sim::CameraEffects camera_fx(calib, fx, sim::mix_seed(spec.seed, 0xca3e7a));
+    sim::StreamDamage damage(fx.slice_loss_pct, sim::mix_seed(spec.seed, 0x511ce));
+    sim::NavdataEffects nav_fx(fx, sim::mix_seed(spec.seed, 0x4a7da7a));
+    std::optional<sim::Pose> last_pose;
+    std::vector<sim::PersonTrack> people;  // planned when the pilot takes over
+    std::vector<sim::Obstacle> movers;
 
     const TimeNs latency_ns = static_cast<TimeNs>(opt.video_latency_s * 1e9);
     const double frame_s = 1.0 / kFps;
@@ -244,10 +262,33 @@ Expected<AssistFlightResult, std::string> fly_assist_flight(const AssistFlightSp
             const TimeNs capture = t;
             next_frame_ns = *render_from_ns +
                             static_cast<TimeNs>(std::llround((frame_index + 1) * frame_s * 1e9));
-            renderer->render(core.pose(), image);
+            const sim::Pose pose_now = core.pose();
+            if (fx.people_crossing > 0 && pilot_from_ns) {
+                // People crossing the path ahead, from when the pilot flies: scenery only.
+                const double pt = static_cast<double>(capture - *pilot_from_ns) * 1e-9;
+                if (people.empty())
+                    people =
+                        sim::plan_people(fx, scene.room, pose_now.x_m, pose_now.y_m, heading0,
+                                         1.25 * spec.speed_mps, sim::mix_seed(spec.seed, 0x9e091e));
+                movers.clear();
+                for (const sim::PersonTrack& q : people)
+                    if (q.present(pt)) movers.push_back(q.at(pt));
+                renderer->set_movers(movers);
+            }
+            renderer->render(pose_now, image);
+            if (fx.geometric() || fx.photometric()) {
+                const sim::CameraMotion m =
+                    last_pose
+                        ? sim::camera_motion(*last_pose, pose_now, frame_s, sim::CameraKind::Front)
+                        : sim::CameraMotion{};
+                camera_fx.apply(image, static_cast<double>(capture) * 1e-9, m,
+                                renderer->inverse_depth());
+            }
+            last_pose = pose_now;
             bool idr = false;
             auto n = (*encoder)->encode(image, au, idr);
             if (!n) return Unexpected("H.264 encoder: " + video::to_string(n.error()));
+            damage.apply(au, idr);
             video::AccessUnit unit;
             unit.data = au;
             unit.frame_number = static_cast<std::uint32_t>(frame_index + 1);
@@ -257,20 +298,32 @@ Expected<AssistFlightResult, std::string> fly_assist_flight(const AssistFlightSp
             // a frame with a picture only (a unit without one is recorded with the exact state).
             const auto an = [&] { return picture ? anoise(noise) : 0.0; };
             const auto vn = [&] { return picture ? vnoise(noise) : 0.0; };
-            NavState nav;
+            NavState truth;
+            truth.t_ns = capture;
+            truth.roll_deg = st.roll_deg;
+            truth.pitch_deg = st.pitch_deg;
+            truth.yaw_deg = st.yaw_deg;
+            truth.vx_mps = st.vx_body_mps();
+            truth.vy_mps = st.vy_body_mps();
+            truth.vz_mps = st.vz_mps;
+            truth.altitude_m = st.z_m;
+            if (fx.navdata()) {
+                // Late, jittered and drifting, as the drone's estimator reports it.
+                nav_fx.push_truth(truth);
+                truth = nav_fx.sample(capture);
+            }
+            NavState nav = truth;
             nav.t_ns = capture;
-            nav.roll_deg = st.roll_deg + an();
-            nav.pitch_deg = st.pitch_deg + an();
-            nav.yaw_deg = st.yaw_deg + an();
-            nav.vx_mps = st.vx_body_mps() + vn();
-            nav.vy_mps = st.vy_body_mps() + vn();
-            nav.vz_mps = st.vz_mps + vn();
-            nav.altitude_m = st.z_m;
+            nav.roll_deg += an();
+            nav.pitch_deg += an();
+            nav.yaw_deg += an();
+            nav.vx_mps += vn();
+            nav.vy_mps += vn();
+            nav.vz_mps += vn();
             if (rec) {
-                const sim::Pose pose = core.pose();
                 dataset::FrameRow row;
                 row.nav = nav;
-                row.gt = {pose.x_m, pose.y_m, pose.z_m, pose.yaw_deg};
+                row.gt = {pose_now.x_m, pose_now.y_m, pose_now.z_m, pose_now.yaw_deg};
                 rec->add(au, row);
             }
             if (picture) {
@@ -304,7 +357,19 @@ Expected<AssistFlightResult, std::string> fly_assist_flight(const AssistFlightSp
         info.calibration = calib;
         info.source = "rendered: ardrone-gs eval-assist (" + spec.name + ", assist " +
                       (opt.assist ? "on" : "off") + ", seed " + std::to_string(spec.seed) + ")";
-        if (auto e = rec->finish(info)) return Unexpected(*e);
+        if (fx.any()) {
+            // What the realism layer did (docs/dataset.md "realism"), beside the standard keys.
+            info.frames = rec->frames();
+            auto j = nlohmann::ordered_json::parse(dataset::flight_json_text(info));
+            nlohmann::ordered_json r = fx.to_json();
+            r["video_bitrate_kbps"] = ec.bitrate_bps / 1000.0;
+            r["seed"] = spec.seed;
+            r["slices_lost"] = damage.damaged();
+            j["realism"] = r;
+            if (auto e = rec->finish_with(j.dump(2) + "\n", {})) return Unexpected(*e);
+        } else if (auto e = rec->finish(info)) {
+            return Unexpected(*e);
+        }
     }
     res.bumps = static_cast<int>(core.counters().bumps);
     if (!res.completed && pilot_from_ns)

@@ -16,6 +16,7 @@
 #include "app/assist.hpp"
 #include "drone/core/expected.hpp"
 #include "drone/sim/flight_model.hpp"
+#include "drone/sim/realism.hpp"
 #include "drone/sim/scene.hpp"
 
 #include <cstdint>
@@ -52,6 +53,10 @@ struct AssistEvalOptions {
     // classifier was given and the ground-truth pose, flight.json), for `replay` to show what
     // the classifier saw; empty: none. The directory must not exist or be empty.
     std::string record_dir;
+    // The camera, link and estimator as a real AR.Drone 2's (drone/sim/realism.hpp: what
+    // `generate --realism` films): the classifier sees these frames and this navdata; the
+    // people crossing are scenery (never hit). Default: none, a clean render.
+    sim::RealismOptions realism;
 };
 
 struct AssistFlightResult {

@@ -1,5 +1,7 @@
 #include "app/cli_options.hpp"
 
+#include <algorithm>
+
 #include "app/replay_outputs.hpp"
 #include "app/replay_run.hpp"
 #include "vision/classifier.hpp"
@@ -252,6 +254,27 @@ void add_classifier_options(CLI::App& sub, std::string& classifier, std::vector<
     sub.add_option("--set", set,
                    "Classifier parameter key=value (repeatable; `ardrone-gs params` lists every "
                    "key with its default and range)");
+}
+
+void add_realism_options(CLI::App& sub, RealismCli& r, const std::string& preset_help) {
+    sub.add_flag("--realism", r.preset, preset_help);
+    for (const sim::RealismField& f : sim::realism_fields()) {
+        std::string flag = std::string("--") + f.name;
+        std::replace(flag.begin(), flag.end(), '_', '-');
+        const std::string name = f.name;
+        sub.add_option_function<double>(
+               flag, [&r, name](double v) { r.effect[name] = v; }, f.help)
+            ->check(number_in(f.lo, f.hi, f.name))
+            ->group("Realism");
+    }
+}
+
+Expected<sim::RealismOptions, std::string> realism_options(const RealismCli& r) {
+    sim::RealismOptions o = r.preset ? sim::RealismOptions::real_camera() : sim::RealismOptions{};
+    for (const sim::RealismField& f : sim::realism_fields())
+        if (auto it = r.effect.find(f.name); it != r.effect.end()) o.*f.member = it->second;
+    if (auto e = o.check()) return Unexpected(*e);
+    return o;
 }
 
 }  // namespace gs::app

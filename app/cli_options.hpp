@@ -11,11 +11,13 @@
 #include "drone/core/camera_calibration.hpp"
 #include "drone/core/expected.hpp"
 #include "drone/dataset/dataset.hpp"
+#include "drone/sim/realism.hpp"
 
 #include <CLI/CLI.hpp>
 
 #include <filesystem>
 #include <initializer_list>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -52,6 +54,16 @@ void add_dataset_input_options(CLI::App& sub, DatasetInputOptions& o,
 // else the dataset's.
 [[nodiscard]] Expected<CameraCalibration, std::string> input_calibration(
     const dataset::Dataset& d, const DatasetInputOptions& o);
+
+// --realism and its Realism group (generate, eval-assist): the real-camera preset
+// (RealismOptions::real_camera()) or nothing, then each effect by name (--rolling-shutter-ms ...).
+struct RealismCli {
+    bool preset = false;
+    std::map<std::string, double> effect;  // given one by one, by flight.json key
+};
+void add_realism_options(CLI::App& sub, RealismCli& r, const std::string& preset_help);
+// The options as given, checked: the error names the bad value.
+[[nodiscard]] Expected<sim::RealismOptions, std::string> realism_options(const RealismCli& r);
 
 // Checks of paths and numbers, applied when the options are parsed (before any work), each
 // failing with one line that says what was expected:

@@ -43,6 +43,7 @@ struct Opts {
     std::string only;
     std::string classifier = "flow";
     std::vector<std::string> set;  // classifier parameters, key=value
+    RealismCli realism;
 };
 
 std::vector<double> parse_speeds(const std::string& text) {
@@ -182,6 +183,9 @@ std::string stopping_svg(const std::vector<AssistFlightResult>& rs) {
 
 int run(const Opts& o) {
     const std::vector<double> speeds = parse_speeds(o.speeds);
+    auto realism_or = realism_options(o.realism);
+    if (!realism_or) throw fail(realism_or.error());
+    const sim::RealismOptions realism = *realism_or;
     std::vector<AssistFlightSpec> specs;
     if (o.suite == "default")
         specs = default_assist_suite(speeds, o.seed);
@@ -229,6 +233,7 @@ int run(const Opts& o) {
             eo.assist = jobs[i].assist;
             eo.classifier = o.classifier;
             eo.set = o.set;
+            eo.realism = realism;
             if (o.trace)
                 eo.trace_path =
                     (out / (specs[jobs[i].spec].name + (eo.assist ? "-on" : "-off") + ".trace.csv"))
@@ -288,6 +293,7 @@ int run(const Opts& o) {
     j["seed"] = o.seed;
     j["classifier"] = o.classifier;
     j["set"] = o.set;
+    j["realism"] = realism.any() ? realism.to_json() : nlohmann::json(nullptr);
     j["speeds"] = speeds;
     j["elapsed_s"] = elapsed;
     j["jobs"] = o.jobs;
@@ -414,6 +420,12 @@ CommandRegistration reg(47, [](CLI::App& root) {
                   "the classifier saw, with the ground truth)");
     sub->add_option("--only", o->only, "Only the flights whose name contains this");
     add_classifier_options(*sub, o->classifier, o->set);
+    add_realism_options(*sub, o->realism,
+                        "Fly with the camera, link and estimator of a real AR.Drone 2 (as "
+                        "`generate --realism`: rolling shutter, blur, exposure steps, flicker, "
+                        "vignetting, noise, lost slices, 1 Mbit/s, late and drifting navdata, "
+                        "plain walls, a glossy floor, a person crossing); the options below change "
+                        "one effect");
     set_action(*sub, [o] { return run(*o); });
 });
 

@@ -35,19 +35,9 @@ struct Opts {
     int jobs = 1;
     Shard shard;
     int bitrate_kbps = 1500;
-    bool realism = false;                  // start from RealismOptions::real_camera()
-    std::map<std::string, double> effect;  // realism options given one by one
+    RealismCli realism;
     bool quiet = false;
 };
-
-// The realism layer as the options say: the real-camera preset (--realism) or nothing, then
-// each effect given by name.
-sim::RealismOptions realism_options(const Opts& o) {
-    sim::RealismOptions r = o.realism ? sim::RealismOptions::real_camera() : sim::RealismOptions{};
-    for (const sim::RealismField& f : sim::realism_fields())
-        if (auto it = o.effect.find(f.name); it != o.effect.end()) r.*f.member = it->second;
-    return r;
-}
 
 int run(const Opts& o) {
     std::vector<sim::ObstacleFlightInfo> flights;
@@ -70,8 +60,9 @@ int run(const Opts& o) {
         if (o.height > 0) f.params.height_m = o.height;
         flights.push_back(std::move(f));
     }
-    const sim::RealismOptions realism = realism_options(o);
-    if (auto e = realism.check()) throw fail(*e);
+    auto realism_or = realism_options(o.realism);
+    if (!realism_or) throw fail(realism_or.error());
+    const sim::RealismOptions realism = *realism_or;
     for (auto& f : flights) {
         f.params.max_record_s = o.max_seconds;
         f.params.bitrate_bps = o.bitrate_kbps * 1000;
@@ -162,22 +153,13 @@ CommandRegistration reg(45, [](CLI::App& root) {
                      "With --suite: only every N-th flight of the suite (the K-th part of N, K "
                      "from 1), to render the suite on several machines into one folder")
         ->needs(suite);
-    sub->add_flag("--realism", o->realism,
-                  "Film the flights as a real AR.Drone 2 camera, link and estimator would "
-                  "(drone/sim/realism.hpp: 25 ms rolling shutter, 12 ms exposure, 15 % exposure "
-                  "steps, 3 % flicker, 30 % vignetting, 1.5 % noise, 2 % lost slices, navdata "
-                  "30 +- 10 ms late with drifting biases; half the walls plain, a floor reflecting "
-                  "20 %, blurred by 1.5 deg; one person crossing the path ahead at 1.3 m/s); the "
-                  "options below change one effect");
-    for (const sim::RealismField& f : sim::realism_fields()) {
-        std::string flag = std::string("--") + f.name;
-        std::replace(flag.begin(), flag.end(), '_', '-');
-        const std::string name = f.name;
-        sub->add_option_function<double>(
-               flag, [o, name](double v) { o->effect[name] = v; }, f.help)
-            ->check(number_in(f.lo, f.hi, f.name))
-            ->group("Realism");
-    }
+    add_realism_options(*sub, o->realism,
+                        "Film the flights as a real AR.Drone 2 camera, link and estimator would "
+                        "(drone/sim/realism.hpp: 25 ms rolling shutter, 12 ms exposure, 15 % "
+                        "exposure steps, 3 % flicker, 30 % vignetting, 1.5 % noise, 2 % lost "
+                        "slices, navdata 30 +- 10 ms late with drifting biases; half the walls "
+                        "plain, a floor reflecting 20 %, blurred by 1.5 deg; one person crossing "
+                        "the path ahead at 1.3 m/s); the options below change one effect");
     sub->add_flag("--quiet,-q", o->quiet, "No per-flight lines");
     set_action(*sub, [o, scene, suite] {
         if (scene->count() == 0 && suite->count() == 0) throw fail("give --scene NAME or --suite");
