@@ -298,15 +298,7 @@ Expected<AssistFlightResult, std::string> fly_assist_flight(const AssistFlightSp
             // a frame with a picture only (a unit without one is recorded with the exact state).
             const auto an = [&] { return picture ? anoise(noise) : 0.0; };
             const auto vn = [&] { return picture ? vnoise(noise) : 0.0; };
-            NavState truth;
-            truth.t_ns = capture;
-            truth.roll_deg = st.roll_deg;
-            truth.pitch_deg = st.pitch_deg;
-            truth.yaw_deg = st.yaw_deg;
-            truth.vx_mps = st.vx_body_mps();
-            truth.vy_mps = st.vy_body_mps();
-            truth.vz_mps = st.vz_mps;
-            truth.altitude_m = st.z_m;
+            NavState truth = sim::true_navdata(st, capture);
             if (fx.navdata()) {
                 // Late, jittered and drifting, as the drone's estimator reports it.
                 nav_fx.push_truth(truth);

@@ -266,15 +266,7 @@ Expected<ObstacleFlightSummary, std::string> write_obstacle_flight(const fs::pat
             t0 = std::chrono::steady_clock::now();
             dataset::FrameRow row;
             row.nav.t_ns = f.t_ns;
-            NavState truth;
-            truth.t_ns = f.t_ns;
-            truth.roll_deg = s.roll_deg;
-            truth.pitch_deg = s.pitch_deg;
-            truth.yaw_deg = s.yaw_deg;
-            truth.vx_mps = s.vx_body_mps();
-            truth.vy_mps = s.vy_body_mps();
-            truth.vz_mps = s.vz_mps;
-            truth.altitude_m = s.z_m;
+            NavState truth = true_navdata(s, f.t_ns);
             if (p.realism.navdata()) {
                 // Late, jittered and drifting, as the drone's estimator reports it.
                 nav_fx.push_truth(truth);

@@ -576,4 +576,17 @@ NavState NavdataEffects::sample(TimeNs t_ns) {
     return s;
 }
 
+NavState true_navdata(const FlightState& s, TimeNs t_ns) {
+    NavState n;
+    n.t_ns = t_ns;
+    n.roll_deg = s.roll_deg;
+    n.pitch_deg = s.pitch_deg;
+    n.yaw_deg = s.yaw_deg;
+    n.vx_mps = s.vx_body_mps();
+    n.vy_mps = s.vy_body_mps();
+    n.vz_mps = s.vz_mps;
+    n.altitude_m = s.z_m;
+    return n;
+}
+
 }  // namespace gs::sim

@@ -52,6 +52,7 @@
 
 #include "drone/core/camera_calibration.hpp"
 #include "drone/core/sample.hpp"
+#include "drone/sim/flight_model.hpp"
 #include "drone/sim/renderer.hpp"
 #include "drone/sim/rng.hpp"
 #include "drone/sim/scene.hpp"
@@ -185,6 +186,10 @@ private:
     Rng rng_;
     int damaged_ = 0;
 };
+
+// The navdata an exact estimator would report for the flight state `s` at `t_ns` (attitude,
+// body velocity, altitude): what NavdataEffects makes late and biased.
+NavState true_navdata(const FlightState& s, TimeNs t_ns);
 
 // Navdata as the drone's estimator reports it: late, jittered and drifting. Feed it the true
 // state at each step (in time order), then ask for the sample that goes with a frame.
