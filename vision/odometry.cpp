@@ -287,8 +287,20 @@ public:
         std::swap(prev_grey_, grey_);
         prev_roll_ = level_roll;
         prev_pitch_ = level_pitch;
+        nav_roll_ = roll_deg;
+        nav_pitch_ = pitch_deg;
         have_prev_ = true;
         return e;
+    }
+
+    // The last sample's translation was not used (rotation-gated, spike-zeroed): level its frame
+    // by the navdata again in the next sample. The image tilt's levelling telescopes along the
+    // path only over samples whose translation counts (see correct_tilt); a correction carried
+    // out of a skipped sample would make the next one pay for the levelling's catch-up with the
+    // navdata, which under a constant navdata bias and a yaw back and forth adds up every swing.
+    void level_last_frame_by_navdata() {
+        prev_roll_ = nav_roll_;
+        prev_pitch_ = nav_pitch_;
     }
 
 private:
@@ -392,7 +404,8 @@ private:
     CameraMount mount_;
     const OdometryParams& p_;
     bool have_prev_ = false;
-    double prev_roll_ = kUnknown, prev_pitch_ = kUnknown;
+    double prev_roll_ = kUnknown, prev_pitch_ = kUnknown;  // the last frame's levelling
+    double nav_roll_ = kUnknown, nav_pitch_ = kUnknown;    // ... and its navdata attitude
     cv::Mat grey_, prev_grey_, mask_;
     std::vector<cv::Point2f> prev_corners_, cur_pts_, src_, dst_;
     std::vector<std::uint8_t> status_;
@@ -483,6 +496,10 @@ const OdometrySample& VisualOdometry::update(const OdometryInput& in) {
     if (m.index > 0) {
         s.out = m.filter.apply(s.raw.forward_m, s.raw.right_m, yaw);
         s.pose = m.integrator.add(s.out.forward_m, s.out.right_m, s.out.yaw_deg);
+        if (s.out.rotation_gated || s.out.spike_zeroed) {
+            m.bottom.level_last_frame_by_navdata();
+            if (m.top) m.top->level_last_frame_by_navdata();
+        }
     } else {
         s.pose = m.integrator.pose();
     }

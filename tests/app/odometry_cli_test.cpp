@@ -88,13 +88,13 @@ constexpr double kThesisHoverY_cm = 0.148;
 TEST(OdometryCli, HoverUnderImuNoiseBeatsTheThesis) {
     // Issue 17 point 4: an onboard estimator's attitude (0.1° white noise, a 0.3° bias) must not
     // raise the per-sample error above the thesis' on the AR.Drone's bottom camera alone. The
-    // image tilt fused with the navdata (odo.image_tilt=1) keeps it well below; levelling by the
-    // navdata alone (odo.image_tilt=0) lets the noise into the translation.
+    // defaults (the image tilt fused with the navdata, odo.image_tilt=1) keep it well below;
+    // levelling by the navdata alone (odo.image_tilt=0) lets the noise into the translation.
     const fs::path root = scratch_dir("odometry_cli", "hover_imu");
     const fs::path data = root / "flight", fused = root / "fused", nav = root / "nav";
     CmdResult r = run_cli("odometry " + data.string() +
                           " --generate hover --no-top --duration 20 --seed 1 --imu-noise 0.1 "
-                          "--imu-bias 0.3 --summary --set odo.image_tilt=1 --out " +
+                          "--imu-bias 0.3 --summary --out " +
                           fused.string());
     ASSERT_EQ(r.exit_code, 0) << r.out;
     const nlohmann::json f = summary(fused);
