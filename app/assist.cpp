@@ -237,7 +237,12 @@ AssistOutput Assist::step(const AssistInput& in) {
         cmd.pitch = 1.0f;
         if (!in.pilot.progressive) cmd.roll = cmd.gaz = cmd.yaw = 0;
         out.action = AssistAction::Braking;
-        out.reason = "BRAKING: obstacle ahead" + contact_text(c);
+        // A time to contact only from an unsafe reading: a clear centre's (9 s on a replay's
+        // dry run, whose drone never slows) is not the obstacle's.
+        out.reason = centre == RegionState::Unsafe
+                         ? "BRAKING: obstacle ahead" + contact_text(c)
+                         : std::string("BRAKING: obstacle ahead (centre now ") + to_string(centre) +
+                               "), until stopped";
     } else if (st_.phase == Phase::Holding && room_ahead) {
         char buf[96];
         std::snprintf(buf, sizeof buf, "APPROACHING: obstacle remembered %.1f m ahead", remaining);

@@ -63,6 +63,14 @@ TEST(Assist, CentreUnsafeWhileMovingForwardBrakesThenHoldsUntilClear) {
     o = a.step(in);
     EXPECT_EQ(o.action, AssistAction::Braking);
     EXPECT_FALSE(o.changed);
+    // Still braking once the centre reads clear (a clear reading at speed is what the brake is
+    // for): the line gives no time to contact, a clear region's is not the obstacle's.
+    in.t_s = 0.4;
+    in.regions[1] = {RegionState::Clear, 0.05, 9.1};
+    o = a.step(in);
+    EXPECT_EQ(o.action, AssistAction::Braking);
+    EXPECT_EQ(o.reason, "BRAKING: obstacle ahead (centre now clear), until stopped");
+    in.regions[1] = unsafe(0.8);
 
     in.t_s = 0.6;
     in.vx_mps = 0.2;  // slow: held from here, the creep taken out with a gentle nose-up
