@@ -123,21 +123,29 @@ TEST_F(AssistWiring, ForwardAtTheCentrePillarIsBrakedOverrideAndToggleOffPassEme
             << "Escape ended the hold: " << snap.assist.line;
     }
 
-    // Override held: the forward command passes while the key is down.
+    // Override held: the forward command passes while the key is down. (While approaching, the
+    // assist passes the pilot's forward too, so only datagrams sent after the window shows the
+    // override count: the queue is drained once it does.)
     const InputState shift = key(PilotKey::AssistOverride);
-    ASSERT_TRUE(
-        run_until([&] { return assist_has_pitch(sent_forward_pitches(*raw), -0.3f); }, 10s, shift));
-    EXPECT_EQ(snap.assist.action, "OVERRIDE");
+    ASSERT_TRUE(run_until([&] { return snap.assist.action == "OVERRIDE"; }, 10s, shift))
+        << snap.assist.line;
+    (void)sent_forward_pitches(*raw);
+    ASSERT_TRUE(run_until(
+        [&] {
+            EXPECT_EQ(snap.assist.action, "OVERRIDE") << "the override ended while held";
+            return assist_has_pitch(sent_forward_pitches(*raw), -0.3f);
+        },
+        10s, shift));
     EXPECT_EQ(snap.assist.line, "OVERRIDE: assist bypassed while held");
 
     // Released: held again. Then B switches the assist off and forward passes.
     ASSERT_TRUE(run_until([&] { return snap.assist.acting; }, 10s));
-    (void)sent_forward_pitches(*raw);
     const Actions b = step(key(PilotKey::AssistToggle));
     EXPECT_TRUE(b.assist_toggle);
     step();
     EXPECT_FALSE(snap.assist.enabled);
     EXPECT_EQ(snap.assist.line, "ASSIST OFF");
+    (void)sent_forward_pitches(*raw);
     ASSERT_TRUE(
         run_until([&] { return assist_has_pitch(sent_forward_pitches(*raw), -0.3f); }, 10s));
 
