@@ -467,6 +467,12 @@ void FlowClassifier::rate_points(const FrameInput& in) {
         // Time to contact now is `lag` less than it was then.
         const double ttc_now = 1.0 / rate_then - lag;
         const double rate = !(rate_then > 0) ? rate_then : ttc_now > 0.01 ? 1.0 / ttc_now : 100.0;
+        // With track.fb_max_px set, flying forward, a point LK could not track back to where it
+        // came from in a frame of the fit window is not rated as a static point: its flow may be
+        // a slip along a repeating pattern (a tiled floor) or an occluding edge dragging it (a
+        // person walking past), not the scene's.
+        const bool fb_miss = nav_moving_ && fb_missed(t, n);
+        if (fb_miss && !off_motion) continue;
         ++rated_count_[ri];
         track_score_[i] = rate;
         const bool across =
@@ -479,7 +485,7 @@ void FlowClassifier::rate_points(const FrameInput& in) {
             track_score_[i] = kUnknown;
             continue;
         }
-        if (across) {
+        if (across || fb_miss) {
             class_[i] = PointClass::Inconsistent;
             continue;
         }
@@ -506,6 +512,13 @@ void FlowClassifier::rate_points(const FrameInput& in) {
         }
         class_[i] = PointClass::Hazard;  // counted in classify, unless its looming says not
     }
+}
+
+bool FlowClassifier::fb_missed(const Trajectory& t, std::size_t n) const {
+    if (!(p_.fb_max_px > 0)) return false;
+    for (std::size_t k = 0; k + 1 < n; ++k)
+        if (!(static_cast<double>(t.at_back(k).fb_px) <= p_.fb_max_px)) return true;
+    return false;
 }
 
 double FlowClassifier::looming_rate(std::size_t a, bool moving_only, double lo, double hi,

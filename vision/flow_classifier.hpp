@@ -13,6 +13,11 @@
 //    (Z = forward speed x TTC), hence where it is: only points inside the flight corridor
 //    (beside the drone by less than corridor_half_width_m, above the floor, not far overhead) can
 //    be obstacles, so the floor and side walls do not raise alarms however fast they stream by;
+//  - optionally (track.fb_max_px, off by default), flying forward, a point that Lucas-Kanade
+//    could not track back to where it came from in a frame of its fit window is not rated as
+//    a static point: its flow may be a slip along a repeating pattern (a tiled floor) or an
+//    occluding edge dragging it (a person walking past). It also drops a near surface seen at
+//    a grazing angle, whose patches LK follows less exactly (README, Realism suite);
 //  - points that do not move with the scene (a hand, a person walking toward the drone) are
 //    judged by their own looming: the rate at which the distances to their neighbours on the same
 //    object grow, a time to contact that needs no FOE;
@@ -170,6 +175,7 @@ private:
     void rate_points(const FrameInput& in);
     void rate_moving_points();
     void check_static_looming();
+    bool fb_missed(const Trajectory& t, std::size_t n) const;
     double looming_rate(std::size_t a, bool moving_only, double lo, double hi, double radius);
     struct Aperture {
         bool edge = false;

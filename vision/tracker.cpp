@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <limits>
 
 namespace gs::vision {
 
@@ -214,6 +215,24 @@ void TrajectoryTracker::update(const cv::Mat& image, std::int64_t t_ns, double r
                                  cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS,
                                                   p_.lk_iterations, p_.lk_epsilon),
                                  flags | cv::OPTFLOW_LK_GET_MIN_EIGENVALS, p_.lk_min_eig);
+        fb_px_.assign(tracks_.size(), 0.0f);
+        if (p_.fb_max_px > 0) {
+            // Back from where LK put each point, starting at where it came from: a point tracked
+            // consistently is found there at once, so the base level alone is searched.
+            back_pts_ = prev_pts_;
+            cv::calcOpticalFlowPyrLK(
+                pyr_cur_, pyr_prev_, cur_pts_, back_pts_, back_status_, back_err_, win, 0,
+                cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, p_.lk_iterations,
+                                 p_.lk_epsilon),
+                cv::OPTFLOW_USE_INITIAL_FLOW, p_.lk_min_eig);
+            for (std::size_t i = 0; i < status_.size(); ++i) {
+                const cv::Point2f d = back_pts_[i] - prev_pts_[i];
+                fb_px_[i] = back_status_[i]
+                                ? static_cast<float>(std::sqrt(static_cast<double>(d.dot(d))) /
+                                                     p_.track_scale)
+                                : std::numeric_limits<float>::infinity();
+            }
+        }
         timings_.lk_ms = ms_since(t0);
 
         t0 = StageClock::now();
@@ -225,6 +244,7 @@ void TrajectoryTracker::update(const cv::Mat& image, std::int64_t t_ns, double r
             if (n != i) tracks_[n] = tracks_[i];
             raw_[n] = full;
             err_[n] = err_[i];
+            fb_px_[n] = fb_px_[i];
             ++n;
         }
         raw_.resize(n);
@@ -281,7 +301,7 @@ void TrajectoryTracker::update(const cv::Mat& image, std::int64_t t_ns, double r
             tr.moving_streak = p_.ego_motion && ego_.outlier(i) ? tr.moving_streak + 1 : 0;
             tr.undist_prev = tr.undist;
             tr.undist = und_[i];
-            tr.push({s, derot, t_s});
+            tr.push({s, derot, t_s, fb_px_[i]});
             ++m;
         }
         ended_ = static_cast<int>(tracks_.size() - m);

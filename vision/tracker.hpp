@@ -63,6 +63,10 @@ struct TrackerParams {
     int lk_iterations = 10;
     double lk_epsilon = 0.03;
     double lk_min_eig = 1e-4;  // LK drops points whose gradient matrix is weaker
+    // Forward-backward check: each point is tracked back from where LK put it, and how far
+    // that misses its start is kept with the point (TrackPoint::fb_px). The tracker only
+    // measures; the flow classifier judges the miss against fb_max_px (0 = not measured).
+    double fb_max_px = 0;
     double track_scale = 0.5;  // track on an image resized by this (measured: see bench)
     // Photometric compensation (a real camera does not keep the brightness LK assumes: its
     // auto-exposure steps, mains flicker bands the rows through the rolling shutter): the rows
@@ -139,6 +143,9 @@ void describe_tracker_params(ParamTable<P>& t) {
         .add("track.lk_levels", &P::lk_levels, 0, 6, "Lucas-Kanade pyramid levels", true)
         .add("track.lk_iterations", &P::lk_iterations, 1, 100, "Lucas-Kanade iterations per level")
         .add("track.lk_epsilon", &P::lk_epsilon, 1e-4, 1, "Lucas-Kanade convergence (px)")
+        .add("track.fb_max_px", &P::fb_max_px, 0, 100,
+             "forward-backward check: flying forward, flow does not rate a point as static when "
+             "tracked back it missed its start by more than this (px) in its fit window (0: off)")
         .add("track.lk_min_eig", &P::lk_min_eig, 0, 0.1,
              "Lucas-Kanade: drop points with a weaker gradient matrix")
         .add("track.track_scale", &P::track_scale, 0.25, 1, "track on an image resized by this",
@@ -166,6 +173,9 @@ struct TrackPoint {
     cv::Point2f stab;   // undistorted, roll-stabilised pixel (thesis image space)
     cv::Point2f derot;  // accumulated attitude-free position (see Trajectory)
     double t_s = 0;     // capture time, seconds
+    // Forward-backward miss of the step into this point (full-size px; infinity when LK lost it
+    // tracking back; 0 on a trajectory's first point or without the check, fb_max_px 0).
+    float fb_px = 0;
 };
 
 // One tracked corner. `derot` integrates the frame-to-frame motion left after removing what the
@@ -267,8 +277,9 @@ private:
     std::vector<cv::Mat> pyr_prev_, pyr_cur_;
     std::vector<Trajectory> tracks_;
     std::vector<cv::Point2f> prev_pts_, cur_pts_, raw_, und_;
-    std::vector<std::uint8_t> status_;
-    std::vector<float> err_;
+    std::vector<std::uint8_t> status_, back_status_;
+    std::vector<float> err_, back_err_, fb_px_;
+    std::vector<cv::Point2f> back_pts_;
     std::vector<cv::Point2f> corners_;
     std::vector<cv::Point2f> pred_;
     std::vector<int> cell_count_;

@@ -47,3 +47,62 @@ TEST(TrackerGrid, ABusyBackgroundCannotTakeEverySlot) {
         }
     }
 }
+
+TEST(TrackerForwardBackward, PointsAnEdgeDragsFailTheCheckAndStaticOnesNever) {
+    // A textured box slides right by 4 px a frame over a still textured background. Lucas-Kanade
+    // tracks every point of both forward; the points the box's edges pass over are dragged or
+    // lost, and tracked back they miss where they came from. Points the box never came near are
+    // tracked back to the pixel.
+    const CameraCalibration c = CameraCalibration::ideal(640, 360, 60);
+    const cv::Mat bg = gs::vision::make_texture(640, 360, 5);
+    const cv::Mat box_tex = gs::vision::make_texture(640, 360, 9);
+    const int bw = 120, by = 100, bh = 160, x0 = 150, step = 4;
+    auto frame = [&](int f) {
+        cv::Mat img = bg.clone();
+        const int bx = x0 + step * f;
+        box_tex(cv::Rect(0, 0, bw, bh)).copyTo(img(cv::Rect(bx, by, bw, bh)));
+        return img;
+    };
+    const int frames = 24;
+    // How near the box (its rectangle at frame f) a point came.
+    auto near_box = [&](cv::Point2f p, int f, float margin) {
+        const float bx = static_cast<float>(x0 + step * f);
+        return p.x > bx - margin && p.x < bx + bw + margin && p.y > by - margin &&
+               p.y < by + bh + margin;
+    };
+    for (const double fb : {0.0, 0.5}) {
+        TrackerParams p;
+        p.max_tracks = 150;
+        p.detect_interval = 1;
+        p.grid_cols = 4;
+        p.grid_rows = 3;
+        p.fb_max_px = fb;
+        TrajectoryTracker t;
+        t.configure(c, p);
+        int flagged_far = 0, flagged_edge = 0, flagged_inside = 0, far = 0, inside = 0;
+        for (int f = 0; f < frames; ++f) {
+            t.update(frame(f), f * 40'000'000LL, 0, cv::Matx33d::eye());
+            for (const Trajectory& tr : t.tracks()) {
+                const bool is_far = !near_box(tr.raw, f, 30);
+                const bool is_inside = near_box(tr.raw, f, -15);  // on the box, off its edges
+                far += is_far ? 1 : 0;
+                inside += is_inside ? 1 : 0;
+                if (!(tr.at_back(0).fb_px > 0.5f)) continue;
+                (is_far ? flagged_far : is_inside ? flagged_inside : flagged_edge) += 1;
+            }
+        }
+        EXPECT_GT(far, 1000) << "the background should keep its tracks";
+        EXPECT_GT(inside, 100) << "the box should get tracks";
+        EXPECT_EQ(flagged_far, 0) << "a still point far from the box failed the check";
+        EXPECT_EQ(flagged_inside, 0) << "a point moving with the box failed the check";
+        if (fb == 0) {
+            EXPECT_EQ(flagged_edge, 0) << "no check asked for";
+        } else {
+            EXPECT_GE(flagged_edge, 5) << "the box's edges should drag points";
+        }
+        std::printf(
+            "fb_max_px %.1f: point-frames failing: %d at the box's edges, %d on it (of %d),"
+            " %d far from it (of %d)\n",
+            fb, flagged_edge, flagged_inside, inside, flagged_far, far);
+    }
+}
