@@ -66,6 +66,9 @@ const ParamTable<FlowParams>& FlowParams::table() {
                  "looming: fewest neighbours for a rate")
             .add("loom_min_spread_px", &P::loom_min_spread_px, 1, 300,
                  "looming: pairs closer than this are left out (tracking noise dominates)")
+            .add("max_moving_share", &P::max_moving_share, 0, 1,
+                 "more of the rated points than this moving against the camera motion: regions "
+                 "unknown (1: never)")
             .add("loom_consistency", &P::loom_consistency, 0, 1,
                  "a static point whose like-rated neighbours spread slower than this share of "
                  "its rate is moving (0: off)")
@@ -345,6 +348,31 @@ void FlowClassifier::classify(const FrameInput& in) {
         return;
     }
     rate_points(in);
+    // Most of the scene cannot be moving: when more than max_moving_share of the points rated
+    // move against the camera motion in use, that motion is wrong (the drone pitching into its
+    // first metres while the navdata still reads it as hovering), and their looming says
+    // nothing: the regions are unknown.
+    std::size_t rated = 0;
+    for (int c : rated_count_) rated += static_cast<std::size_t>(c);
+    if (p_.max_moving_share < 1 && rated >= 10 &&
+        static_cast<double>(moving_idx_.size()) >
+            p_.max_moving_share * static_cast<double>(rated)) {
+        for (Region r : kRegions) {
+            RegionDecision& d = result_.regions[static_cast<std::size_t>(r)];
+            d.threshold =
+                r == Region::Centre ? p_.centre_inv_ttc_threshold : p_.side_inv_ttc_threshold;
+            d.score = kUnknown;
+            d.valid = false;
+            d.unknown = UnknownReason::NoEgoMotion;
+            d.support = 0;
+            confirm(r, false);
+        }
+        plot(s_centre_points_, kUnknown);
+        plot(s_centre_hom_, kUnknown);
+        plot(s_hazards_, 0);
+        plot(s_moving_, static_cast<double>(moving_idx_.size()));
+        return;
+    }
     if (p_.looming) {
         check_static_looming();
         rate_moving_points();

@@ -22,7 +22,8 @@
 //    judged by their own looming: the rate at which the distances to their neighbours on the same
 //    object grow, a time to contact that needs no FOE;
 //  - a region is unknown, not clear, when there is no evidence: too few points, or neither a
-//    usable velocity nor a reliable FOE (and the camera is not still);
+//    usable velocity nor a reliable FOE (and the camera is not still), or most of the rated
+//    points moving against the camera motion in use (max_moving_share: that motion is wrong);
 //  - the centre can also read the expansion of the band's dominant plane from a derotated RANSAC
 //    homography (off by default, see centre_homography);
 //  - regions are scored with robust statistics (k-th largest rate), and a decision must hold for
@@ -88,6 +89,7 @@ struct FlowParams : TrackerParams {
     // A static point's rate about the FOE must be borne out by its neighbours on the same
     // surface spreading apart at that rate: below this share of it, the point is moving
     // (check_static_looming). 0: off.
+    double max_moving_share = 0.5;
     double loom_consistency = 0.5;
     // A point that must be borne out (loom_confirm_sides) and has too few such neighbours
     // within loom_radius_px looks this far: a near surface's points lie far apart.

@@ -529,3 +529,53 @@ TEST(ReplayCli, TheForwardBackwardCheckSilencesARealismOpenFlight) {
 
 }  // namespace
 }  // namespace gs::test
+
+namespace gs::test {
+namespace {
+
+TEST(ReplayCli, TakeOffWhenMostPointsMoveAgainstTheCameraIsUnknownNotAnAlarm) {
+    // The first metres of a realism open-space flight (seed 2026, open_path2_10): the drone
+    // pitches forward and speeds up while the late navdata still reads under 0.2 m/s, so the
+    // camera is taken as still and nearly every point moves against that, judged by its
+    // looming as a moving object: one of them raised the right region at frame 7. With most
+    // of the rated points "moving" the camera motion in use is what is wrong, and the regions
+    // are unknown (empty scores), not flagged.
+    const fs::path dir = scratch("take_off");
+    const CmdResult g = run_cli(
+        "generate --suite --only open_path2_10 --seed 2026 --realism -q "
+        "-j 1 --out " +
+        (dir / "suite").string());
+    ASSERT_EQ(g.exit_code, 0) << g.out;
+    const fs::path flight = dir / "suite" / "open_path2_10";
+    const auto replay = [&](const std::string& tag, const std::string& set) {
+        const CmdResult r =
+            run_cli("replay " + flight.string() + " -q " + set + " --out " + (dir / tag).string());
+        EXPECT_EQ(r.exit_code, 0) << r.out;
+        return read_csv(dir / tag / "decisions.csv");
+    };
+    const dataset::csv::Table off = replay("rule_off", "--set max_moving_share=1");
+    const dataset::csv::Table on = replay("default", "");
+    ASSERT_EQ(on.rows(), off.rows());
+    ASSERT_GE(on.rows(), 15u);
+    int flagged_off = 0, flagged_on = 0, now_unknown = 0;
+    for (std::size_t i = 0; i < 15; ++i) {
+        bool measured_off = false, unknown_on = true;
+        for (std::size_t col = 2; col <= 4; ++col) {
+            flagged_off += off.field(i, col) == "1" ? 1 : 0;
+            flagged_on += on.field(i, col) == "1" ? 1 : 0;
+            measured_off = measured_off || !off.field(i, col + 3).empty();
+            unknown_on = unknown_on && on.field(i, col + 3).empty();
+        }
+        now_unknown += measured_off && unknown_on ? 1 : 0;
+    }
+    std::printf(
+        "first 15 frames: %d region-frames flagged without the rule, %d with it; %d frames "
+        "measured without it are unknown with it\n",
+        flagged_off, flagged_on, now_unknown);
+    EXPECT_GE(flagged_off, 1) << "the flight no longer shows the take-off alarm";
+    EXPECT_EQ(flagged_on, 0);
+    EXPECT_GE(now_unknown, 2);
+}
+
+}  // namespace
+}  // namespace gs::test
