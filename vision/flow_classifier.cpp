@@ -307,6 +307,18 @@ bool FlowClassifier::choose_foe(const FrameInput& in, UnknownReason& why) {
     return true;
 }
 
+void FlowClassifier::all_unknown(UnknownReason why) {
+    for (Region r : kRegions) {
+        RegionDecision& d = result_.regions[static_cast<std::size_t>(r)];
+        d.threshold = r == Region::Centre ? p_.centre_inv_ttc_threshold : p_.side_inv_ttc_threshold;
+        d.score = kUnknown;
+        d.valid = false;
+        d.unknown = why;
+        d.support = 0;
+        confirm(r, false);  // and not unsafe
+    }
+}
+
 void FlowClassifier::classify(const FrameInput& in) {
     // The whole rotation (navdata's and the images' correction), for the centre homography.
     derot_ = small_rotation_homography(calib_, tracker_.rotation_rad());
@@ -329,17 +341,7 @@ void FlowClassifier::classify(const FrameInput& in) {
     if (!known) {
         const auto& tracks = tracker_.tracks();
         class_.assign(tracks.size(), PointClass::Unrated);
-        for (Region r : kRegions) {
-            RegionDecision& d = result_.regions[static_cast<std::size_t>(r)];
-            d.threshold =
-                r == Region::Centre ? p_.centre_inv_ttc_threshold : p_.side_inv_ttc_threshold;
-            d.score = kUnknown;
-            d.valid = false;
-            d.unknown = why;
-            d.support = 0;
-            confirm(r, false);
-            result_.regions[static_cast<std::size_t>(r)].unsafe = false;
-        }
+        all_unknown(why);
         // The centre homography still measures its scale (plots), without a decision.
         plot(s_centre_points_, kUnknown);
         plot(s_centre_hom_, p_.centre_homography ? homography_rate(in) : kUnknown);
@@ -357,16 +359,7 @@ void FlowClassifier::classify(const FrameInput& in) {
     if (p_.max_moving_share < 1 && rated >= 10 &&
         static_cast<double>(moving_idx_.size()) >
             p_.max_moving_share * static_cast<double>(rated)) {
-        for (Region r : kRegions) {
-            RegionDecision& d = result_.regions[static_cast<std::size_t>(r)];
-            d.threshold =
-                r == Region::Centre ? p_.centre_inv_ttc_threshold : p_.side_inv_ttc_threshold;
-            d.score = kUnknown;
-            d.valid = false;
-            d.unknown = UnknownReason::NoEgoMotion;
-            d.support = 0;
-            confirm(r, false);
-        }
+        all_unknown(UnknownReason::NoEgoMotion);
         plot(s_centre_points_, kUnknown);
         plot(s_centre_hom_, kUnknown);
         plot(s_hazards_, 0);

@@ -174,6 +174,7 @@ private:
     void on_reset() override;
     void add_overlay_points() override;
     bool choose_foe(const FrameInput& in, UnknownReason& why);
+    void all_unknown(UnknownReason why);  // every region unknown for `why`, no alarm
     void rate_points(const FrameInput& in);
     void rate_moving_points();
     void check_static_looming();

@@ -495,6 +495,24 @@ TEST_F(EvalCli, ShardsMergeIntoTheSingleRunsReportWhateverTheJobs) {
 namespace gs::test {
 namespace {
 
+// One flight of the realism suite (seed 2026) rendered into `dir`/suite by the test, and its
+// replays into `dir`/TAG with extra options.
+struct RealismFlight {
+    fs::path dir, flight;
+    CmdResult generated;
+    RealismFlight(const std::string& scratch_name, const std::string& name)
+        : dir(scratch(scratch_name)),
+          flight(dir / "suite" / name),
+          generated(run_cli("generate --suite --only " + name + " --seed 2026 --realism -q -j 1 " +
+                            "--out " + (dir / "suite").string())) {}
+    dataset::csv::Table replay(const std::string& tag, const std::string& set) const {
+        const CmdResult r =
+            run_cli("replay " + flight.string() + " -q " + set + " --out " + (dir / tag).string());
+        EXPECT_EQ(r.exit_code, 0) << r.out;
+        return read_csv(dir / tag / "decisions.csv");
+    }
+};
+
 TEST(ReplayCli, TheForwardBackwardCheckSilencesARealismOpenFlight) {
     // An open-space flight of the realism suite (seed 2026, nothing in the path; a tiled glossy
     // floor, half the walls plain, one person crossing 7 m ahead, a real camera's rolling shutter,
@@ -503,18 +521,10 @@ TEST(ReplayCli, TheForwardBackwardCheckSilencesARealismOpenFlight) {
     // right region flags. With the forward-backward check (track.fb_max_px 0.5, off by default:
     // it also drops a near wall seen at a grazing angle, README "Realism suite") such points
     // are not rated while the drone flies forward.
-    const fs::path dir = scratch("realism_fb");
-    const CmdResult g = run_cli(
-        "generate --suite --only open_path2_08 --seed 2026 --realism -q "
-        "-j 1 --out " +
-        (dir / "suite").string());
-    ASSERT_EQ(g.exit_code, 0) << g.out;
-    const fs::path flight = dir / "suite" / "open_path2_08";
+    const RealismFlight f("realism_fb", "open_path2_08");
+    ASSERT_EQ(f.generated.exit_code, 0) << f.generated.out;
     const auto flagged = [&](const std::string& tag, const std::string& set) {
-        const CmdResult r =
-            run_cli("replay " + flight.string() + " -q " + set + " --out " + (dir / tag).string());
-        EXPECT_EQ(r.exit_code, 0) << r.out;
-        const dataset::csv::Table t = read_csv(dir / tag / "decisions.csv");
+        const dataset::csv::Table t = f.replay(tag, set);
         int n = 0;
         for (std::size_t i = 0; i < t.rows(); ++i)
             for (std::size_t col = 2; col <= 4; ++col) n += t.field(i, col) == "1" ? 1 : 0;
@@ -527,12 +537,6 @@ TEST(ReplayCli, TheForwardBackwardCheckSilencesARealismOpenFlight) {
     EXPECT_LE(checked, 2);
 }
 
-}  // namespace
-}  // namespace gs::test
-
-namespace gs::test {
-namespace {
-
 TEST(ReplayCli, TakeOffWhenMostPointsMoveAgainstTheCameraIsUnknownNotAnAlarm) {
     // The first metres of a realism open-space flight (seed 2026, open_path2_10): the drone
     // pitches forward and speeds up while the late navdata still reads under 0.2 m/s, so the
@@ -540,21 +544,10 @@ TEST(ReplayCli, TakeOffWhenMostPointsMoveAgainstTheCameraIsUnknownNotAnAlarm) {
     // looming as a moving object: one of them raised the right region at frame 7. With most
     // of the rated points "moving" the camera motion in use is what is wrong, and the regions
     // are unknown (empty scores), not flagged.
-    const fs::path dir = scratch("take_off");
-    const CmdResult g = run_cli(
-        "generate --suite --only open_path2_10 --seed 2026 --realism -q "
-        "-j 1 --out " +
-        (dir / "suite").string());
-    ASSERT_EQ(g.exit_code, 0) << g.out;
-    const fs::path flight = dir / "suite" / "open_path2_10";
-    const auto replay = [&](const std::string& tag, const std::string& set) {
-        const CmdResult r =
-            run_cli("replay " + flight.string() + " -q " + set + " --out " + (dir / tag).string());
-        EXPECT_EQ(r.exit_code, 0) << r.out;
-        return read_csv(dir / tag / "decisions.csv");
-    };
-    const dataset::csv::Table off = replay("rule_off", "--set max_moving_share=1");
-    const dataset::csv::Table on = replay("default", "");
+    const RealismFlight f("take_off", "open_path2_10");
+    ASSERT_EQ(f.generated.exit_code, 0) << f.generated.out;
+    const dataset::csv::Table off = f.replay("rule_off", "--set max_moving_share=1");
+    const dataset::csv::Table on = f.replay("default", "");
     ASSERT_EQ(on.rows(), off.rows());
     ASSERT_GE(on.rows(), 15u);
     int flagged_off = 0, flagged_on = 0, now_unknown = 0;
