@@ -53,7 +53,7 @@ struct ReplayStats {
     // Frames each region had no measured decision (RegionDecision::valid false), in all and by
     // vision::UnknownReason (indexed by its value).
     std::array<std::int64_t, 3> unknown{};
-    std::array<std::array<std::int64_t, 8>, 3> unknown_by_reason{};
+    std::array<std::array<std::int64_t, vision::kUnknownReasonCount>, 3> unknown_by_reason{};
     double wall_s = 0, cpu_s = 0;  // whole replay, this thread
     // Per frame, milliseconds: reading (decode) and classifying.
     double read_ms_p50 = 0, read_ms_p99 = 0, classify_ms_p50 = 0, classify_ms_p99 = 0;

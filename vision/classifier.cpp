@@ -39,6 +39,8 @@ const char* to_string(UnknownReason r) {
             return "frames missing";
         case UnknownReason::DamagedFrame:
             return "damaged frame (concealed by the decoder)";
+        case UnknownReason::MotionContradicted:
+            return "most points move against the camera motion in use";
     }
     return "?";
 }

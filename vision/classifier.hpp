@@ -54,7 +54,11 @@ enum class UnknownReason : std::uint8_t {
     StaleVideo,    // (session) the newest frame is older than the staleness limit
     Gap,           // (session) frames missing before this one (link loss, replay gap)
     DamagedFrame,  // the frame was decoded with concealed damage: it alone cannot raise an alarm
+    MotionContradicted,  // most tracked points move against the camera motion in use (the
+                         // navdata lagging a drone that starts to fly): their looming says nothing
 };
+inline constexpr std::size_t kUnknownReasonCount =
+    static_cast<std::size_t>(UnknownReason::MotionContradicted) + 1;
 const char* to_string(UnknownReason r);  // short, for a tooltip: "too few tracked points"
 
 struct RegionDecision {

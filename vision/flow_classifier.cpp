@@ -359,7 +359,7 @@ void FlowClassifier::classify(const FrameInput& in) {
     if (p_.max_moving_share < 1 && rated >= 10 &&
         static_cast<double>(moving_idx_.size()) >
             p_.max_moving_share * static_cast<double>(rated)) {
-        all_unknown(UnknownReason::NoEgoMotion);
+        all_unknown(UnknownReason::MotionContradicted);
         plot(s_centre_points_, kUnknown);
         plot(s_centre_hom_, kUnknown);
         plot(s_hazards_, 0);

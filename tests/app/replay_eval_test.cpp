@@ -568,6 +568,17 @@ TEST(ReplayCli, TakeOffWhenMostPointsMoveAgainstTheCameraIsUnknownNotAnAlarm) {
     EXPECT_GE(flagged_off, 1) << "the flight no longer shows the take-off alarm";
     EXPECT_EQ(flagged_on, 0);
     EXPECT_GE(now_unknown, 2);
+    // The summary says why, with a reason of its own (not "no usable velocity or FOE": the
+    // velocity was there, the points contradicted it).
+    const nlohmann::json why = read_json(f.dir / "default" / "summary.json")["unknown_reasons"];
+    const char* reason = "most points move against the camera motion in use";
+    for (const char* region : {"left", "center", "right"}) {
+        ASSERT_TRUE(why[region].contains(reason)) << region << ": " << why.dump();
+        EXPECT_GE(why[region][reason].get<int>(), now_unknown) << region;
+    }
+    const nlohmann::json why_off =
+        read_json(f.dir / "rule_off" / "summary.json")["unknown_reasons"];
+    EXPECT_FALSE(why_off["center"].contains(reason)) << why_off.dump();
 }
 
 }  // namespace
