@@ -307,11 +307,18 @@ AssistOutput Assist::step(const AssistInput& in) {
         limited[i] = side_state[i] == RegionState::Unsafe || known(ahead);
     }
     // Roll > 0 is right: the left side (0) limits negative roll, the right (1) positive roll.
-    const bool seen_left = left == RegionState::Unsafe, seen_right = right == RegionState::Unsafe;
-    const bool nudge_right = seen_left && !seen_right && !limited[1] && moving_forward &&
-                             known(in.vy_mps) && in.vy_mps < p_.side_away_mps;
-    const bool nudge_left = seen_right && !seen_left && !limited[0] && moving_forward &&
-                            known(in.vy_mps) && -in.vy_mps < p_.side_away_mps;
+    // Push away from a side obstacle until the drone is abreast of where it was seen, not only
+    // while it is seen: a side alarm flickers (a pillar reads unsafe, then clear, then unsafe as
+    // its points come and go), and the few frames it reads unsafe move the drone a few
+    // centimetres sideways. Nothing is pushed toward a side that is itself limited.
+    const auto still_ahead = [&](int i) {
+        return side_state[i] == RegionState::Unsafe ||
+               (known(st_.side_left_m[i]) && st_.side_left_m[i] > p_.side_pass_margin_m);
+    };
+    const bool nudge_right = still_ahead(0) && !limited[1] && moving_forward && known(in.vy_mps) &&
+                             in.vy_mps < p_.side_away_mps;
+    const bool nudge_left = still_ahead(1) && !limited[0] && moving_forward && known(in.vy_mps) &&
+                            -in.vy_mps < p_.side_away_mps;
     const bool limit_left = limited[0] && cmd.progressive && cmd.roll < 0;
     const bool limit_right = limited[1] && cmd.progressive && cmd.roll > 0;
     if (limit_left || limit_right) cmd.roll = 0;
@@ -327,8 +334,10 @@ AssistOutput Assist::step(const AssistInput& in) {
         const std::string where = toward_left ? "left" : "right";
         if (nudge_left || nudge_right) {
             out.action = nudge_right ? AssistAction::SteerRight : AssistAction::SteerLeft;
-            out.reason = "STEERING " + std::string(nudge_right ? "right" : "left") + ": obstacle " +
-                         where + contact_text(in.regions[side]);
+            out.reason = "STEERING " + std::string(nudge_right ? "right" : "left") +
+                         (side_state[toward_left ? 0 : 1] == RegionState::Unsafe
+                              ? ": obstacle " + where + contact_text(in.regions[side])
+                              : ": passing the obstacle seen " + where);
         } else {
             out.action = limit_left && limit_right ? AssistAction::LimitSides
                          : limit_left              ? AssistAction::LimitLeft

@@ -22,11 +22,13 @@
 //  - Left / right unsafe: the roll command toward that side is zeroed, and stays zeroed until the
 //    drone has flown past where the obstacle was seen (its time to contact x speed, plus
 //    `side_pass_margin_m`): the side of a pass goes out of the camera's view before the drone is
-//    past it, and a pilot holding a line would otherwise steer back into it. While a side is
-//    unsafe, the other side is not and the drone moves forward, the assist also rolls away from
-//    it (`side_nudge`, up to `side_away_mps` of lateral speed away): zeroing alone leaves a drone
-//    that drifts or holds a line close to a pillar passing it at a few centimetres. With both
-//    sides unsafe (a corridor, a doorway) nothing is nudged.
+//    past it, and a pilot holding a line would otherwise steer back into it. From the first
+//    frame a side is unsafe until the drone is abreast of where it was seen (whether the side
+//    still reads unsafe or not: a side alarm flickers, and a few frames of push move the drone
+//    a few centimetres), while the other side is not limited and the drone moves forward, the
+//    assist also rolls away from it (`side_nudge`, up to `side_away_mps` of lateral speed away):
+//    zeroing alone leaves a drone that drifts or holds a line close to a pillar passing it at a
+//    few centimetres. With both sides unsafe (a corridor, a doorway) nothing is nudged.
 //  - Never limited: yaw, climb and descent, backing away (nose-up pitch), roll away from a side.
 //  - Unknown or stale regions (no evidence) never brake; the output says so.
 //  - Emergency and landing are not commands the assist sees: they go straight to the link. The

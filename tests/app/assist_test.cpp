@@ -299,17 +299,31 @@ TEST(Assist, AnUnsafeSideIsSteeredAwayFromUpToALateralSpeed) {
     EXPECT_FLOAT_EQ(o.command.roll, 0.0f);
 }
 
-TEST(Assist, TheLimitTowardASideLastsUntilTheDroneIsPastWhatItSaw) {
+TEST(Assist, ASideObstacleIsSteeredAwayFromUntilAbreastAndLimitedUntilPast) {
     Assist a;
     AssistInput in = flying_forward(1.0, clear());
     in.regions[2] = unsafe(1.5);  // 1.5 m ahead on the right at 1 m/s
     a.step(in);
-    // The pillar leaves the camera's view as the drone comes alongside: the region turns clear,
-    // but a pilot rolling back toward it is still held off until the drone is past it.
+    // The pillar's alarm flickers off, and it leaves the camera's view as the drone comes
+    // alongside: the region turns clear. The drone is still pushed away from it until it is
+    // abreast of where it was seen (a few frames of steering move it a few centimetres), and a
+    // pilot rolling back toward it is held off until the drone is past it.
     in.regions[2] = clear();
     in.pilot.roll = 0.3f;
+    const double abreast = 1.5, until = abreast + a.params().side_pass_margin_m;
     double t = 0;
-    const double until = 1.5 + a.params().side_pass_margin_m;
+    for (; t < abreast - 0.1; t += 0.03) {
+        in.t_s = t + 0.03;
+        const AssistOutput o = a.step(in);
+        ASSERT_FLOAT_EQ(o.command.roll, -static_cast<float>(a.params().side_nudge))
+            << "at " << t << " s";
+        ASSERT_EQ(o.action, AssistAction::SteerLeft);
+        ASSERT_EQ(o.reason, "STEERING left: passing the obstacle seen right");
+    }
+    for (; t < abreast + 0.1; t += 0.03) {
+        in.t_s = t + 0.03;
+        a.step(in);
+    }
     for (; t < until - 0.1; t += 0.03) {
         in.t_s = t + 0.03;
         const AssistOutput o = a.step(in);
