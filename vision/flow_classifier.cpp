@@ -54,6 +54,8 @@ const ParamTable<FlowParams>& FlowParams::table() {
                  "use the images' FOE when its standard error is below this")
             .add("image_foe_floor_px", &P::image_foe_floor_px, 0, 200,
                  "the images' FOE is never taken as better known than this")
+            .add("fused_image_foe_floor_px", &P::fused_image_foe_floor_px, 0, 200,
+                 "fused with the navdata's, the images' FOE counts as known no better than this")
             .add("foe_gate", &P::foe_gate, 0.5, 100,
                  "navdata FOE rejected this many standard errors from the images'")
             .add("max_rotation_dps", &P::max_rotation_dps, 1, 2000,
@@ -255,7 +257,8 @@ bool FlowClassifier::choose_foe(const FrameInput& in, UnknownReason& why) {
     if (img_ok && nav_moving_) {
         // Both: inverse-variance fusion, unless they disagree beyond what their errors allow
         // (a biased velocity, a stale sample): then the images decide.
-        const double v_img = img_sigma * img_sigma, v_nav = nav_sigma_px_ * nav_sigma_px_;
+        const double s_img = std::max(img_sigma, p_.fused_image_foe_floor_px);
+        const double v_img = s_img * s_img, v_nav = nav_sigma_px_ * nav_sigma_px_;
         const cv::Point2d d = img_foe - nav_foe;
         if (d.dot(d) > p_.foe_gate * p_.foe_gate * (v_img + v_nav)) {
             nav_rejected_ = true;

@@ -77,6 +77,20 @@ struct FlowParams : TrackerParams {
     // below this; without it and without a velocity, a moving camera's regions are unknown.
     double max_foe_sigma_px = 40;
     double image_foe_floor_px = 8;  // the images' FOE is never taken as better known than this
+    // Opt-in (0 = off): fused with the navdata's, the images' FOE counts as known no better than
+    // this. Its error is mostly not the frame-to-frame scatter its standard error comes from but
+    // a bias common to the frames: over a scene 10 m and more away a rotation error of a few
+    // hundredths of a degree a frame, under what the images resolve, moves it tens of pixels
+    // (the rotation-translation ambiguity). Over the virtual drone's tiled floor it sat 20-35 px
+    // below the navdata's (and the true one) through a whole cruise, up to 60, while claiming
+    // 13-23 px (a suspected cause, not verified: Lucas-Kanade reading the foreshortened floor's
+    // vertical expansion short); fused as if that well known, it placed the FOE on the floor and
+    // raised centre false alarms that braked the assist in open space. 40 (with
+    // velocity_bias_mps 0.03) cuts those brakes on the clean closed loop, but with a real
+    // camera's late, drifting navdata (the realism layer) the images' correction is worth more
+    // and the centre's false alarms rise: off by default (README, Collision assist). Without a
+    // navdata velocity, or with it rejected, the images' FOE keeps its own standard error.
+    double fused_image_foe_floor_px = 0;
     double foe_gate = 3;            // navdata FOE this many standard errors off: rejected
     double max_rotation_dps = 150;  // faster rotation: regions unknown (tracking unreliable)
     // Moving objects: the looming rate of points that do not follow the camera's motion, from the
