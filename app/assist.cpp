@@ -332,21 +332,21 @@ AssistOutput Assist::step(const AssistInput& in) {
         const int side = toward_left ? 0 : 2;
         out.region = toward_left ? vision::Region::Left : vision::Region::Right;
         const std::string where = toward_left ? "left" : "right";
+        // Seen this frame (with its time to contact), or only remembered while passing it.
+        const bool seen = side_state[toward_left ? 0 : 1] == RegionState::Unsafe;
         if (nudge_left || nudge_right) {
             out.action = nudge_right ? AssistAction::SteerRight : AssistAction::SteerLeft;
             out.reason = "STEERING " + std::string(nudge_right ? "right" : "left") +
-                         (side_state[toward_left ? 0 : 1] == RegionState::Unsafe
-                              ? ": obstacle " + where + contact_text(in.regions[side])
-                              : ": passing the obstacle seen " + where);
+                         (seen ? ": obstacle " + where + contact_text(in.regions[side])
+                               : ": passing the obstacle seen " + where);
         } else {
             out.action = limit_left && limit_right ? AssistAction::LimitSides
                          : limit_left              ? AssistAction::LimitLeft
                                                    : AssistAction::LimitRight;
             out.reason =
-                side_state[toward_left ? 0 : 1] == RegionState::Unsafe
-                    ? "LIMITING: obstacle " + where + ", no movement toward it" +
-                          contact_text(in.regions[side])
-                    : "LIMITING: passing the obstacle seen " + where + ", no movement toward it";
+                seen ? "LIMITING: obstacle " + where + ", no movement toward it" +
+                           contact_text(in.regions[side])
+                     : "LIMITING: passing the obstacle seen " + where + ", no movement toward it";
         }
     }
     // A move with nothing left in it is a hover: the drone holds its position itself.

@@ -57,6 +57,7 @@ enum class UnknownReason : std::uint8_t {
     MotionContradicted,  // most tracked points move against the camera motion in use (the
                          // navdata lagging a drone that starts to fly): their looming says nothing
 };
+// Sizes per-reason tables (the replay summary's counts): follows the last reason above.
 inline constexpr std::size_t kUnknownReasonCount =
     static_cast<std::size_t>(UnknownReason::MotionContradicted) + 1;
 const char* to_string(UnknownReason r);  // short, for a tooltip: "too few tracked points"
