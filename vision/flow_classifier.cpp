@@ -134,6 +134,9 @@ FlowClassifier::FlowClassifier(const CameraCalibration& calib, const FlowParams&
     s_foe_img_x_ = add_series("ego.foe_x_px");
     s_foe_nav_x_ = add_series("foe.navdata_x_px");
     s_foe_x_ = add_series("foe.x_px");
+    s_foe_img_y_ = add_series("ego.foe_y_px");
+    s_foe_nav_y_ = add_series("foe.navdata_y_px");
+    s_foe_y_ = add_series("foe.y_px");
     reconfigure();
 }
 
@@ -334,12 +337,14 @@ void FlowClassifier::classify(const FrameInput& in) {
     UnknownReason why = UnknownReason::None;
     const bool known = choose_foe(in, why);
     plot(s_prior_rejected_, em.prior_rotation_rejected || nav_rejected_ ? 1 : 0);
-    plot(s_foe_img_x_, em.translation == EgoMotion::Translation::Known
-                           ? static_cast<double>(em.foe.x)
-                           : kUnknown);
+    const bool img_known = em.translation == EgoMotion::Translation::Known;
+    const bool foe_known = known && foe_source_ != FoeSource::Still;
+    plot(s_foe_img_x_, img_known ? static_cast<double>(em.foe.x) : kUnknown);
+    plot(s_foe_img_y_, img_known ? static_cast<double>(em.foe.y) : kUnknown);
     plot(s_foe_nav_x_, nav_moving_ ? calib_.fx * nav_dir_[0] / nav_dir_[2] + calib_.cx : kUnknown);
-    plot(s_foe_x_,
-         known && foe_source_ != FoeSource::Still ? static_cast<double>(foe_.x) : kUnknown);
+    plot(s_foe_nav_y_, nav_moving_ ? calib_.fy * nav_dir_[1] / nav_dir_[2] + calib_.cy : kUnknown);
+    plot(s_foe_x_, foe_known ? static_cast<double>(foe_.x) : kUnknown);
+    plot(s_foe_y_, foe_known ? static_cast<double>(foe_.y) : kUnknown);
     plot(s_foe_sigma_, known && foe_source_ != FoeSource::Still ? foe_sigma_px_ : kUnknown);
     if (!known) {
         const auto& tracks = tracker_.tracks();

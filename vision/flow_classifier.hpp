@@ -239,7 +239,7 @@ private:
     std::size_t s_centre_points_, s_centre_hom_, s_scale_raw_, s_rate_raw_, s_rejected_, s_hazards_;
     std::size_t s_residual_yaw_, s_residual_pitch_, s_foe_sigma_, s_prior_rejected_, s_moving_;
     std::size_t s_image_yaw_, s_image_pitch_;
-    std::size_t s_foe_img_x_, s_foe_nav_x_, s_foe_x_;
+    std::size_t s_foe_img_x_, s_foe_nav_x_, s_foe_x_, s_foe_img_y_, s_foe_nav_y_, s_foe_y_;
     std::vector<std::size_t> moving_idx_;
     std::vector<double> loom_;
     std::vector<std::size_t> check_;

@@ -209,7 +209,8 @@ TEST(ReplayCli, VideoShowsTheRegionBarAndPlotsAreWritten) {
     for (std::size_t i = 0; i < series.rows(); ++i)
         by_name[std::string(series.field(i, 0))][std::stol(std::string(series.field(i, 1)))] =
             std::string(series.field(i, 2));
-    for (const char* name : {"left.score", "centre.score", "right.score", "foe.x_px"})
+    for (const char* name : {"left.score", "centre.score", "right.score", "foe.x_px", "foe.y_px",
+                             "ego.foe_y_px", "foe.navdata_y_px"})
         EXPECT_TRUE(by_name.contains(name)) << name;
     int compared = 0;
     const auto& left = by_name["left.score"];
