@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdio>
 #include <numbers>
+#include <string>
+#include <vector>
 
 namespace gs::ui {
 
@@ -299,11 +301,36 @@ void Hud::draw(ImDrawList* dl, ImVec2 p0, ImVec2 p1, const GuiSnapshot& s, ViewS
                                   : !as.enabled                    ? colors::kWarn
                                                                    : colors::kGood;
         const float size = say ? fs * 1.35f : fs * 0.9f;
-        const ImVec2 ts = text_size(msg.c_str(), size);
-        const ImVec2 b0{c.x - ts.x * 0.5f - 8, wy}, b1{c.x + ts.x * 0.5f + 8, wy + ts.y + 4};
+        // Wider than the picture (a long PROBING line on a small window): broken at spaces into
+        // lines that fit, each centred, never cut off at the picture's edges.
+        const float max_w = std::max(fs * 4.0f, W - 40.0f);
+        std::vector<std::string> lines;
+        for (std::size_t at = 0; at < msg.size();) {
+            std::size_t end = msg.size();
+            while (end > at && text_size(msg.substr(at, end - at).c_str(), size).x > max_w) {
+                const std::size_t sp = msg.rfind(' ', end - 1);
+                if (sp == std::string::npos || sp <= at) break;  // one word longer than a line
+                end = sp;
+            }
+            lines.push_back(msg.substr(at, end - at));
+            at = end;
+            while (at < msg.size() && msg[at] == ' ') ++at;
+        }
+        float tw = 0, th = 0;
+        for (const std::string& ln : lines) {
+            const ImVec2 ts = text_size(ln.c_str(), size);
+            tw = std::max(tw, ts.x);
+            th += ts.y;
+        }
+        const ImVec2 b0{c.x - tw * 0.5f - 8, wy}, b1{c.x + tw * 0.5f + 8, wy + th + 4};
         dl->AddRectFilled(b0, b1, IM_COL32(0, 0, 0, say ? 170 : 110), 3.0f);
         if (say) dl->AddRect(b0, b1, col, 3.0f, 0, 2.0f);
-        text(dl, {b0.x + 8, b0.y + 2}, col, msg.c_str(), size);
+        float ly = b0.y + 2;
+        for (const std::string& ln : lines) {
+            const ImVec2 ts = text_size(ln.c_str(), size);
+            text(dl, {c.x - ts.x * 0.5f, ly}, col, ln.c_str(), size);
+            ly += ts.y;
+        }
         v.layout.assist.hud = msg;
         v.layout.labels.push_back({"hud.assist", {b0.x, b0.y, b1.x, b1.y}});
     }

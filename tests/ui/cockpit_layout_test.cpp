@@ -203,8 +203,24 @@ TEST_F(CockpitLayout, ReadableAt1280x720) {
     s.replay.frame_count = 300;
     s.replay.fps = 15;
     gui.view().settings.add_recent("/data/flight_1");
+    // The assist's longest line, probing toward a remembered obstacle.
+    const std::string probing =
+        "PROBING: obstacle remembered 0.9 m ahead reads clear, forward limited to 0.41 m/s until "
+        "it is seen again or forgotten";
+    s.assist.available = true;
+    s.assist.enabled = true;
+    s.assist.acting = true;
+    s.assist.line = probing;
     for (int f = 0; f < 3; ++f) frame(gui, s);
     const LayoutReport& l = gui.view().layout;
+    // The HUD's assist banner is wider than the picture at this size: it wraps inside it, whole.
+    const Rect* banner = nullptr;
+    for (const auto& [n, r] : l.labels)
+        if (n == "hud.assist") banner = &r;
+    ASSERT_NE(banner, nullptr);
+    EXPECT_EQ(l.assist.hud, probing);
+    EXPECT_GE(banner->x0, l.video_image.x0) << str(*banner) << " in " << str(l.video_image);
+    EXPECT_LE(banner->x1, l.video_image.x1) << str(*banner) << " in " << str(l.video_image);
     // The key help fits its window.
     EXPECT_FALSE(l.keys_clipped);
     // The camera label never lies over the overlay checkboxes.
