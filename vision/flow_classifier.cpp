@@ -345,7 +345,7 @@ void FlowClassifier::classify(const FrameInput& in) {
     plot(s_foe_nav_y_, nav_moving_ ? calib_.fy * nav_dir_[1] / nav_dir_[2] + calib_.cy : kUnknown);
     plot(s_foe_x_, foe_known ? static_cast<double>(foe_.x) : kUnknown);
     plot(s_foe_y_, foe_known ? static_cast<double>(foe_.y) : kUnknown);
-    plot(s_foe_sigma_, known && foe_source_ != FoeSource::Still ? foe_sigma_px_ : kUnknown);
+    plot(s_foe_sigma_, foe_known ? foe_sigma_px_ : kUnknown);
     if (!known) {
         const auto& tracks = tracker_.tracks();
         class_.assign(tracks.size(), PointClass::Unrated);
