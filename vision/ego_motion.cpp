@@ -326,8 +326,8 @@ void EgoMotionEstimator::describe_translation(const CameraCalibration& calib, co
         }
     }
     if (t[2] > 0.05) {
-        m_.foe = {static_cast<float>(calib.fx * t[0] / t[2] + calib.cx),
-                  static_cast<float>(calib.fy * t[1] / t[2] + calib.cy)};
+        const cv::Point2d foe = calib.project(t);
+        m_.foe = {static_cast<float>(foe.x), static_cast<float>(foe.y)};
         const double iz = 1.0 / t[2];
         const cv::Matx23d d(calib.fx * iz, 0, -calib.fx * t[0] * iz * iz, 0, calib.fy * iz,
                             -calib.fy * t[1] * iz * iz);

@@ -238,9 +238,8 @@ bool FlowClassifier::choose_foe(const FrameInput& in, UnknownReason& why) {
         for (int axis = 0; axis < 2; ++axis) {
             scratch_.clear();
             for (std::size_t k = 0; k < n; ++k) {
-                const cv::Vec3d& d = image_dirs_[image_dirs_.size() - 1 - k].dir;
-                scratch_.push_back(axis == 0 ? calib_.fx * d[0] / d[2] + calib_.cx
-                                             : calib_.fy * d[1] / d[2] + calib_.cy);
+                const cv::Point2d foe = calib_.project(image_dirs_[image_dirs_.size() - 1 - k].dir);
+                scratch_.push_back(axis == 0 ? foe.x : foe.y);
             }
             const double med = median_inplace(scratch_);
             for (double& v : scratch_) v = std::abs(v - med);
@@ -254,8 +253,7 @@ bool FlowClassifier::choose_foe(const FrameInput& in, UnknownReason& why) {
         img_sigma = std::max(img_sigma, p_.image_foe_floor_px);
     }
     const bool img_ok = !std::isnan(img_sigma) && img_sigma <= p_.max_foe_sigma_px;
-    const cv::Point2d nav_foe(calib_.fx * nav_dir_[0] / nav_dir_[2] + calib_.cx,
-                              calib_.fy * nav_dir_[1] / nav_dir_[2] + calib_.cy);
+    const cv::Point2d nav_foe = calib_.project(nav_dir_);
     nav_rejected_ = false;
     if (img_ok && nav_moving_) {
         // Both: inverse-variance fusion, unless they disagree beyond what their errors allow
@@ -341,8 +339,10 @@ void FlowClassifier::classify(const FrameInput& in) {
     const bool foe_known = known && foe_source_ != FoeSource::Still;
     plot(s_foe_img_x_, img_known ? static_cast<double>(em.foe.x) : kUnknown);
     plot(s_foe_img_y_, img_known ? static_cast<double>(em.foe.y) : kUnknown);
-    plot(s_foe_nav_x_, nav_moving_ ? calib_.fx * nav_dir_[0] / nav_dir_[2] + calib_.cx : kUnknown);
-    plot(s_foe_nav_y_, nav_moving_ ? calib_.fy * nav_dir_[1] / nav_dir_[2] + calib_.cy : kUnknown);
+    const cv::Point2d nav_foe =
+        nav_moving_ ? calib_.project(nav_dir_) : cv::Point2d(kUnknown, kUnknown);
+    plot(s_foe_nav_x_, nav_foe.x);
+    plot(s_foe_nav_y_, nav_foe.y);
     plot(s_foe_x_, foe_known ? static_cast<double>(foe_.x) : kUnknown);
     plot(s_foe_y_, foe_known ? static_cast<double>(foe_.y) : kUnknown);
     plot(s_foe_sigma_, foe_known ? foe_sigma_px_ : kUnknown);

@@ -58,8 +58,8 @@ cv::Point2f focus_of_expansion(const CameraCalibration& calib, double roll_deg, 
         const float nan = std::numeric_limits<float>::quiet_NaN();
         return {nan, nan};
     }
-    return {static_cast<float>(calib.fx * c[0] / c[2] + calib.cx),
-            static_cast<float>(calib.fy * c[1] / c[2] + calib.cy)};
+    const cv::Point2d foe = calib.project(c);
+    return {static_cast<float>(foe.x), static_cast<float>(foe.y)};
 }
 
 cv::Matx33d small_rotation_homography(const CameraCalibration& calib, const cv::Vec3d& omega_rad) {

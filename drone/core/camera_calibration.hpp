@@ -3,8 +3,8 @@
 // the images it describes, and its one file codec. Datasets, the virtual drone's renderer, the
 // classifiers, the odometry and the calibration tools all use this struct and these functions.
 //
-// JSON shape: docs/dataset.md's flight.json "calibration" object ({"fx","fy","cx","cy","dist"}) plus
-// optional "width" and "height" (together) and notes ("camera", "rms_px", "std_dev", "views",
+// JSON shape: docs/dataset.md's flight.json "calibration" object ({"fx","fy","cx","cy","dist"})
+// plus optional "width" and "height" (together) and notes ("camera", "rms_px", "std_dev", "views",
 // "source"): the shape of assets/calibration/ardrone2_{front,bottom}.json and of what
 // `calibrate` writes. Readers ignore keys they do not know, so the same file works for
 // `--calibration FILE`, for the assets and inside flight.json.
@@ -42,6 +42,11 @@ struct CameraCalibration {
     bool valid() const { return width > 0 && height > 0 && fx > 0 && fy > 0; }
     cv::Matx33d camera_matrix() const { return {fx, 0, cx, 0, fy, cy, 0, 0, 1}; }
     cv::Vec<double, 5> dist_coeffs() const { return {dist[0], dist[1], dist[2], dist[3], dist[4]}; }
+    // The undistorted pixel a direction in camera coordinates (x right, y down, z forward) points
+    // at: the pinhole projection. The caller makes sure z > 0 (a focus of expansion, say).
+    cv::Point2d project(const cv::Vec3d& dir) const {
+        return {fx * dir[0] / dir[2] + cx, fy * dir[1] / dir[2] + cy};
+    }
     bool has_distortion() const;
 
     // The same camera for images resized to (w, h): focal lengths and centre scale (pixel
@@ -123,8 +128,8 @@ nlohmann::json calibration_to_json(const CameraCalibration& c, bool with_extras 
 // The camera's default: `assets`/calibration/ardrone2_{front,bottom}.json.
 [[nodiscard]] Expected<CameraCalibration, FileError> default_calibration(
     CameraId camera, const std::filesystem::path& assets = assets_dir());
-// The same numbers compiled in (ardrone_autonomy's camera files, docs/protocol.md §6), for code that
-// must not fail on a missing asset (the virtual drone); a test checks they equal the files.
+// The same numbers compiled in (ardrone_autonomy's camera files, docs/protocol.md §6), for code
+// that must not fail on a missing asset (the virtual drone); a test checks they equal the files.
 CameraCalibration builtin_calibration(CameraId camera);
 
 }  // namespace gs::inline core

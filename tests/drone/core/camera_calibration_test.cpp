@@ -238,5 +238,20 @@ TEST(Calibration, DistortionHelpersInvertEachOther) {
     EXPECT_NEAR(back->y, 0.0, 1e-9);
 }
 
+TEST(Calibration, ProjectIsThePinholeWithoutDistortion) {
+    CameraCalibration c = builtin_calibration(CameraId::Front);
+    // straight ahead: the principal point, whatever the direction's length
+    EXPECT_EQ(c.project({0, 0, 1}), cv::Point2d(c.cx, c.cy));
+    EXPECT_EQ(c.project({0, 0, 7}), cv::Point2d(c.cx, c.cy));
+    // one unit right and two down per four ahead: fx / 4 right, fy / 2 down, without distortion
+    const cv::Point2d p = c.project({2, 4, 8});
+    EXPECT_DOUBLE_EQ(p.x, c.cx + c.fx * 0.25);
+    EXPECT_DOUBLE_EQ(p.y, c.cy + c.fy * 0.5);
+    // the same direction from the other side of the camera lands mirrored about the centre
+    const cv::Point2d m = c.project({-2, -4, 8});
+    EXPECT_DOUBLE_EQ(m.x - c.cx, c.cx - p.x);
+    EXPECT_DOUBLE_EQ(m.y - c.cy, c.cy - p.y);
+}
+
 }  // namespace
 }  // namespace gs
