@@ -1,11 +1,12 @@
 #include "ui/windows.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
 #include <string>
-#include <vector>
+#include <string_view>
 
 namespace gs::ui {
 
@@ -25,6 +26,48 @@ void text(ImDrawList* dl, ImVec2 p, std::uint32_t col, const char* s, float size
 ImVec2 text_size(const char* s, float size = 0) {
     if (size <= 0) size = ImGui::GetFontSize();
     return ImGui::GetFont()->CalcTextSizeA(size, FLT_MAX, 0, s);
+}
+void text(ImDrawList* dl, ImVec2 p, std::uint32_t col, std::string_view s, float size) {
+    ImFont* f = ImGui::GetFont();
+    dl->AddText(f, size, {p.x + 1, p.y + 1}, kShadow, s.data(), s.data() + s.size());
+    dl->AddText(f, size, p, col, s.data(), s.data() + s.size());
+}
+ImVec2 text_size(std::string_view s, float size) {
+    return ImGui::GetFont()->CalcTextSizeA(size, FLT_MAX, 0, s.data(), s.data() + s.size());
+}
+
+// One line of a wrapped banner: a view into the message, and its size (measured once).
+struct BannerLine {
+    std::string_view text;
+    float w = 0, h = 0;
+};
+constexpr std::size_t kMaxBannerLines = 8;
+
+// Greedy word wrap at spaces: as many words on each line as fit in max_w (a word longer than
+// that gets a line of its own); the last line takes whatever is left. No allocation. Returns the
+// number of lines written to `out`.
+std::size_t wrap_at_spaces(std::string_view msg, float size, float max_w,
+                           std::array<BannerLine, kMaxBannerLines>& out) {
+    std::size_t n = 0;
+    std::size_t at = msg.find_first_not_of(' ');
+    while (at != std::string_view::npos && n < out.size()) {
+        std::size_t end = msg.find(' ', at);  // the first word always fits
+        if (end == std::string_view::npos) end = msg.size();
+        ImVec2 ts = text_size(msg.substr(at, end - at), size);
+        while (end < msg.size()) {
+            const std::size_t next = msg.find_first_not_of(' ', end);
+            if (next == std::string_view::npos) break;
+            std::size_t word_end = msg.find(' ', next);
+            if (word_end == std::string_view::npos) word_end = msg.size();
+            const ImVec2 wider = text_size(msg.substr(at, word_end - at), size);
+            if (wider.x > max_w && n + 1 < out.size()) break;
+            end = word_end;
+            ts = wider;
+        }
+        out[n++] = {msg.substr(at, end - at), ts.x, ts.y};
+        at = end < msg.size() ? msg.find_first_not_of(' ', end) : std::string_view::npos;
+    }
+    return n;
 }
 void line(ImDrawList* dl, ImVec2 a, ImVec2 b, std::uint32_t col, float th) {
     dl->AddLine({a.x + 1, a.y + 1}, {b.x + 1, b.y + 1}, kShadow, th);
@@ -269,67 +312,62 @@ void Hud::draw(ImDrawList* dl, ImVec2 p0, ImVec2 p1, const GuiSnapshot& s, ViewS
     v.layout.labels.push_back({"hud.strip_end", {strip_end, s0.y, strip_end, s1.y}});
 
     // ---- Warnings, centre-top, largest type -------------------------------------------------
-    std::vector<std::pair<std::string, std::uint32_t>> warnings;
+    struct Warning {
+        const char* text;
+        std::uint32_t col;
+    };
+    std::array<Warning, 3> warnings{};  // link, emergency, battery: at most one of each
+    std::size_t n_warn = 0;
     const LinkState ls = s.connection.state;
     if (ls == LinkState::Lost)
-        warnings.push_back({"LINK LOST", colors::kBad});
+        warnings[n_warn++] = {"LINK LOST", colors::kBad};
     else if (ls == LinkState::Disconnected)
-        warnings.push_back({"NO LINK", colors::kWarn});
+        warnings[n_warn++] = {"NO LINK", colors::kWarn};
     else if (ls == LinkState::Connecting)
-        warnings.push_back({"CONNECTING", colors::kWarn});
+        warnings[n_warn++] = {"CONNECTING", colors::kWarn};
     if (s.telemetry.state && s.telemetry.state->emergency)
-        warnings.push_back({"EMERGENCY", colors::kBad});
-    if (bat_low) warnings.push_back({"LOW BATTERY", colors::kBad});
+        warnings[n_warn++] = {"EMERGENCY", colors::kBad};
+    if (bat_low) warnings[n_warn++] = {"LOW BATTERY", colors::kBad};
     float wy = tape_y + tape_h + fs * 2.0f;
-    for (const auto& [w, col] : warnings) {
+    for (std::size_t i = 0; i < n_warn; ++i) {
+        const auto [w, col] = warnings[i];
         const float big = fs * 1.7f;
-        const ImVec2 ts = text_size(w.c_str(), big);
+        const ImVec2 ts = text_size(w, big);
         const ImVec2 b0{c.x - ts.x * 0.5f - 10, wy}, b1{c.x + ts.x * 0.5f + 10, wy + ts.y + 4};
         dl->AddRectFilled(b0, b1, IM_COL32(0, 0, 0, 170), 3.0f);
         dl->AddRect(b0, b1, col, 3.0f, 0, 2.0f);
-        text(dl, {b0.x + 10, b0.y + 2}, col, w.c_str(), big);
+        text(dl, {b0.x + 10, b0.y + 2}, col, w, big);
         wy = b1.y + 4;
     }
     // ---- The assist: what it does and why, under the warnings -------------------------------
     const AssistView& as = s.assist;
     if (as.available) {
         const bool say = as.acting || as.unknown || as.override_held || !as.enabled;
-        const std::string msg =
-            say ? as.line : std::string(as.dry_run ? "ASSIST (dry run)" : "ASSIST ON");
+        const std::string_view msg =
+            say ? std::string_view(as.line) : (as.dry_run ? "ASSIST (dry run)" : "ASSIST ON");
         const std::uint32_t col = as.acting                        ? colors::kBad
                                   : as.unknown || as.override_held ? colors::kWarn
                                   : !as.enabled                    ? colors::kWarn
                                                                    : colors::kGood;
         const float size = say ? fs * 1.35f : fs * 0.9f;
         // Wider than the picture (a long PROBING line on a small window): broken at spaces into
-        // lines that fit, each centred, never cut off at the picture's edges.
+        // lines that fit, each centred, never cut off at the picture's edges. At spaces only:
+        // ImGui's own word wrap also breaks after a '.', which would split "0.41 m/s".
         const float max_w = std::max(fs * 4.0f, W - 40.0f);
-        std::vector<std::string> lines;
-        for (std::size_t at = 0; at < msg.size();) {
-            std::size_t end = msg.size();
-            while (end > at && text_size(msg.substr(at, end - at).c_str(), size).x > max_w) {
-                const std::size_t sp = msg.rfind(' ', end - 1);
-                if (sp == std::string::npos || sp <= at) break;  // one word longer than a line
-                end = sp;
-            }
-            lines.push_back(msg.substr(at, end - at));
-            at = end;
-            while (at < msg.size() && msg[at] == ' ') ++at;
-        }
+        std::array<BannerLine, kMaxBannerLines> wrapped;
+        const std::size_t n_lines = wrap_at_spaces(msg, size, max_w, wrapped);
         float tw = 0, th = 0;
-        for (const std::string& ln : lines) {
-            const ImVec2 ts = text_size(ln.c_str(), size);
-            tw = std::max(tw, ts.x);
-            th += ts.y;
+        for (std::size_t i = 0; i < n_lines; ++i) {
+            tw = std::max(tw, wrapped[i].w);
+            th += wrapped[i].h;
         }
         const ImVec2 b0{c.x - tw * 0.5f - 8, wy}, b1{c.x + tw * 0.5f + 8, wy + th + 4};
         dl->AddRectFilled(b0, b1, IM_COL32(0, 0, 0, say ? 170 : 110), 3.0f);
         if (say) dl->AddRect(b0, b1, col, 3.0f, 0, 2.0f);
         float ly = b0.y + 2;
-        for (const std::string& ln : lines) {
-            const ImVec2 ts = text_size(ln.c_str(), size);
-            text(dl, {c.x - ts.x * 0.5f, ly}, col, ln.c_str(), size);
-            ly += ts.y;
+        for (std::size_t i = 0; i < n_lines; ++i) {
+            text(dl, {c.x - wrapped[i].w * 0.5f, ly}, col, wrapped[i].text, size);
+            ly += wrapped[i].h;
         }
         v.layout.assist.hud = msg;
         v.layout.labels.push_back({"hud.assist", {b0.x, b0.y, b1.x, b1.y}});
