@@ -3,8 +3,9 @@
 // DIR/summary.json (frames, decode errors, timing, flagged frames per region; the flight's score
 // when it is labelled), with --video DIR/overlay.mp4 (the frames with the overlay drawn;
 // --undistort shows the undistorted image) and with --plots PNG plots of the classifier's series in
-// DIR/plots/. Frames that cannot be read leave their decisions.csv row empty and make the exit
-// status non-zero (the outputs for the other frames are still written).
+// DIR/plots/, with --points DIR/points.csv (every tracked point per frame). Frames that cannot be
+// read leave their decisions.csv row empty and make the exit status non-zero (the outputs for the
+// other frames are still written).
 #include "app/cli_options.hpp"
 #include "app/command.hpp"
 #include "app/replay_outputs.hpp"
@@ -30,14 +31,15 @@ struct Opts {
     bool video = false;
     bool undistort = false;
     bool plots = false;
+    bool points = false;
     bool quiet = false;
     bool force = false;
     bool strict = false;
 };
 
 // What a replay writes into --out: a folder holding only these may be written over.
-constexpr std::initializer_list<const char*> kReplayOutputs = {"decisions.csv", "summary.json",
-                                                               "overlay.mp4", "plots"};
+constexpr std::initializer_list<const char*> kReplayOutputs = {
+    "decisions.csv", "summary.json", "overlay.mp4", "plots", "points.csv"};
 
 int run(const Opts& o) {
     if (auto e = check_output_dir(o.out, kReplayOutputs, o.force)) throw fail(*e);
@@ -57,6 +59,7 @@ int run(const Opts& o) {
     rs.classifier = o.classifier;
     if (!o.input.calibration.empty()) rs.calibration_file = o.input.calibration;
     rs.set = o.set;
+    rs.record_points = o.points;
 
     // One calibration for the whole run: the classifier and the undistorted video alike.
     auto calib = input_calibration(*ds, o.input);
@@ -68,6 +71,9 @@ int run(const Opts& o) {
             throw fail(*e);
     }
     if (o.plots) outputs.enable_plots();
+    if (o.points) {
+        if (auto e = outputs.open_points(out / "points.csv")) throw fail(*e);
+    }
 
     Progress progress("replay " + fs::path(o.dataset).filename().string(), ds->frame_count(),
                       !o.quiet);
@@ -104,7 +110,8 @@ int run(const Opts& o) {
             std::cout << "; " << stats->rejected_steps
                       << " frames not after the previous one in time (skipped by the classifier)";
         std::cout << "\nwrote " << (out / "decisions.csv").string() << ", summary.json"
-                  << (o.video ? ", overlay.mp4" : "") << (o.plots ? ", plots/" : "") << '\n';
+                  << (o.video ? ", overlay.mp4" : "") << (o.plots ? ", plots/" : "")
+                  << (o.points ? ", points.csv" : "") << '\n';
     }
     // The outputs hold every frame that could be read; a frame that could not is still an error.
     if (stats->decode_errors > 0)
@@ -146,6 +153,9 @@ CommandRegistration reg(30, [](CLI::App& root) {
                   "With --video: show the undistorted image (straight lines come out straight)")
         ->needs("--video");
     sub->add_flag("--plots", o->plots, "Also write PNG plots of the classifier's series (plots/)");
+    sub->add_flag("--points", o->points,
+                  "Also write points.csv: every tracked point of every frame, where it is and "
+                  "how the classifier judged it (region, kind, score)");
     sub->add_flag("--quiet,-q", o->quiet, "No progress or summary line");
     set_action(*sub, [o] { return run(*o); });
 });

@@ -51,6 +51,19 @@ ReplayOutputs::ReplayOutputs(fs::path dir, const CameraCalibration& calib)
 
 ReplayOutputs::~ReplayOutputs() {
     if (decisions_ != nullptr) std::fclose(decisions_);
+    if (points_ != nullptr) std::fclose(points_);
+}
+
+std::optional<std::string> ReplayOutputs::open_points(const fs::path& file) {
+    points_ = std::fopen(file.c_str(), "w");
+    if (points_ == nullptr) return "cannot create " + file.string();
+    points_path_ = file;
+    if (std::fputs("frame,t_ms,id,age,region,kind,score,raw_x,raw_y,undist_x,undist_y,"
+                   "undist_prev_x,undist_prev_y,stab_x,stab_y,derot_x,derot_y,fb_px,"
+                   "structure_xx,structure_xy,structure_yy\n",
+                   points_) < 0)
+        return "cannot write " + file.string();
+    return std::nullopt;
 }
 
 std::optional<std::string> ReplayOutputs::open_decisions(const fs::path& file) {
@@ -111,6 +124,78 @@ vision::Rgb series_colour(const std::string& name) {
 
 }  // namespace
 
+namespace {
+// One CSV row built in a fixed buffer (no allocation per row); unknown or non-finite numbers are
+// empty cells.
+class CsvRow {
+public:
+    void text(std::string_view v) { put("%.*s", static_cast<int>(v.size()), v.data()); }
+    void integer(long long v) { put("%lld", v); }
+    void fixed(double v, int decimals) {
+        if (std::isfinite(v))
+            put("%.*f", decimals, v);
+        else
+            put("%s", "");
+    }
+    void general(double v) {
+        if (std::isfinite(v))
+            put("%.6g", v);
+        else
+            put("%s", "");
+    }
+    [[nodiscard]] bool write(std::FILE* f) {
+        if (len_ + 1 >= sizeof buf_) return false;  // never: a row is far shorter
+        buf_[len_++] = '\n';
+        return std::fwrite(buf_, 1, len_, f) == len_;
+    }
+
+private:
+    template <class... A>
+    void put(const char* fmt, A... a) {
+        if (len_ > 0 && len_ < sizeof buf_) buf_[len_++] = ',';
+        if (len_ >= sizeof buf_) return;
+#if defined(__GNUC__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wformat-nonliteral"
+#endif
+        const int n = std::snprintf(buf_ + len_, sizeof buf_ - len_, fmt, a...);
+#if defined(__GNUC__)
+#pragma GCC diagnostic pop
+#endif
+        if (n > 0) len_ = std::min(sizeof buf_, len_ + static_cast<std::size_t>(n));
+    }
+    char buf_[512];
+    std::size_t len_ = 0;
+};
+}  // namespace
+
+void ReplayOutputs::write_points(const FrameSample& s, const vision::FrameResult& r) {
+    // A frame the classifier rejected (its time not after the previous one's) leaves the result
+    // as it was: its points are the previous frame's, not this one's.
+    if (r.t_ns != s.t_ns) return;
+    const std::string t_ms = dataset::csv::format_ms(s.t_ns);  // as in decisions.csv
+    for (const vision::PointRecord& p : r.points) {
+        CsvRow row;
+        row.integer(s.index);
+        row.text(t_ms);
+        row.integer(p.id);
+        row.integer(p.age);
+        row.text(vision::to_string(p.region));
+        row.text(p.kind);
+        row.general(p.score);
+        for (const cv::Point2f& q : {p.raw, p.undist, p.undist_prev, p.stab, p.derot}) {
+            row.fixed(static_cast<double>(q.x), 3);
+            row.fixed(static_cast<double>(q.y), 3);
+        }
+        row.fixed(static_cast<double>(p.fb_px), 3);
+        for (int k = 0; k < 3; ++k) row.general(static_cast<double>(p.structure[k]));
+        if (!row.write(points_)) {
+            if (!error_) error_ = "cannot write " + points_path_.string();
+            return;
+        }
+    }
+}
+
 void ReplayOutputs::frame(const FrameSample& s, const vision::FrameResult* r) {
     if (decisions_ != nullptr) {
         const std::string row = decisions_csv_row(s.index, s.t_ns, r);
@@ -118,6 +203,7 @@ void ReplayOutputs::frame(const FrameSample& s, const vision::FrameResult* r) {
             error_ = "cannot write " + decisions_path_.string();
     }
     if (r == nullptr) return;
+    if (points_ != nullptr) write_points(s, *r);
     if (plots_) collect_series(*r);
     if (video_ && !s.image.empty()) {
         if (undistort_) {
@@ -241,6 +327,10 @@ std::optional<std::string> ReplayOutputs::finish(const fs::path& plots_dir) {
         if (std::fclose(decisions_) != 0 && !error_)
             error_ = "cannot write " + decisions_path_.string();
         decisions_ = nullptr;
+    }
+    if (points_ != nullptr) {
+        if (std::fclose(points_) != 0 && !error_) error_ = "cannot write " + points_path_.string();
+        points_ = nullptr;
     }
     if (video_) {
         if (auto e = video_->close(); e && !error_) error_ = "overlay.mp4: " + *e;

@@ -41,6 +41,9 @@ public:
                                                         const dataset::DatasetInfo& info,
                                                         bool undistort);
     void enable_plots() { plots_ = true; }
+    // points.csv: every tracked point of every frame as the classifier judged it (the classifier
+    // must record them: ReplaySettings::record_points).
+    [[nodiscard]] std::optional<std::string> open_points(const std::filesystem::path& file);
 
     // One frame (result null: not decoded). Errors are kept for finish().
     void frame(const FrameSample& s, const vision::FrameResult* result);
@@ -53,8 +56,12 @@ private:
 
     std::filesystem::path dir_;
     CameraCalibration calib_;
+    void write_points(const FrameSample& s, const vision::FrameResult& r);
+
     std::FILE* decisions_ = nullptr;
     std::filesystem::path decisions_path_;
+    std::FILE* points_ = nullptr;
+    std::filesystem::path points_path_;
     std::unique_ptr<Mp4Writer> video_;
     bool undistort_ = false;
     vision::Undistorter undistorter_;

@@ -191,6 +191,7 @@ Expected<ReplayStats, std::string> replay_dataset(const dataset::Dataset& datase
         return Unexpected("unknown classifier '" + settings.classifier + "' (" + names + ")");
     }
     if (auto e = apply_overrides(pipeline.classifier(), settings.set)) return Unexpected(*e);
+    pipeline.classifier().set_record_points(settings.record_points);
 
     auto store = dataset::open_frames(dataset);
     if (!store) return Unexpected(to_string(store.error()));

@@ -27,6 +27,7 @@ struct ReplaySettings {
     std::string classifier{vision::kDefaultClassifier};
     std::optional<std::string> calibration_file;  // overrides flight.json / the default
     std::vector<std::string> set;                 // classifier parameter overrides key=value
+    bool record_points = false;                   // FrameResult::points filled (replay --points)
 };
 
 // The calibration in `file` (--calibration FILE), scaled to `width` x `height`, the size of the

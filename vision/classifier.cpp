@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 
 namespace gs::vision {
 
@@ -95,6 +96,7 @@ void TrackingClassifier::reset() {
     result_.rejected_steps = 0;
     result_.overlay.clear();
     result_.traces.clear();
+    result_.points.clear();
     on_reset();
 }
 
@@ -183,6 +185,7 @@ const FrameResult& TrackingClassifier::process(const FrameInput& in) {
 
     t0 = StageClock::now();
     fill_traces();
+    if (record_points_) fill_points();
     build_overlay();
     result_.timings.overlay_ms = ms_since(t0);
 
@@ -197,6 +200,37 @@ const FrameResult& TrackingClassifier::process(const FrameInput& in) {
     result_.timings.detect_ms = tt.detect_ms;
     result_.timings.total_ms = ms_since(t_total);
     return result_;
+}
+
+void TrackingClassifier::set_record_points(bool on) {
+    record_points_ = on;
+    if (!on) result_.points.clear();
+}
+
+std::string_view TrackingClassifier::point_kind(std::size_t i) const {
+    return std::isnan(track_score_[i]) ? "unscored" : "scored";
+}
+
+void TrackingClassifier::fill_points() {
+    const auto& tracks = tracker_.tracks();
+    result_.points.resize(tracks.size());  // keeps its capacity: no allocation once grown
+    for (std::size_t i = 0; i < tracks.size(); ++i) {
+        const Trajectory& t = tracks[i];
+        const TrackPoint& now = t.at_back(0);
+        PointRecord& p = result_.points[i];
+        p.id = t.id;
+        p.age = t.length;
+        p.region = region_of(now.stab.x);
+        p.kind = point_kind(i);
+        p.score = track_score_[i];
+        p.raw = t.raw;
+        p.undist = t.undist;
+        p.undist_prev = t.undist_prev;
+        p.stab = now.stab;
+        p.derot = now.derot;
+        p.fb_px = now.fb_px;
+        p.structure = t.structure;
+    }
 }
 
 void TrackingClassifier::fill_traces() {

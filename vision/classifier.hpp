@@ -86,6 +86,24 @@ struct TrajectoryTrace {
     std::array<float, Trajectory::kHistory> x{};
 };
 
+// One tracked point on one frame, as the classifier judged it (FrameResult::points, filled only
+// when asked: ObstacleClassifier::set_record_points). For looking at why a region was flagged:
+// `replay --points` writes these rows to points.csv.
+struct PointRecord {
+    std::uint32_t id = 0;
+    int age = 0;  // frames tracked, this one included
+    Region region = Region::Centre;
+    // The classifier's verdict on the point: "flow" says why it counts or not (hazard, unrated,
+    // inconsistent, aperture, outside, moving); "thesis" only whether it has a score.
+    std::string_view kind;
+    double score = kUnknown;          // the classifier's per-point score (flow: 1/TTC, 1/s)
+    cv::Point2f raw;                  // raw image pixels
+    cv::Point2f undist, undist_prev;  // undistorted pixels, now and one frame before
+    cv::Point2f stab, derot;          // roll-stabilised; attitude-free accumulated position
+    float fb_px = 0;                  // forward-backward miss of this step (0: unchecked)
+    cv::Vec3f structure{0, 0, 0};     // structure tensor sums Ix^2, IxIy, Iy^2 (raw axes)
+};
+
 struct FrameResult {
     std::int64_t frame_index = 0;
     std::int64_t t_ns = 0;
@@ -96,6 +114,7 @@ struct FrameResult {
     Overlay overlay;
     std::vector<PlotSeries> series;       // fixed set per classifier, x = frame index
     std::vector<TrajectoryTrace> traces;  // the longest live trajectories
+    std::vector<PointRecord> points;      // every tracked point, when recording them (else empty)
     StageTimings timings;
 
     const RegionDecision& region(Region r) const { return regions[static_cast<int>(r)]; }
@@ -110,6 +129,9 @@ public:
     virtual const FrameResult& process(const FrameInput& in) = 0;
     virtual void reset() = 0;
     virtual void set_calibration(const CameraCalibration& calib) = 0;
+    // FrameResult::points filled from the next frame on (off by default: it costs a copy of
+    // every tracked point per frame).
+    virtual void set_record_points(bool on) = 0;
 
     virtual std::vector<ParamInfo> params() const = 0;
     [[nodiscard]] virtual ParamStatus set_param(std::string_view name, double value) = 0;
@@ -133,6 +155,7 @@ public:
     const FrameResult& process(const FrameInput& in) override;
     void reset() override;
     void set_calibration(const CameraCalibration& calib) override;
+    void set_record_points(bool on) override;
 
 protected:
     // Registers the region score and threshold series every classifier plots ("left.score" ...).
@@ -166,6 +189,8 @@ protected:
     virtual void classify(const FrameInput& in) = 0;  // fills result_.regions, track_score_
     virtual void on_reset() = 0;
     virtual void add_overlay_points() = 0;
+    // The verdict on tracked point i for PointRecord::kind (a static string).
+    virtual std::string_view point_kind(std::size_t i) const;
 
     // Index of a named series in result_.series (created once in the constructor).
     std::size_t add_series(std::string name);
@@ -188,7 +213,9 @@ protected:
 
 private:
     void fill_traces();
+    void fill_points();
     void build_overlay();
+    bool record_points_ = false;
     std::vector<std::size_t> order_;
     std::array<std::size_t, 3> s_score_{}, s_threshold_{};  // by Region
 };

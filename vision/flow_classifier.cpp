@@ -735,6 +735,28 @@ double FlowClassifier::homography_rate(const FrameInput& in) {
     return enough ? med : kUnknown;
 }
 
+std::string_view FlowClassifier::to_string(PointClass c) {
+    switch (c) {
+        case PointClass::Unrated:
+            return "unrated";
+        case PointClass::Inconsistent:
+            return "inconsistent";
+        case PointClass::Aperture:
+            return "aperture";
+        case PointClass::Outside:
+            return "outside";
+        case PointClass::Hazard:
+            return "hazard";
+        case PointClass::Moving:
+            return "moving";
+    }
+    return "unrated";
+}
+
+std::string_view FlowClassifier::point_kind(std::size_t i) const {
+    return i < class_.size() ? to_string(class_[i]) : "unrated";
+}
+
 void FlowClassifier::add_overlay_points() {
     // Rings (the trajectories layer): corridor points coloured by 1/TTC, blue to red at
     // colour_max; points still being judged small and blue; points placed outside the corridor

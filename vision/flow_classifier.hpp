@@ -178,10 +178,12 @@ public:
         Moving,        // does not move with the scene; rated by its looming (may count too)
     };
     const std::vector<PointClass>& point_classes() const { return class_; }
+    static std::string_view to_string(PointClass c);
 
 private:
     const TrackerParams& tracker_params() const override { return p_; }
     bool wants_derotation() const override { return true; }
+    std::string_view point_kind(std::size_t i) const override;
     double centre_band_px() const override { return p_.centre_band_px; }
     void prepare(const FrameInput& in, EgoPrior& prior) override;
     void classify(const FrameInput& in) override;

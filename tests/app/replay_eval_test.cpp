@@ -16,7 +16,9 @@ extern "C" {
 #include <libswscale/swscale.h>
 }
 
+#include <algorithm>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -226,6 +228,114 @@ TEST(ReplayCli, VideoShowsTheRegionBarAndPlotsAreWritten) {
         ++compared;
     }
     EXPECT_GT(compared, kFlightFrames / 2);
+}
+
+// `replay --points`: every tracked point of every frame as the classifier judged it. The rows
+// must account for the decisions: a side region's score is the k-th largest rate among its
+// counted points (hazard, plus the moving points the classifier rated), so on every frame with
+// no moving point in the left region, the k-th largest of its hazard rows' scores is the left
+// score in decisions.csv.
+TEST(ReplayCli, PointsCsvHoldsEveryTrackedPointAndExplainsTheScores) {
+    const fs::path out = scratch("points");
+    const CmdResult r = run_cli("replay " + kFlight.string() +
+                                " --classifier flow --points --plots --out " + out.string());
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    EXPECT_NE(r.out.find("points.csv"), std::string::npos) << r.out;
+    const dataset::csv::Table pts = read_csv(out / "points.csv");
+    const std::vector<std::string> header = {
+        "frame",         "t_ms",         "id",          "age",      "region",   "kind",
+        "score",         "raw_x",        "raw_y",       "undist_x", "undist_y", "undist_prev_x",
+        "undist_prev_y", "stab_x",       "stab_y",      "derot_x",  "derot_y",  "fb_px",
+        "structure_xx",  "structure_xy", "structure_yy"};
+    ASSERT_EQ(pts.header(), header);
+    ASSERT_GT(pts.rows(), static_cast<std::size_t>(kFlightFrames) * 20);
+    const dataset::csv::Table d = read_csv(out / "decisions.csv");
+    const nlohmann::json summary = read_json(out / "summary.json");
+    const int k = static_cast<int>(summary["parameters"]["side_min_support"].get<double>());
+    ASSERT_GE(k, 1);
+
+    struct FrameRows {
+        std::vector<double> left_hazard;
+        int left_moving = 0, hazard = 0, moving = 0;
+        std::map<long, int> age_by_id;
+    };
+    std::map<long, FrameRows> frames;
+    const std::vector<std::string> kinds = {"unrated", "inconsistent", "aperture",
+                                            "outside", "hazard",       "moving"};
+    for (std::size_t i = 0; i < pts.rows(); ++i) {
+        const long f = std::stol(std::string(pts.field(i, 0)));
+        ASSERT_GE(f, 0);
+        ASSERT_LT(f, kFlightFrames);
+        // the frame's own time, as in decisions.csv
+        ASSERT_EQ(pts.field(i, 1), d.field(static_cast<std::size_t>(f), 1)) << "row " << i;
+        const std::string region(pts.field(i, 4)), kind(pts.field(i, 5));
+        ASSERT_TRUE(region == "left" || region == "centre" || region == "right") << region;
+        ASSERT_NE(std::find(kinds.begin(), kinds.end(), kind), kinds.end()) << kind;
+        FrameRows& fr = frames[f];
+        fr.hazard += kind == "hazard";
+        fr.moving += kind == "moving";
+        const long id = std::stol(std::string(pts.field(i, 2)));
+        const int age = std::stoi(std::string(pts.field(i, 3)));
+        EXPECT_GE(age, 1);
+        EXPECT_TRUE(fr.age_by_id.emplace(id, age).second)
+            << "point " << id << " twice, frame " << f;
+        // A point tracked on from the frame before is one frame older.
+        if (const auto prev = frames.find(f - 1); prev != frames.end() && age > 1) {
+            const auto a = prev->second.age_by_id.find(id);
+            if (a != prev->second.age_by_id.end()) {
+                EXPECT_EQ(age, a->second + 1) << id;
+            }
+        }
+        // positions inside the 640x360 image
+        for (std::size_t c : {7U, 8U}) EXPECT_FALSE(pts.field(i, c).empty());
+        const double x = std::stod(std::string(pts.field(i, 7))),
+                     y = std::stod(std::string(pts.field(i, 8)));
+        EXPECT_TRUE(x >= -1 && x <= 641 && y >= -1 && y <= 361) << x << "," << y;
+        if (region == "left" && kind == "hazard") {
+            ASSERT_FALSE(pts.field(i, 6).empty()) << "a counted point has a score, row " << i;
+            fr.left_hazard.push_back(std::stod(std::string(pts.field(i, 6))));
+        }
+        if (region == "left" && kind == "moving") ++fr.left_moving;
+    }
+    EXPECT_GE(frames.size(), static_cast<std::size_t>(kFlightFrames - 2));
+    int explained = 0;
+    for (auto& [f, fr] : frames) {
+        const std::string left_score(d.field(static_cast<std::size_t>(f), 5));
+        if (left_score.empty() || fr.left_moving > 0 || static_cast<int>(fr.left_hazard.size()) < k)
+            continue;
+        std::sort(fr.left_hazard.begin(), fr.left_hazard.end(), std::greater<>());
+        const double kth = fr.left_hazard[static_cast<std::size_t>(k - 1)];
+        EXPECT_NEAR(kth, std::stod(left_score), 1e-4 * std::max(1.0, std::abs(kth)))
+            << "frame " << f;
+        ++explained;
+    }
+    // The pillar passes on the left: many frames have enough counted points to check.
+    EXPECT_GT(explained, 20);
+    // The corridor's count in plots/series.csv is at least the hazard rows of the frame.
+    const dataset::csv::Table series = read_csv(out / "plots" / "series.csv");
+    int counted = 0;
+    for (std::size_t i = 0; i < series.rows(); ++i) {
+        if (series.field(i, 0) != "corridor.points" || series.field(i, 2).empty()) continue;
+        const long f = std::stol(std::string(series.field(i, 1)));
+        const auto it = frames.find(f);
+        if (it == frames.end()) continue;
+        const double n = std::stod(std::string(series.field(i, 2)));
+        EXPECT_GE(n, it->second.hazard) << "frame " << f;
+        EXPECT_LE(n, it->second.hazard + it->second.moving) << "frame " << f;
+        ++counted;
+    }
+    EXPECT_GT(counted, kFlightFrames / 2);
+
+    // The thesis classifier has no such verdicts: only whether a point has a score.
+    const fs::path plain = scratch("points_thesis");
+    ASSERT_EQ(run_cli("replay " + kFlight.string() + " -q --classifier thesis --points --out " +
+                      plain.string())
+                  .exit_code,
+              0);
+    const dataset::csv::Table th = read_csv(plain / "points.csv");
+    ASSERT_GT(th.rows(), 0U);
+    for (std::size_t i = 0; i < th.rows(); ++i)
+        ASSERT_TRUE(th.field(i, 5) == "scored" || th.field(i, 5) == "unscored") << th.field(i, 5);
 }
 
 TEST(ReplayCli, UndistortedVideoStraightensTheImage) {
