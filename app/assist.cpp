@@ -24,6 +24,103 @@ std::string contact_text(const RegionEvidence& e) {
 
 }  // namespace
 
+const vision::ParamTable<AssistParams>& assist_param_table() {
+    using P = AssistParams;
+    static const vision::ParamTable<P> t = [] {
+        vision::ParamTable<P> x;
+        x.add("moving_forward_mps", &P::moving_forward_mps, 0, 2,
+              "faster than this forward (m/s) counts as moving forward: a centre alarm brakes")
+            .add("brake_release_mps", &P::brake_release_mps, 0, 2,
+                 "braking: full nose-up until the forward speed is under this (m/s)")
+            .add("max_brake_s", &P::max_brake_s, 0, 10,
+                 "the braking pitch never lasts longer than this (s), then hover")
+            .add("release_turn_deg", &P::release_turn_deg, 0, 180,
+                 "holding: turned this far (deg) from the braking heading releases the hold")
+            .add("stale_after_s", &P::stale_after_s, 0, 5,
+                 "a decision older than this (s) is stale: no evidence, never brakes")
+            .add("default_obstacle_m", &P::default_obstacle_m, 0, 20,
+                 "where a braked-for obstacle is remembered when no time to contact is known (m)")
+            .add("hold_gap_m", &P::hold_gap_m, 0, 10,
+                 "after a brake, the remembered obstacle is never farther than this ahead of the "
+                 "stop (m)")
+            .add("forget_after_clear_s", &P::forget_after_clear_s, 0, 10,
+                 "the remembered obstacle is forgotten after the centre read clear this long (s) "
+                 "while in sight")
+            .add("detect_ttc_s", &P::detect_ttc_s, 0, 20,
+                 "in sight: the remembered obstacle's time to contact at the present speed under "
+                 "this (s)")
+            .add("rebrake_mps", &P::rebrake_mps, 0, 3,
+                 "holding and faster than this toward the obstacle (m/s): brake again")
+            .add("react_s", &P::react_s, 0, 2,
+                 "stopping distance: the reaction time allowed for (s)")
+            .add("brake_decel_mps2", &P::brake_decel_mps2, 0.1, 10,
+                 "stopping distance: the deceleration assumed (m/s^2)")
+            .add("hold_creep_mps", &P::hold_creep_mps, 0, 1,
+                 "holding: faster than this forward (m/s), a nose-up in proportion to the speed")
+            .add("hold_gain", &P::hold_gain, 0, 10,
+                 "holding: that nose-up, fraction of the maximum tilt per m/s")
+            .add("probe_stop_mps", &P::probe_stop_mps, 0, 1,
+                 "probing: the held drone counts as stopped under this forward speed (m/s)")
+            .add("probe_wait_s", &P::probe_wait_s, 0, 30,
+                 "probing starts after the stopped drone read the centre clear this long (s)")
+            .add("probe_pitch", &P::probe_pitch, 0, 1,
+                 "probing: the forward pitch cap, fraction of the maximum tilt")
+            .add("probe_ttc_s", &P::probe_ttc_s, 0.1, 20,
+                 "probing: speed = remaining distance / this (s), within the min and max below")
+            .add("probe_min_mps", &P::probe_min_mps, 0, 2, "probing: the lowest speed cap (m/s)")
+            .add("probe_max_mps", &P::probe_max_mps, 0, 2, "probing: the highest speed cap (m/s)")
+            .add("probe_min_gap_m", &P::probe_min_gap_m, 0, 10,
+                 "probing: never closer to the remembered obstacle than this plus the stopping "
+                 "distance (m)")
+            .add("probe_rebrake_margin_mps", &P::probe_rebrake_margin_mps, 0, 3,
+                 "probing: brake again above the probe speed plus this (m/s)")
+            .add("ttc_trust", &P::ttc_trust, 0, 1,
+                 "the remembered distance is this fraction of time to contact x speed")
+            .add("side_nudge", &P::side_nudge, 0, 1,
+                 "a side unsafe: the roll away from it, fraction of the maximum tilt (0: none)")
+            .add("side_away_mps", &P::side_away_mps, 0, 3,
+                 "the roll away stops above this lateral speed away (m/s)")
+            .add("default_side_m", &P::default_side_m, 0, 20,
+                 "where a side obstacle is assumed to be ahead when its time to contact is "
+                 "unknown (m)")
+            .add("side_pass_margin_m", &P::side_pass_margin_m, 0, 10,
+                 "the roll toward a side stays zeroed until this far past where it was seen (m)");
+        return x;
+    }();
+    return t;
+}
+
+std::optional<std::string> apply_assist_overrides(AssistParams& p,
+                                                  const std::vector<std::string>& set) {
+    AssistParams q = p;
+    const auto& table = assist_param_table();
+    for (const std::string& kv : set) {
+        const auto eq = kv.find('=');
+        if (eq == std::string::npos || eq == 0)
+            return "--assist-set " + kv + ": expected KEY=VALUE";
+        const std::string key = kv.substr(0, eq);
+        double v = 0;
+        if (!vision::parse_param_value(kv.substr(eq + 1), v))
+            return "--assist-set " + kv + ": '" + kv.substr(eq + 1) + "' is not a number";
+        const vision::ParamStatus st = table.set(q, key, v);
+        if (st == vision::ParamStatus::UnknownName)
+            return "--assist-set " + kv + ": no assist parameter '" + key +
+                   "' (ardrone-gs params --assist lists them)";
+        if (st != vision::ParamStatus::Ok) {
+            std::string why = vision::to_string(st);
+            for (const auto& e : table.entries())
+                if (e.name == key) {
+                    char buf[96];
+                    std::snprintf(buf, sizeof buf, " (%g..%g)", e.min, e.max);
+                    why += buf;
+                }
+            return "--assist-set " + kv + ": " + why;
+        }
+    }
+    p = q;
+    return std::nullopt;
+}
+
 const char* to_string(RegionState s) {
     switch (s) {
         case RegionState::Unknown:
@@ -315,10 +412,13 @@ AssistOutput Assist::step(const AssistInput& in) {
         return side_state[i] == RegionState::Unsafe ||
                (known(st_.side_left_m[i]) && st_.side_left_m[i] > p_.side_pass_margin_m);
     };
-    const bool nudge_right = still_ahead(0) && !limited[1] && moving_forward && known(in.vy_mps) &&
-                             in.vy_mps < p_.side_away_mps;
-    const bool nudge_left = still_ahead(1) && !limited[0] && moving_forward && known(in.vy_mps) &&
-                            -in.vy_mps < p_.side_away_mps;
+    // (side_nudge 0: no steering at all, only the limits; never a STEERING line that pushes
+    // nothing.)
+    const bool may_nudge = p_.side_nudge > 0 && moving_forward && known(in.vy_mps);
+    const bool nudge_right =
+        may_nudge && still_ahead(0) && !limited[1] && in.vy_mps < p_.side_away_mps;
+    const bool nudge_left =
+        may_nudge && still_ahead(1) && !limited[0] && -in.vy_mps < p_.side_away_mps;
     const bool limit_left = limited[0] && cmd.progressive && cmd.roll < 0;
     const bool limit_right = limited[1] && cmd.progressive && cmd.roll > 0;
     if (limit_left || limit_right) cmd.roll = 0;

@@ -37,10 +37,13 @@
 
 #include "drone/core/unknown.hpp"
 #include "vision/classifier.hpp"
+#include "vision/params.hpp"
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
+#include <vector>
 
 namespace gs::app {
 
@@ -152,6 +155,14 @@ struct AssistParams {
     double default_side_m = 1.5;
     double side_pass_margin_m = 0.8;
 };
+
+// Every AssistParams member by name, with its range and meaning: `eval-assist --assist-set
+// KEY=VALUE` and `params --assist` read this table.
+const vision::ParamTable<AssistParams>& assist_param_table();
+// Applies KEY=VALUE overrides to `p`; the error names the first bad one and why (unknown key,
+// out of range with the range, not a number). `p` is unchanged on error.
+[[nodiscard]] std::optional<std::string> apply_assist_overrides(
+    AssistParams& p, const std::vector<std::string>& set);
 
 struct AssistOutput {
     FlightCommand command;  // what goes to the drone

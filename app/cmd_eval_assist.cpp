@@ -42,7 +42,8 @@ struct Opts {
     bool record = false;
     std::string only;
     std::string classifier = "flow";
-    std::vector<std::string> set;  // classifier parameters, key=value
+    std::vector<std::string> set;         // classifier parameters, key=value
+    std::vector<std::string> assist_set;  // assist parameters, key=value
     RealismCli realism;
 };
 
@@ -204,6 +205,8 @@ int run(const Opts& o) {
         if (!probe.ok()) throw fail("unknown classifier '" + o.classifier + "'");
         if (auto e = apply_overrides(probe.classifier(), o.set)) throw fail(*e);
     }
+    AssistParams assist_params;
+    if (auto e = apply_assist_overrides(assist_params, o.assist_set)) throw fail(*e);
     std::vector<bool> modes;
     if (o.assist != "off") modes.push_back(true);
     if (o.assist != "on") modes.push_back(false);
@@ -233,6 +236,7 @@ int run(const Opts& o) {
             eo.assist = jobs[i].assist;
             eo.classifier = o.classifier;
             eo.set = o.set;
+            eo.params = assist_params;
             eo.realism = realism;
             if (o.trace)
                 eo.trace_path =
@@ -293,6 +297,8 @@ int run(const Opts& o) {
     j["seed"] = o.seed;
     j["classifier"] = o.classifier;
     j["set"] = o.set;
+    j["assist_set"] = o.assist_set;
+    j["assist_params"] = assist_param_table().to_map(assist_params);
     j["realism"] = realism.any() ? realism.to_json() : nlohmann::json(nullptr);
     j["speeds"] = speeds;
     j["elapsed_s"] = elapsed;
@@ -335,6 +341,7 @@ int run(const Opts& o) {
        << o.assist << " --seed " << o.seed;
     if (o.classifier != "flow") md << " --classifier " << o.classifier;
     for (const auto& kv : o.set) md << " --set " << kv;
+    for (const auto& kv : o.assist_set) md << " --assist-set " << kv;
     md << "`: " << rs.size() << " flights in " << fixed(elapsed, 0) << " s (" << o.jobs
        << " jobs).\n\n";
     md << "| | flights | collisions | obstacle flights collided | min clearance mean / min (m) "
@@ -420,6 +427,9 @@ CommandRegistration reg(47, [](CLI::App& root) {
                   "the classifier saw, with the ground truth)");
     sub->add_option("--only", o->only, "Only the flights whose name contains this");
     add_classifier_options(*sub, o->classifier, o->set);
+    sub->add_option("--assist-set", o->assist_set,
+                    "Override an assist parameter, KEY=VALUE (repeatable; `params --assist` "
+                    "lists them)");
     add_realism_options(*sub, o->realism,
                         "Fly with the camera, link and estimator of a real AR.Drone 2 (as "
                         "`generate --realism`: rolling shutter, blur, exposure steps, flicker, "

@@ -1,6 +1,8 @@
-// `ardrone-gs params [--classifier NAME] [--odometry]`: every named parameter that `--set`
-// accepts (replay, eval, record, the window's Classifier panel; odometry), with its default,
-// range and meaning, read from the same tables the code applies them with.
+// `ardrone-gs params [--classifier NAME] [--odometry] [--assist]`: every named parameter that
+// `--set` accepts (replay, eval, record, the window's Classifier panel; odometry) and that
+// `eval-assist --assist-set` accepts, with its default, range and meaning, read from the same
+// tables the code applies them with.
+#include "app/assist.hpp"
 #include "app/command.hpp"
 #include "vision/classifier.hpp"
 #include "vision/odometry.hpp"
@@ -17,6 +19,7 @@ namespace {
 struct Opts {
     std::vector<std::string> classifiers;
     bool odometry = false;
+    bool assist = false;
 };
 
 std::string value_text(const vision::ParamInfo& p, double v) {
@@ -39,7 +42,7 @@ void print_table(const std::string& title, const std::vector<vision::ParamInfo>&
 }
 
 void run(const Opts& o) {
-    const bool all = o.classifiers.empty() && !o.odometry;
+    const bool all = o.classifiers.empty() && !o.odometry && !o.assist;
     std::vector<std::string> names = o.classifiers;
     if (all)
         for (auto n : vision::classifier_names()) names.emplace_back(n);
@@ -53,17 +56,25 @@ void run(const Opts& o) {
         print_table("Visual odometry (odometry: --set KEY=VALUE)",
                     vision::odometry_param_table().list(defaults));
     }
+    if (all || o.assist) {
+        static const AssistParams defaults{};  // static: GCC 12 warns falsely on a local
+        print_table("Collision assist (eval-assist: --assist-set KEY=VALUE)",
+                    assist_param_table().list(defaults));
+    }
 }
 
 const CommandRegistration reg(70, [](CLI::App& root) {
     auto o = std::make_shared<Opts>();
     auto* sub = root.add_subcommand(
-        "params", "List every classifier and odometry parameter --set accepts (default, range)");
+        "params",
+        "List every classifier and odometry parameter --set accepts, and the assist's "
+        "--assist-set (default, range)");
     std::vector<std::string> names;
     for (auto n : vision::classifier_names()) names.emplace_back(n);
     sub->add_option("--classifier", o->classifiers, "Only this classifier's (repeatable)")
         ->check(CLI::IsMember(names));
     sub->add_flag("--odometry", o->odometry, "Only the visual odometry's");
+    sub->add_flag("--assist", o->assist, "Only the collision assist's");
     set_action(*sub, [o] { run(*o); });
 });
 

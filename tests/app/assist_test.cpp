@@ -11,6 +11,8 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <optional>
+#include <string>
 #include <vector>
 
 namespace gs::app {
@@ -297,6 +299,46 @@ TEST(Assist, AnUnsafeSideIsSteeredAwayFromUpToALateralSpeed) {
     in.regions[2] = unsafe();
     o = c.step(in);
     EXPECT_FLOAT_EQ(o.command.roll, 0.0f);
+}
+
+TEST(AssistParams, EveryMemberIsNamedAndRangedAndOverridesApplyWhollyOrNotAtAll) {
+    const auto& table = assist_param_table();
+    // Every member is a double with an entry: a member added without one fails here.
+    EXPECT_EQ(table.entries().size() * sizeof(double), sizeof(AssistParams));
+    static const AssistParams defaults{};  // static: GCC 12 warns falsely on a local
+    std::vector<std::string> names;
+    for (const vision::ParamInfo& i : table.list(defaults)) {
+        EXPECT_GE(i.value, i.min) << i.name;
+        EXPECT_LE(i.value, i.max) << i.name;
+        EXPECT_FALSE(i.description.empty()) << i.name;
+        names.push_back(i.name);
+    }
+    std::sort(names.begin(), names.end());
+    EXPECT_EQ(std::adjacent_find(names.begin(), names.end()), names.end()) << "a name twice";
+
+    AssistParams p{};
+    ASSERT_EQ(apply_assist_overrides(p, {"side_nudge=0", "hold_gap_m=0.6"}), std::nullopt);
+    EXPECT_EQ(p.side_nudge, 0.0);
+    EXPECT_EQ(p.hold_gap_m, 0.6);
+    // One bad override anywhere: nothing is applied, and the error says which and why.
+    AssistParams q{};
+    auto e = apply_assist_overrides(q, {"side_nudge=0", "hold_gap_m=11"});
+    ASSERT_TRUE(e);
+    EXPECT_NE(e->find("hold_gap_m=11: value out of range (0..10)"), std::string::npos) << *e;
+    EXPECT_EQ(q.side_nudge, defaults.side_nudge);
+    e = apply_assist_overrides(q, {"hold_gap=1"});
+    ASSERT_TRUE(e);
+    EXPECT_NE(e->find("no assist parameter 'hold_gap'"), std::string::npos) << *e;
+    EXPECT_TRUE(apply_assist_overrides(q, {"side_nudge"}));
+    EXPECT_TRUE(apply_assist_overrides(q, {"side_nudge=abc"}));
+
+    // The overrides reach the assist: with no side nudge an unsafe side is only limited.
+    Assist a(p);
+    AssistInput in = flying_forward(1.0, clear());
+    in.regions[0] = unsafe(2.0);
+    const AssistOutput o = a.step(in);
+    EXPECT_FLOAT_EQ(o.command.roll, 0.0f);
+    EXPECT_NE(o.action, AssistAction::SteerRight);
 }
 
 TEST(Assist, ASideObstacleIsSteeredAwayFromUntilAbreastAndLimitedUntilPast) {

@@ -184,6 +184,38 @@ TEST(EvalAssistCli, RealismFliesTheCameraLinkAndEstimatorOfARealDrone) {
     EXPECT_FALSE(fs::exists(out / "bad" / "report.json"));
 }
 
+TEST(EvalAssistCli, AssistParametersAreSetByNameAndRecorded) {
+    // --assist-set: the assist's own parameters, by the names `params --assist` lists, in
+    // report.json (what was asked and every value flown) and in report.md's command line.
+    const fs::path out = scratch_dir("eval_assist_cli", "assist_set");
+    const CmdResult r = run_cli(
+        "eval-assist --suite smoke --speeds 1.0 --assist on --only open-none -q --seed 3 "
+        "--assist-set hold_gap_m=0.6 --assist-set side_nudge=0 --out " +
+        out.string());
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    std::ifstream js(out / "report.json");
+    const auto j = nlohmann::json::parse(js);
+    EXPECT_EQ(j["assist_set"], nlohmann::json::array({"hold_gap_m=0.6", "side_nudge=0"}));
+    EXPECT_EQ(j["assist_params"]["hold_gap_m"], "0.6");
+    EXPECT_EQ(j["assist_params"]["side_nudge"], "0");
+    EXPECT_EQ(j["assist_params"]["probe_min_gap_m"], "0.5");  // a default, as flown
+    EXPECT_NE(read_text(out / "report.md").find("--assist-set hold_gap_m=0.6"), std::string::npos);
+
+    const CmdResult listed = run_cli("params --assist");
+    ASSERT_EQ(listed.exit_code, 0) << listed.out;
+    EXPECT_NE(listed.out.find("hold_gap_m"), std::string::npos) << listed.out;
+    EXPECT_EQ(listed.out.find("Classifier"), std::string::npos) << "only the assist's";
+
+    const fs::path bad = scratch_dir("eval_assist_cli", "bad_assist_set");
+    const CmdResult b = run_cli(
+        "eval-assist --suite smoke --speeds 1.0 -q --assist-set "
+        "hold_gap_m=99 --out " +
+        bad.string());
+    EXPECT_NE(b.exit_code, 0);
+    EXPECT_NE(b.out.find("hold_gap_m=99: value out of range (0..10)"), std::string::npos) << b.out;
+    EXPECT_FALSE(fs::exists(bad / "report.json"));
+}
+
 TEST(EvalAssistCli, ABadClassifierParameterIsRefusedBeforeAnythingFlies) {
     const fs::path out = scratch_dir("eval_assist_cli", "bad_set");
     const CmdResult r = run_cli(
