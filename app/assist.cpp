@@ -92,33 +92,7 @@ const vision::ParamTable<AssistParams>& assist_param_table() {
 
 std::optional<std::string> apply_assist_overrides(AssistParams& p,
                                                   const std::vector<std::string>& set) {
-    AssistParams q = p;
-    const auto& table = assist_param_table();
-    for (const std::string& kv : set) {
-        const auto eq = kv.find('=');
-        if (eq == std::string::npos || eq == 0)
-            return "--assist-set " + kv + ": expected KEY=VALUE";
-        const std::string key = kv.substr(0, eq);
-        double v = 0;
-        if (!vision::parse_param_value(kv.substr(eq + 1), v))
-            return "--assist-set " + kv + ": '" + kv.substr(eq + 1) + "' is not a number";
-        const vision::ParamStatus st = table.set(q, key, v);
-        if (st == vision::ParamStatus::UnknownName)
-            return "--assist-set " + kv + ": no assist parameter '" + key +
-                   "' (ardrone-gs params --assist lists them)";
-        if (st != vision::ParamStatus::Ok) {
-            std::string why = vision::to_string(st);
-            for (const auto& e : table.entries())
-                if (e.name == key) {
-                    char buf[96];
-                    std::snprintf(buf, sizeof buf, " (%g..%g)", e.min, e.max);
-                    why += buf;
-                }
-            return "--assist-set " + kv + ": " + why;
-        }
-    }
-    p = q;
-    return std::nullopt;
+    return vision::apply_param_overrides(assist_param_table(), p, set, "--assist-set", "--assist");
 }
 
 const char* to_string(RegionState s) {

@@ -138,16 +138,9 @@ int run(const Opts& o) {
     auto ys = vision::yaw_source_from_string(o.yaw);
     if (!ys) throw fail("unknown --yaw '" + o.yaw + "' (visual, navdata, fused)");
     params.yaw_source = *ys;
-    vision::ParamMap overrides;
-    for (const std::string& kv : o.set) {
-        const auto eq = kv.find('=');
-        if (eq == std::string::npos) throw fail("--set expects key=value, got '" + kv + "'");
-        overrides[kv.substr(0, eq)] = kv.substr(eq + 1);
-    }
-    const auto perr = vision::odometry_param_table().from_map(params, overrides);
-    if (!perr.ok())
-        throw fail("--set " + perr.rejected.front().first + ": " +
-                   vision::to_string(perr.rejected.front().second));
+    if (auto e = vision::apply_param_overrides(vision::odometry_param_table(), params, o.set,
+                                               "--set", "--odometry"))
+        throw fail(*e);
 
     auto bottom_calib = input_calibration(*ds, o.input);
     if (!bottom_calib) throw fail(bottom_calib.error());

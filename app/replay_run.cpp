@@ -31,13 +31,10 @@ std::string decisions_csv_row(std::int64_t frame, TimeNs t_ns, const vision::Fra
 std::optional<std::string> apply_overrides(vision::ObstacleClassifier& c,
                                            const std::vector<std::string>& set) {
     for (const std::string& kv : set) {
-        const auto eq = kv.find('=');
-        if (eq == std::string::npos || eq == 0) return "--set " + kv + ": expected key=value";
-        const std::string key = kv.substr(0, eq);
-        double v = 0;
-        if (!vision::parse_param_value(kv.substr(eq + 1), v))
-            return "--set " + kv + ": not a number";
-        const vision::ParamStatus st = c.set_param(key, v);
+        const auto o = vision::parse_param_override(kv);
+        if (!o) return "--set " + kv + ": " + o.error();
+        const std::string& key = o->key;
+        const vision::ParamStatus st = c.set_param(key, o->value);
         if (st == vision::ParamStatus::UnknownName) {
             std::string names;
             for (const auto& p : c.params()) names += (names.empty() ? "" : ", ") + p.name;

@@ -45,4 +45,18 @@ bool parse_param_value(const std::string& s, double& v) {
     return r.ec == std::errc() && r.ptr == e && !std::isnan(v);
 }
 
+Expected<ParamOverride, std::string> parse_param_override(const std::string& kv) {
+    const auto eq = kv.find('=');
+    if (eq == std::string::npos || eq == 0) return Unexpected(std::string("expected KEY=VALUE"));
+    ParamOverride o;
+    o.key = kv.substr(0, eq);
+    const std::string value = kv.substr(eq + 1);
+    if (!parse_param_value(value, o.value)) {
+        std::string why = "'";  // appended, not a + chain: GCC 12 warns falsely (-Wrestrict)
+        why.append(value).append("' is not a number");
+        return Unexpected(std::move(why));
+    }
+    return o;
+}
+
 }  // namespace gs::vision

@@ -3,8 +3,11 @@
 // classifier live and save presets as key=value maps. A ParamTable<P> describes the members of P
 // once (name, member pointer, range, description); values are exchanged as double.
 
+#include "drone/core/expected.hpp"
+
 #include <cmath>
 #include <map>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <variant>
@@ -130,6 +133,44 @@ private:
 // Value <-> text for key=value maps: shortest round-tripping decimal.
 std::string format_param_value(double v, ParamType t);
 [[nodiscard]] bool parse_param_value(const std::string& s, double& v);
+
+// One KEY=VALUE override from a command line (--set, --assist-set), split and its value parsed;
+// the error says what is wrong with it ("expected KEY=VALUE", "'x' is not a number").
+struct ParamOverride {
+    std::string key;
+    double value = 0;
+};
+[[nodiscard]] Expected<ParamOverride, std::string> parse_param_override(const std::string& kv);
+
+// Applies KEY=VALUE overrides (the command line's `option`, e.g. "--set") to `p` through `table`,
+// all or none: the error names the first bad one and why (not KEY=VALUE, not a number, unknown
+// key, out of range with the range); `params_flag` is the `ardrone-gs params` flag that lists
+// the keys ("--odometry", "--assist"). `p` is unchanged on error.
+template <class P>
+[[nodiscard]] std::optional<std::string> apply_param_overrides(const ParamTable<P>& table, P& p,
+                                                               const std::vector<std::string>& set,
+                                                               const std::string& option,
+                                                               const std::string& params_flag) {
+    P q = p;
+    for (const std::string& kv : set) {
+        const auto o = parse_param_override(kv);
+        if (!o) return option + " " + kv + ": " + o.error();
+        const ParamStatus st = table.set(q, o->key, o->value);
+        if (st == ParamStatus::Ok) continue;
+        std::string why = option + " " + kv + ": ";
+        if (st == ParamStatus::UnknownName)
+            return why + "no parameter '" + o->key + "' (ardrone-gs params " + params_flag +
+                   " lists them)";
+        why += to_string(st);
+        for (const auto& e : table.entries())
+            if (e.name == o->key)
+                why += " (" + format_param_value(e.min, ParamType::Real) + ".." +
+                       format_param_value(e.max, ParamType::Real) + ")";
+        return why;
+    }
+    p = q;
+    return std::nullopt;
+}
 
 template <class P>
 ParamMap ParamTable<P>::to_map(const P& p) const {
