@@ -78,12 +78,6 @@ const vision::ParamTable<AssistParams>& assist_param_table() {
                  "the remembered distance is this fraction of time to contact x speed")
             .add("side_nudge", &P::side_nudge, 0, 1,
                  "a side unsafe: the roll away from it, fraction of the maximum tilt (0: none)")
-            .add("side_nudge_max", &P::side_nudge_max, 0, 1,
-                 "the strongest roll away when the drone will be abreast soon (fraction of the "
-                 "maximum tilt; equal to side_nudge: never stronger)")
-            .add("side_urgent_s", &P::side_urgent_s, 0.1, 10,
-                 "abreast of a side obstacle in less than this (s): the roll away grows as "
-                 "side_nudge x this / time to abreast")
             .add("side_away_mps", &P::side_away_mps, 0, 3,
                  "the roll away stops above this lateral speed away (m/s)")
             .add("default_side_m", &P::default_side_m, 0, 20,
@@ -402,17 +396,8 @@ AssistOutput Assist::step(const AssistInput& in) {
     const bool limit_left = limited[0] && cmd.progressive && cmd.roll < 0;
     const bool limit_right = limited[1] && cmd.progressive && cmd.roll > 0;
     if (limit_left || limit_right) cmd.roll = 0;
+    const auto nudge = static_cast<float>(p_.side_nudge);
     if (nudge_right || nudge_left) {
-        // Stronger the sooner the drone is abreast of where the obstacle was seen.
-        const double to_abreast_m = st_.side_left_m[nudge_right ? 0 : 1] - p_.side_pass_margin_m;
-        const double t_abreast = known(to_abreast_m) && vx_known && in.vx_mps > 0.2
-                                     ? std::max(to_abreast_m, 0.0) / in.vx_mps
-                                     : kUnknown;
-        double k = p_.side_nudge;
-        if (known(t_abreast) && t_abreast < p_.side_urgent_s)
-            k = std::min(std::max(p_.side_nudge_max, p_.side_nudge),
-                         p_.side_nudge * p_.side_urgent_s / std::max(t_abreast, 1e-3));
-        const auto nudge = static_cast<float>(k);
         if (!cmd.progressive) cmd = FlightCommand{true, 0, 0, 0, 0};
         cmd.roll = nudge_right ? std::max(cmd.roll, nudge) : std::min(cmd.roll, -nudge);
     }

@@ -151,13 +151,6 @@ struct AssistParams {
     // are), the lateral speed away beyond which it stops pushing, where a side obstacle is
     // assumed to be when its time to contact is unknown, and how far past it the limit lasts.
     double side_nudge = 0.15;
-    // A side alarm that comes late leaves too little time for that roll (on the AR.Drone's roll
-    // dynamics 0.15 of the maximum tilt moves it a few centimetres in the last second): when
-    // the drone will be abreast of the obstacle in less than `side_urgent_s`, the roll grows as
-    // side_nudge x side_urgent_s / time to abreast, up to `side_nudge_max` (equal to
-    // side_nudge: never grows).
-    double side_nudge_max = 0.15;
-    double side_urgent_s = 1.5;
     double side_away_mps = 0.4;
     double default_side_m = 1.5;
     double side_pass_margin_m = 0.8;

@@ -343,36 +343,6 @@ TEST(AssistParams, EveryMemberIsNamedAndRangedAndOverridesApplyWhollyOrNotAtAll)
     EXPECT_NE(o.action, AssistAction::SteerRight);
 }
 
-TEST(Assist, ALateSideAlarmRollsHarderTheSoonerTheDroneIsAbreast) {
-    // By default the roll away is side_nudge whatever the time left.
-    for (double ttc : {2.0, 0.5}) {
-        Assist a;
-        AssistInput in = flying_forward(1.0, clear());
-        in.regions[0] = unsafe(ttc);
-        EXPECT_FLOAT_EQ(a.step(in).command.roll, static_cast<float>(a.params().side_nudge)) << ttc;
-    }
-    // With room to grow: side_nudge x side_urgent_s / time to abreast, up to side_nudge_max.
-    AssistParams p;
-    p.side_nudge = 0.15;
-    p.side_nudge_max = 0.5;
-    p.side_urgent_s = 1.5;
-    const auto roll_for = [&](double ttc, double vx) {
-        Assist a(p);
-        AssistInput in = flying_forward(vx, clear());
-        in.regions[0] = unsafe(ttc);
-        const AssistOutput o = a.step(in);
-        EXPECT_EQ(o.action, AssistAction::SteerRight);
-        return o.command.roll;
-    };
-    EXPECT_FLOAT_EQ(roll_for(2.0, 1.0), 0.15f);       // abreast in 2 s: not urgent
-    EXPECT_NEAR(roll_for(1.0, 1.0), 0.225f, 1e-5);    // in 1 s: 0.15 x 1.5 / 1
-    EXPECT_NEAR(roll_for(0.5, 1.0), 0.45f, 1e-5);     // in 0.5 s
-    EXPECT_FLOAT_EQ(roll_for(0.2, 1.0), 0.5f);        // capped
-    EXPECT_FLOAT_EQ(roll_for(kUnknown, 1.0), 0.15f);  // assumed 1.5 m ahead: 1.5 s
-    // The time is the distance to where it was seen over the forward speed: 1 s at 2 m/s.
-    EXPECT_NEAR(roll_for(1.0, 2.0), 0.225f, 1e-5);
-}
-
 TEST(Assist, ASideObstacleIsSteeredAwayFromUntilAbreastAndLimitedUntilPast) {
     Assist a;
     AssistInput in = flying_forward(1.0, clear());
