@@ -72,9 +72,6 @@ const vision::ParamTable<AssistParams>& assist_param_table() {
             .add("probe_min_gap_m", &P::probe_min_gap_m, 0, 10,
                  "probing: never closer to the remembered obstacle than this plus the stopping "
                  "distance (m)")
-            .add("probe_blind_gap_m", &P::probe_blind_gap_m, 0, 10,
-                 "probing before the centre was read clear with the obstacle in sight: never "
-                 "closer to the remembered obstacle than this plus the stopping distance (m)")
             .add("probe_rebrake_margin_mps", &P::probe_rebrake_margin_mps, 0, 3,
                  "probing: brake again above the probe speed plus this (m/s)")
             .add("ttc_trust", &P::ttc_trust, 0, 1,
@@ -256,14 +253,7 @@ AssistOutput Assist::step(const AssistInput& in) {
     const double probe_mps = known(remaining) ? std::clamp(remaining / p_.probe_ttc_s,
                                                            p_.probe_min_mps, p_.probe_max_mps)
                                               : p_.probe_min_mps;
-    // No evidence is not clear: until the classifier has read the centre clear with the
-    // remembered obstacle in sight (moving toward it fast enough to see it), a probe keeps the
-    // wider blind gap. A stopped drone's "clear" is no such evidence, so blind probes cannot
-    // ratchet forward stop by stop.
-    const double probe_gap = st_.clear_seen_s > 0
-                                 ? p_.probe_min_gap_m
-                                 : std::max(p_.probe_blind_gap_m, p_.probe_min_gap_m);
-    const bool probe_room = known(remaining) && remaining - stop_m > probe_gap;
+    const bool probe_room = known(remaining) && remaining - stop_m > p_.probe_min_gap_m;
     // A probe goes on while the centre reads unknown: slower than about half a metre per second
     // the direction of travel is too uncertain for the classifier to judge the centre, which is
     // what a probe is for. It stops on stale evidence (no decisions), and brakes on unsafe.

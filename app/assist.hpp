@@ -142,14 +142,6 @@ struct AssistParams {
     double probe_min_mps = 0.3;
     double probe_max_mps = 0.6;
     double probe_min_gap_m = 0.5;
-    // Until the classifier has read the centre clear with the remembered obstacle in sight, a
-    // probe keeps `probe_blind_gap_m` instead: on the virtual drone the centre reads unknown at
-    // most probe speeds (the navdata velocity's direction is too uncertain at 0.3 m/s to place
-    // the focus of expansion), a first centre alarm at 0.6 m/s can come 0.68 m from a pillar,
-    // which the brake leaves 0.58 m ahead, and a blind probe kept only probe_min_gap_m from the
-    // remembered obstacle (up to hold_gap_m ahead of the stop) crept to within 0.22 m of it
-    // (seed 11's ahead-pillar-0.6; README).
-    double probe_blind_gap_m = 0.8;
     double probe_rebrake_margin_mps = 0.35;  // probing: brake again above probe speed + this
     // The flow classifier's time to contact reads long while the obstacle grows (a fit over past
     // frames): 3.1 s for a true 2.45 s, 2.4 s for 1.74 s on the suite's ahead flights. The

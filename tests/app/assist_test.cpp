@@ -551,36 +551,5 @@ TEST(Assist, AProbeTowardARealObstacleBrakesAgainAndNeverReachesIt) {
     }
 }
 
-TEST(Assist, AProbeThatSeesNothingStopsFartherBackThanOneThatSeesClear) {
-    // Seed 11's ahead-pillar-0.6 on the virtual drone: the pillar is flagged once, late (contact
-    // read 3.3 s, three times long), the brake stops the drone about 0.6 m short, and the
-    // classifier reads the centre unknown at every probe speed and clear when stopped. A probe
-    // that has not seen the centre clear while it could see keeps probe_blind_gap_m from the
-    // remembered obstacle, not probe_min_gap_m, and stopping again (where the centre reads
-    // clear: nothing expands) does not let it start over: it never creeps blind to the pillar.
-    constexpr double kPillar = 2.5;
-    const auto fly = [&](const AssistParams& p) {
-        Assist a(p);
-        bool flagged = false;
-        return fly_with_pilot_forward(a, 20.0, kPillar, [&](double, double x, double vx) {
-            // Flagged once, where the stop ends about 0.6 m short of the pillar.
-            if (!flagged && vx > 0.3 && kPillar - x < 0.6 + 0.2 * vx + vx * vx / 3.0) {
-                flagged = true;
-                return unsafe(3.3);
-            }
-            return vx < 0.2 ? clear() : RegionEvidence{RegionState::Unknown, 0.05, kUnknown};
-        });
-    };
-    const AssistParams blind;  // the default: 0.8 m with no evidence
-    const PilotRun r = fly(blind);
-    EXPECT_EQ(r.brakes, 1);
-    EXPECT_TRUE(r.probed);
-    EXPECT_GT(r.min_gap_m, 0.3);
-    AssistParams as_if_clear = blind;
-    as_if_clear.probe_blind_gap_m = as_if_clear.probe_min_gap_m;
-    const PilotRun c = fly(as_if_clear);
-    EXPECT_LT(c.min_gap_m, r.min_gap_m - 0.2) << "the blind gap makes the difference";
-}
-
 }  // namespace
 }  // namespace gs::app
