@@ -9,7 +9,8 @@
 #   scripts/fuzz.sh long [RUNS=10000000] [NAME...]
 #       The long run: RUNS executions of each target (all by default), one target per core
 #       (GS_FUZZ_JOBS=N: N at a time),
-#       each with its counts in build-asan/fuzz/NAME.log and a summary at the end. Needs the
+#       each with its counts in build-asan/fuzz/NAME.log and a summary at the end (ok, FINDING,
+#       or interrupted: stopped with SIGINT, no reproducer written). Needs the
 #       targets built: GS_TARGETS=fuzzers scripts/build.sh build-asan ... (as ./test.sh does).
 #
 # GS_FUZZ_TIMEOUT (seconds, default 20): how long one input may run before it counts as a hang.
@@ -108,7 +109,13 @@ case ${1:-} in
             while [[ $(jobs -rp | wc -l) -ge $jobs ]]; do sleep 5; done
             ( t0=$(date +%s)
               if run_target "$name" "$bin" "$out/long_$name" -runs="$runs" >"$out/$name.log" 2>&1; then
-                  r=ok; else r=FINDING; fi
+                  r=ok
+              elif grep -q 'libFuzzer: run interrupted' "$out/$name.log" &&
+                   ! compgen -G "$out/long_$name/artifacts/*" >/dev/null; then
+                  r=interrupted  # stopped (SIGINT): its executions count, nothing was found
+              else
+                  r=FINDING
+              fi
               echo "$name $r $(grep -o 'stat::number_of_executed_units: [0-9]*' "$out/$name.log" |
                   tail -1 | grep -o '[0-9]*$') executions $(( $(date +%s) - t0 )) s" \
                   >"$out/$name.result" ) &
@@ -120,7 +127,7 @@ case ${1:-} in
         ! grep -q FINDING "$out"/*.result
         ;;
     *)
-        sed -n '2,18p' "$0"
+        sed -n '2,19p' "$0"
         exit 2
         ;;
 esac
