@@ -127,7 +127,7 @@ case ${1:-} in
         ! grep -q FINDING "$out"/*.result
         ;;
     *)
-        sed -n '2,19p' "$0"
+        sed -n '2,20p' "$0"
         exit 2
         ;;
 esac
