@@ -54,25 +54,28 @@ ReplayOutputs::~ReplayOutputs() {
     if (points_ != nullptr) std::fclose(points_);
 }
 
-std::optional<std::string> ReplayOutputs::open_points(const fs::path& file) {
-    points_ = std::fopen(file.c_str(), "w");
-    if (points_ == nullptr) return "cannot create " + file.string();
-    points_path_ = file;
-    if (std::fputs("frame,t_ms,id,age,region,kind,score,raw_x,raw_y,undist_x,undist_y,"
-                   "undist_prev_x,undist_prev_y,stab_x,stab_y,derot_x,derot_y,fb_px,"
-                   "structure_xx,structure_xy,structure_yy\n",
-                   points_) < 0)
-        return "cannot write " + file.string();
+namespace {
+// Creates a CSV file and writes its header line; the error names the file.
+std::optional<std::string> open_csv(const fs::path& file, const char* header, std::FILE*& f,
+                                    fs::path& path) {
+    f = std::fopen(file.c_str(), "w");
+    if (f == nullptr) return "cannot create " + file.string();
+    path = file;
+    if (std::fputs(header, f) < 0) return "cannot write " + file.string();
     return std::nullopt;
+}
+}  // namespace
+
+std::optional<std::string> ReplayOutputs::open_points(const fs::path& file) {
+    return open_csv(file,
+                    "frame,t_ms,id,age,region,kind,score,raw_x,raw_y,undist_x,undist_y,"
+                    "undist_prev_x,undist_prev_y,stab_x,stab_y,derot_x,derot_y,fb_px,"
+                    "structure_xx,structure_xy,structure_yy\n",
+                    points_, points_path_);
 }
 
 std::optional<std::string> ReplayOutputs::open_decisions(const fs::path& file) {
-    decisions_ = std::fopen(file.c_str(), "w");
-    if (decisions_ == nullptr) return "cannot create " + file.string();
-    decisions_path_ = file;
-    if (std::fputs(decisions_csv_header().c_str(), decisions_) < 0)
-        return "cannot write " + file.string();
-    return std::nullopt;
+    return open_csv(file, decisions_csv_header().c_str(), decisions_, decisions_path_);
 }
 
 std::optional<std::string> ReplayOutputs::open_video(const fs::path& file,
@@ -122,9 +125,6 @@ vision::Rgb series_colour(const std::string& name) {
     return {30, 90, 220};
 }
 
-}  // namespace
-
-namespace {
 // One CSV row built in a fixed buffer (no allocation per row); unknown or non-finite numbers are
 // empty cells.
 class CsvRow {
@@ -323,15 +323,13 @@ std::optional<std::string> ReplayOutputs::write_plots(const fs::path& dir) const
 }
 
 std::optional<std::string> ReplayOutputs::finish(const fs::path& plots_dir) {
-    if (decisions_ != nullptr) {
-        if (std::fclose(decisions_) != 0 && !error_)
-            error_ = "cannot write " + decisions_path_.string();
-        decisions_ = nullptr;
-    }
-    if (points_ != nullptr) {
-        if (std::fclose(points_) != 0 && !error_) error_ = "cannot write " + points_path_.string();
-        points_ = nullptr;
-    }
+    const auto close_csv = [&](std::FILE*& f, const fs::path& path) {
+        if (f == nullptr) return;
+        if (std::fclose(f) != 0 && !error_) error_ = "cannot write " + path.string();
+        f = nullptr;
+    };
+    close_csv(decisions_, decisions_path_);
+    close_csv(points_, points_path_);
     if (video_) {
         if (auto e = video_->close(); e && !error_) error_ = "overlay.mp4: " + *e;
         video_.reset();
