@@ -542,9 +542,16 @@ const EgoMotion& EgoMotionEstimator::estimate(const CameraCalibration& calib,
         rotation_outliers += res_rot_[i] * pts_[i].s > p.outlier_k * sigma_n;
     // Still when a rotation explains nearly every point, unless the navdata says the drone
     // moves (then the few points with translational flow are near, not moving by themselves).
-    const bool still = std::isnan(prior.translation[0]) && !was_translating &&
-                       rotation_outliers <= std::max(3, static_cast<int>(n) / 20) &&
-                       med_rot * f <= p.translation_k * p.noise_px;
+    // Without navdata also when the median point barely moves, however many others do (people
+    // and hands in front of a camera on a table, a hovering drone): a scene whose majority
+    // moves under still_k noise units a frame approaches, if at all, with a time to contact of
+    // tens of seconds, and the points that do move are judged as moving objects, by their
+    // looming. Neither the few-outliers rule nor a camera that was translating overrides it.
+    const bool no_prior_t = std::isnan(prior.translation[0]);
+    const bool still = no_prior_t && ((!was_translating &&
+                                       rotation_outliers <= std::max(3, static_cast<int>(n) / 20) &&
+                                       med_rot * f <= p.translation_k * p.noise_px) ||
+                                      med_rot * f <= p.still_k * p.noise_px);
     const EgoMotion before = m_;
     if (still) {
         finish_still(prior, p, sigma_n, f, w_rot, med_rot);

@@ -41,12 +41,16 @@
 namespace gs::vision {
 
 struct EgoMotionParams {
-    double noise_px = 0.35;        // tracking noise per point and frame (full-size pixels)
-    double huber_k = 2.0;          // robust weights: residuals above k noise count less ...
-    double outlier_k = 4.0;        // ... and above this many (after the fit) are outliers
-    int min_points = 12;           // fewer: no estimate
-    double translation_k = 2.5;    // no translation when pure rotation leaves a median
-                                   // residual below this many noise_px
+    double noise_px = 0.35;      // tracking noise per point and frame (full-size pixels)
+    double huber_k = 2.0;        // robust weights: residuals above k noise count less ...
+    double outlier_k = 4.0;      // ... and above this many (after the fit) are outliers
+    int min_points = 12;         // fewer: no estimate
+    double translation_k = 2.5;  // no translation when pure rotation leaves a median
+                                 // residual below this many noise_px
+    // Without navdata, still whatever the few other points do when pure rotation leaves the
+    // median point below this many noise_px: the scene's majority does not move, so what does
+    // moves by itself (0 = off: the few points must be few, as above).
+    double still_k = 0.5;
     double prior_gate = 4.0;       // reject a prior this many standard errors from the images
     double image_floor_deg = 0.3;  // one frame's image rotation never better known than this
     double max_rotation_deg = 10;  // a larger rotation between two frames is not believed

@@ -132,6 +132,7 @@ EgoMotionParams TrajectoryTracker::ego_params() const {
     e.outlier_k = p_.ego_outlier_k;
     e.min_points = p_.ego_min_points;
     e.translation_k = p_.ego_translation_k;
+    e.still_k = p_.ego_still_k;
     e.prior_gate = p_.ego_prior_gate;
     e.image_floor_deg = p_.ego_image_floor_deg;
     e.max_rotation_deg = p_.ego_max_rotation_deg;

@@ -30,6 +30,8 @@ struct TrackerParams {
     int ego_min_points = 12;            // fewer points: no estimate
     double ego_translation_k = 2.5;     // a rotation alone within this many noise units: no
                                         // translation seen
+    double ego_still_k = 0.5;           // without navdata, the median point within this many
+                                        // noise units of a rotation: still (0 = off)
     double ego_prior_sigma_deg = 0.15;  // navdata attitude change uncertainty per frame
     double ego_prior_gate = 4.0;        // reject a navdata prior this many sigmas off the images
     double ego_image_floor_deg = 0.3;   // one frame's image rotation never better known than this
@@ -105,6 +107,9 @@ void describe_tracker_params(ParamTable<P>& t) {
         .add("ego.min_points", &P::ego_min_points, 4, 1000, "ego-motion: fewest points")
         .add("ego.translation_k", &P::ego_translation_k, 0.5, 50,
              "ego-motion: no translation seen while a rotation leaves less (noise units)")
+        .add("ego.still_k", &P::ego_still_k, 0, 50,
+             "ego-motion without navdata: still, whatever a few points do, while a rotation "
+             "leaves the median point less (noise units; 0: off)")
         .add("ego.prior_sigma_deg", &P::ego_prior_sigma_deg, 0.001, 10,
              "ego-motion: navdata attitude change uncertainty per frame")
         .add("ego.prior_gate", &P::ego_prior_gate, 0.5, 100,

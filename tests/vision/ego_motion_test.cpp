@@ -143,6 +143,57 @@ TEST(EgoMotion, AStillCameraWithNothingMovingSeesNoTranslation) {
     EXPECT_LT(m.translation_px, 0.5);
 }
 
+// A camera on a table or a hovering drone filmed without navdata: the static majority of the
+// points barely moves (a compressed video's still blocks: 0.05 px), while people and hands move
+// 15 % of them by pixels in no common pattern. That is a still camera with moving things in
+// front of it, also right after a flight (the estimator keeps a translation it has seen for a
+// few frames unless the scene says otherwise); ego.still_k off, a camera that was flying stays
+// "translating", and so many moving points are more than the few the rule for stillness allows.
+TEST(EgoMotion, AStillMajorityIsAStillCameraWhateverAFewMovingThingsDo) {
+    for (const double still_k : {0.5, 0.0}) {
+        EgoMotionParams p;
+        p.still_k = still_k;
+        EgoMotionEstimator est;
+        std::vector<cv::Point2f> pred, cur;
+        for (std::uint32_t f = 0; f < 4; ++f) {  // flying toward (320, 180)
+            flow_field(kCam, {320, 180}, {0, 0, 0}, 0.2, 20 + f, pred, cur);
+            ASSERT_EQ(est.estimate(kCam, pred, cur, {}, p).translation,
+                      EgoMotion::Translation::Known);
+        }
+        std::mt19937 rng(5);
+        std::normal_distribution<double> n(0, 0.05), jump(0, 8);
+        std::uniform_real_distribution<double> ux(10, 630), uy(10, 350);
+        int still_frames = 0;
+        for (int f = 0; f < 6; ++f) {
+            pred.clear();
+            cur.clear();
+            std::vector<bool> moving;
+            for (int i = 0; i < 200; ++i) {
+                const cv::Point2f q(static_cast<float>(ux(rng)), static_cast<float>(uy(rng)));
+                const bool m = i % 20 < 3;
+                const double sx = m ? jump(rng) : n(rng), sy = m ? jump(rng) : n(rng);
+                pred.push_back(q);
+                cur.push_back(q + cv::Point2f(static_cast<float>(sx), static_cast<float>(sy)));
+                moving.push_back(m && std::hypot(sx, sy) > 2);
+            }
+            const EgoMotion& m = est.estimate(kCam, pred, cur, {}, p);
+            ASSERT_TRUE(m.valid);
+            if (m.translation != EgoMotion::Translation::None) continue;
+            ++still_frames;
+            EXPECT_LT(cv::norm(m.correction_rad) / kRadPerDeg, 0.02);
+            for (std::size_t i = 0; i < moving.size(); ++i)
+                if (moving[i]) {
+                    EXPECT_TRUE(est.outlier(i)) << i;  // judged as moving by themselves
+                }
+        }
+        if (still_k > 0) {
+            EXPECT_EQ(still_frames, 6);
+        } else {
+            EXPECT_EQ(still_frames, 0);
+        }
+    }
+}
+
 TEST(EgoMotion, AConsistentNavdataRotationIsUsedAWrongOneRejected) {
     // The points were already moved by the navdata rotation (pred); what is left is either small
     // (the navdata was right) or 2 degrees of yaw it missed (a stale sample).
