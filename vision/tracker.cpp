@@ -189,6 +189,20 @@ void TrajectoryTracker::update(const cv::Mat& image, std::int64_t t_ns, double r
         }
         compensate_gain();
     }
+    if (p_.highpass_px > 0) {
+        if (grey_track_.data == image.data) {
+            grey_track_.copyTo(grey_own_);
+            grey_track_ = grey_own_;
+        }
+        const int k = p_.highpass_px | 1;
+        cv::blur(grey_track_, local_mean_, cv::Size(k, k), cv::Point(-1, -1), cv::BORDER_REPLICATE);
+        for (int y = 0; y < grey_track_.rows; ++y) {
+            std::uint8_t* g = grey_track_.ptr<std::uint8_t>(y);
+            const std::uint8_t* m = local_mean_.ptr<std::uint8_t>(y);
+            for (int x = 0; x < grey_track_.cols; ++x)
+                g[x] = cv::saturate_cast<std::uint8_t>(int{g[x]} - int{m[x]} + 128);
+        }
+    }
     timings_.grey_ms = ms_since(t0);
 
     t0 = StageClock::now();

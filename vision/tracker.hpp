@@ -78,6 +78,10 @@ struct TrackerParams {
     // tracker spread over that many frames instead of at once. 0 = off.
     int gain_bands = 0;
     double gain_tau_frames = 30;
+    // Track on the image less its local mean over a box this wide (tracked-image px, odd; 0 =
+    // off): brightness that varies slowly across the image (flicker bands rolling down the rows,
+    // vignetting, a gain step's offset) leaves the texture LK follows, and moves no point.
+    int highpass_px = 0;
     int detect_interval = 2;  // look for new corners every n-th frame (thesis: every frame)
     // Spread the trajectories over a grid of cols x rows cells (0 = off, the thesis): no cell
     // holds more than its share of max_tracks, the newest trajectories of a crowded cell give
@@ -159,6 +163,9 @@ void describe_tracker_params(ParamTable<P>& t) {
              "photometric compensation: bands of rows whose brightness is held steady (0 = off)")
         .add("track.gain_tau_frames", &P::gain_tau_frames, 1, 1000,
              "photometric compensation: frames over which a brightness change is let through")
+        .add("track.highpass_px", &P::highpass_px, 0, 99,
+             "track on the image less its local mean over a box this wide (tracked-image px; "
+             "0 = off)")
         .add("track.detect_interval", &P::detect_interval, 1, 30,
              "look for new corners every n-th frame")
         .add("track.grid_cols", &P::grid_cols, 0, 32,
@@ -277,7 +284,7 @@ private:
     bool have_prev_ = false;
     double now_s_ = 0;
 
-    cv::Mat grey_full_, grey_track_, grey_own_;
+    cv::Mat grey_full_, grey_track_, grey_own_, local_mean_;
     std::vector<double> row_mean_, band_mean_, band_ref_, row_gain_;  // compensate_gain
     std::vector<cv::Mat> pyr_prev_, pyr_cur_;
     std::vector<Trajectory> tracks_;
