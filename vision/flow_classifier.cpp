@@ -44,6 +44,16 @@ const ParamTable<FlowParams>& FlowParams::table() {
                  "corridor: farther to the side than this is not in the way")
             .add("floor_clearance_m", &P::floor_clearance_m, 0, 5,
                  "corridor: lower than this above the floor is the floor (needs altitude)")
+            .add("ground_fit_margin", &P::ground_fit_margin, 0, 10,
+                 "floor from the flow: a point within (1 + this) of the floor's rate at its row "
+                 "is the floor (0 = off)")
+            .add("ground_fit_quantile", &P::ground_fit_quantile, 0.01, 0.99,
+                 "floor from the flow: the floor's slope is this quantile of rate / depth below "
+                 "the horizon")
+            .add("ground_fit_min_dh_px", &P::ground_fit_min_dh_px, 1, 1000,
+                 "floor from the flow: only points this far below the horizon fit it")
+            .add("ground_fit_min_points", &P::ground_fit_min_points, 3, 1000,
+                 "floor from the flow: fewest points for a fit")
             .add("corridor_up_m", &P::corridor_up_m, 0, 20,
                  "corridor: higher than this above the camera is overhead")
             .add("assumed_speed_mps", &P::assumed_speed_mps, 0, 10,
@@ -358,6 +368,7 @@ void FlowClassifier::classify(const FrameInput& in) {
         return;
     }
     rate_points(in);
+    if (p_.ground_fit_margin > 0 && std::isnan(in.altitude_m)) reject_ground();
     // Most of the scene cannot be moving: when more than max_moving_share of the points rated
     // move against the camera motion in use, that motion is wrong (the drone pitching into its
     // first metres while the navdata still reads it as hovering), and their looming says
@@ -419,6 +430,7 @@ void FlowClassifier::classify(const FrameInput& in) {
 void FlowClassifier::rate_points(const FrameInput& in) {
     const auto& tracks = tracker_.tracks();
     class_.assign(tracks.size(), PointClass::Unrated);
+    ground_dh_.assign(tracks.size(), kUnknown);
     for (auto& v : hazard_) v.clear();
     rated_count_.assign(3, 0);
     moving_idx_.clear();
@@ -474,6 +486,11 @@ void FlowClassifier::rate_points(const FrameInput& in) {
         const double d2 = dx * dx + dy * dy;
         if (d2 < min_d2) continue;
         const double dn = std::sqrt(d2);
+        {
+            // Below the horizon through the FOE, level with the roll the tracker uses.
+            const double r = tracker_.roll_deg() * CV_PI / 180.0;
+            ground_dh_[i] = -std::sin(r) * dx + std::cos(r) * dy;
+        }
         // Radial flow about the FOE divided by the distance to it: 1/TTC for a static point, the
         // x and y versions of (dx/dt)/(x - x_foe) combined by least squares.
         double radial = (fx.slope * dx + fy.slope * dy) / dn;
@@ -541,6 +558,38 @@ void FlowClassifier::rate_points(const FrameInput& in) {
         }
         class_[i] = PointClass::Hazard;  // counted in classify, unless its looming says not
     }
+}
+
+void FlowClassifier::reject_ground() {
+    scratch_.clear();
+    for (std::size_t i = 0; i < class_.size(); ++i) {
+        if (class_[i] != PointClass::Hazard && class_[i] != PointClass::Outside) continue;
+        const double dh = ground_dh_[i], rate = track_score_[i];
+        if (dh >= p_.ground_fit_min_dh_px && rate > 0) scratch_.push_back(rate / dh);
+    }
+    if (static_cast<int>(scratch_.size()) < p_.ground_fit_min_points) return;
+    const auto q = static_cast<std::ptrdiff_t>(p_.ground_fit_quantile *
+                                               static_cast<double>(scratch_.size() - 1));
+    std::nth_element(scratch_.begin(), scratch_.begin() + q, scratch_.end());
+    const double k = scratch_[static_cast<std::size_t>(q)] * (1 + p_.ground_fit_margin);
+    // A floor spans the view: points that fit it in at least two of the three regions. An
+    // obstacle ahead over a floor too plain to track is the lowest envelope of its own rates,
+    // and fits no line across the view.
+    std::array<int, 3> fit{};
+    const auto& tracks = tracker_.tracks();
+    for (std::size_t i = 0; i < class_.size(); ++i) {
+        if (class_[i] != PointClass::Hazard && class_[i] != PointClass::Outside) continue;
+        const double dh = ground_dh_[i];
+        if (dh >= p_.ground_fit_min_dh_px && track_score_[i] > 0 && track_score_[i] <= k * dh)
+            ++fit[static_cast<std::size_t>(region_of(tracks[i].at_back(0).stab.x))];
+    }
+    int regions = 0;
+    for (int n : fit) regions += n >= 3 ? 1 : 0;
+    if (regions < 2) return;
+    for (std::size_t i = 0; i < class_.size(); ++i)
+        if (class_[i] == PointClass::Hazard && ground_dh_[i] > 0 &&
+            track_score_[i] <= k * ground_dh_[i])
+            class_[i] = PointClass::Outside;
 }
 
 bool FlowClassifier::fb_missed(const Trajectory& t, std::size_t n) const {

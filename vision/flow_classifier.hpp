@@ -65,6 +65,19 @@ struct FlowParams : TrackerParams {
     double corridor_half_width_m = 0.6;  // drone half-width (0.26 m with the hull) + margin
     double floor_clearance_m = 0.3;      // lower than this above the floor: the floor
     double corridor_up_m = 1.0;          // higher than this above the camera: overhead
+    // The floor from the flow itself (0 = off): flying parallel to the floor, a floor point's
+    // rate grows in proportion to its distance below the horizon through the FOE (rate = V dh /
+    // (f h)), and anything else seen at that row is nearer than the floor there, so rates
+    // faster. The slope is the ground_fit_quantile of rate / dh over the rated points at least
+    // ground_fit_min_dh_px below the horizon (ground_fit_min_points of them); a point at most
+    // (1 + ground_fit_margin) times the floor's rate at its row is taken for the floor, when
+    // at least three points of two regions fit it (a floor spans the view). Needs neither speed
+    // nor altitude; used without the altitude only (with it, floor_clearance_m decides: in
+    // closed loop the fit took the foot of a pillar over a plain floor for the floor).
+    double ground_fit_margin = 0.6;
+    double ground_fit_quantile = 0.25;
+    double ground_fit_min_dh_px = 20;
+    int ground_fit_min_points = 8;
     // Without a navdata velocity the corridor can be placed with an assumed speed (footage whose
     // speed is roughly known; the AR.Drone's indoor flights: 0.5-1.5 m/s). 0, the default: no
     // corridor, every static point judged by its time to contact alone, which misses nothing
@@ -195,6 +208,7 @@ private:
     void rate_moving_points();
     void check_static_looming();
     bool fb_missed(const Trajectory& t, std::size_t n) const;
+    void reject_ground();
     double looming_rate(std::size_t a, bool moving_only, double lo, double hi, double radius);
     struct Aperture {
         bool edge = false;
@@ -230,6 +244,7 @@ private:
     double foe_sigma_px_ = 0;  // standard error of the FOE used
     cv::Matx33d derot_ = cv::Matx33d::eye();
     std::vector<double> ts_, xs_, ys_, hazard_[3];
+    std::vector<double> ground_dh_;  // per track: distance below the horizon through the FOE (px)
     std::vector<int> rated_count_;
     std::vector<PointClass> class_;
     std::vector<cv::Point2f> src_, dst_;

@@ -42,6 +42,13 @@ Flight make_flight(Motion m) {
             // 0.6 m below, from 2 m ahead (the bottom of the view is 1.85 m ahead) to 29 m.
             f.planes.push_back(make_plane({0, 0.6, 15.5}, {1, 0, 0}, {0, 0, 1}, 8, 27, 0.06, 14));
             break;
+        case Motion::FloorObstacle:
+            f.frames = 100;  // 5 m -> 1 m
+            f.planes.push_back(make_plane({0, 0, 30}, {1, 0, 0}, {0, 1, 0}, 44, 26, 0.08, 11));
+            f.planes.push_back(make_plane({0, 0.6, 15.5}, {1, 0, 0}, {0, 0, 1}, 8, 27, 0.06, 14));
+            // Its foot on the floor (0.6 m below the camera), its top 0.9 m above it.
+            f.planes.push_back(make_plane({0, -0.15, 5}, {1, 0, 0}, {0, 1, 0}, 1.2, 1.5, 0.01, 15));
+            break;
         case Motion::Crossing:
             f.frames = 75;
             f.planes.push_back(make_plane({0, 0, 30}, {1, 0, 0}, {0, 1, 0}, 44, 26, 0.08, 11));
@@ -72,6 +79,7 @@ CameraPose Flight::pose_at(int i) const {
         case Motion::Approach:
         case Motion::WidePass:
         case Motion::Floor:
+        case Motion::FloorObstacle:
         case Motion::Crossing:
             p.position = {0, 0, kSpeed * t};
             break;
@@ -87,7 +95,7 @@ CameraPose Flight::pose_at(int i) const {
 
 double Flight::distance_at(int i) const {
     const double z = kSpeed * i / fps;
-    if (motion == Motion::Approach) return 5 - z;
+    if (motion == Motion::Approach || motion == Motion::FloorObstacle) return 5 - z;
     if (motion == Motion::SidePass || motion == Motion::NearPass) return 4 - z;  // wall's near end
     return 8;
 }

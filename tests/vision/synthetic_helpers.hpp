@@ -11,15 +11,16 @@
 namespace gs::vision::test {
 
 enum class Motion {
-    SidePass,  // forward at 1 m/s past a wall 0.6 m to the right, far background
-    NearPass,  // the same, the wall 0.45 m to the right (inside flow's 0.6 m corridor)
-    Approach,  // forward at 1 m/s toward a fronto-parallel wall filling the view
-    Roll,      // hovering, rolling +-10 degrees, far wall
-    Yaw,       // hovering, yawing at 15 degrees/s, far wall
-    WidePass,  // forward at 1 m/s past a wall 1.5 m to the right: beside the corridor
-    Floor,     // forward at 1 m/s, 0.6 m above a textured floor, far wall
-    Crossing,  // forward at 1 m/s, far wall; a person-sized board 7 m ahead walks off the path
-               // to the right at 1.3 m/s
+    SidePass,       // forward at 1 m/s past a wall 0.6 m to the right, far background
+    NearPass,       // the same, the wall 0.45 m to the right (inside flow's 0.6 m corridor)
+    Approach,       // forward at 1 m/s toward a fronto-parallel wall filling the view
+    Roll,           // hovering, rolling +-10 degrees, far wall
+    Yaw,            // hovering, yawing at 15 degrees/s, far wall
+    WidePass,       // forward at 1 m/s past a wall 1.5 m to the right: beside the corridor
+    Floor,          // forward at 1 m/s, 0.6 m above a textured floor, far wall
+    Crossing,       // forward at 1 m/s, far wall; a person-sized board 7 m ahead walks off the path
+                    // to the right at 1.3 m/s
+    FloorObstacle,  // Floor, and a 1.2 m wide, 1.5 m tall board standing on it 5 m ahead
 };
 
 struct FrameRecord {
