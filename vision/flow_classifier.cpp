@@ -47,6 +47,8 @@ const ParamTable<FlowParams>& FlowParams::table() {
             .add("ground_fit_margin", &P::ground_fit_margin, 0, 10,
                  "floor from the flow: a point within (1 + this) of the floor's rate at its row "
                  "is the floor (0 = off)")
+            .add("ground_fit_always", &P::ground_fit_always, 0, 1,
+                 "floor from the flow also when the altitude is known (0: only without it)")
             .add("ground_fit_quantile", &P::ground_fit_quantile, 0.01, 0.99,
                  "floor from the flow: the floor's slope is this quantile of rate / depth below "
                  "the horizon")
@@ -368,7 +370,8 @@ void FlowClassifier::classify(const FrameInput& in) {
         return;
     }
     rate_points(in);
-    if (p_.ground_fit_margin > 0 && std::isnan(in.altitude_m)) reject_ground();
+    if (p_.ground_fit_margin > 0 && (p_.ground_fit_always || std::isnan(in.altitude_m)))
+        reject_ground();
     // Most of the scene cannot be moving: when more than max_moving_share of the points rated
     // move against the camera motion in use, that motion is wrong (the drone pitching into its
     // first metres while the navdata still reads it as hovering), and their looming says

@@ -75,6 +75,7 @@ struct FlowParams : TrackerParams {
     // nor altitude; used without the altitude only (with it, floor_clearance_m decides: in
     // closed loop the fit took the foot of a pillar over a plain floor for the floor).
     double ground_fit_margin = 0.6;
+    bool ground_fit_always = false;  // with the altitude too (measured: README)
     double ground_fit_quantile = 0.25;
     double ground_fit_min_dh_px = 20;
     int ground_fit_min_points = 8;
