@@ -49,6 +49,9 @@ const ParamTable<FlowParams>& FlowParams::table() {
                  "is the floor (0 = off)")
             .add("ground_fit_always", &P::ground_fit_always, 0, 1,
                  "floor from the flow also when the altitude is known (0: only without it)")
+            .add("ground_height_m", &P::ground_height_m, 0, 20,
+                 "without speed or altitude: place the corridor with the floor fit and this "
+                 "height above the floor (0: no corridor)")
             .add("ground_fit_quantile", &P::ground_fit_quantile, 0.01, 0.99,
                  "floor from the flow: the floor's slope is this quantile of rate / depth below "
                  "the horizon")
@@ -434,6 +437,7 @@ void FlowClassifier::rate_points(const FrameInput& in) {
     const auto& tracks = tracker_.tracks();
     class_.assign(tracks.size(), PointClass::Unrated);
     ground_dh_.assign(tracks.size(), kUnknown);
+    ground_dx_.assign(tracks.size(), kUnknown);
     for (auto& v : hazard_) v.clear();
     rated_count_.assign(3, 0);
     moving_idx_.clear();
@@ -493,6 +497,7 @@ void FlowClassifier::rate_points(const FrameInput& in) {
             // Below the horizon through the FOE, level with the roll the tracker uses.
             const double r = tracker_.roll_deg() * CV_PI / 180.0;
             ground_dh_[i] = -std::sin(r) * dx + std::cos(r) * dy;
+            ground_dx_[i] = std::cos(r) * dx + std::sin(r) * dy;
         }
         // Radial flow about the FOE divided by the distance to it: 1/TTC for a static point, the
         // x and y versions of (dx/dt)/(x - x_foe) combined by least squares.
@@ -574,7 +579,8 @@ void FlowClassifier::reject_ground() {
     const auto q = static_cast<std::ptrdiff_t>(p_.ground_fit_quantile *
                                                static_cast<double>(scratch_.size() - 1));
     std::nth_element(scratch_.begin(), scratch_.begin() + q, scratch_.end());
-    const double k = scratch_[static_cast<std::size_t>(q)] * (1 + p_.ground_fit_margin);
+    const double slope = scratch_[static_cast<std::size_t>(q)];
+    const double k = slope * (1 + p_.ground_fit_margin);
     // A floor spans the view: points that fit it in at least two of the three regions. An
     // obstacle ahead over a floor too plain to track is the lowest envelope of its own rates,
     // and fits no line across the view.
@@ -593,6 +599,18 @@ void FlowClassifier::reject_ground() {
         if (class_[i] == PointClass::Hazard && ground_dh_[i] > 0 &&
             track_score_[i] <= k * ground_dh_[i])
             class_[i] = PointClass::Outside;
+    // Without a speed, the floor's slope (V / (f h)) gives the points' places in units of the
+    // height above it: across the path |dx| slope h / rate, above the camera -dh slope h / rate.
+    // With an assumed height no higher than the real one, a point judged beside or above the
+    // corridor is farther still.
+    if (metric_ || !(p_.ground_height_m > 0)) return;
+    for (std::size_t i = 0; i < class_.size(); ++i) {
+        if (class_[i] != PointClass::Hazard || !(track_score_[i] > 0)) continue;
+        const double per_px = slope * p_.ground_height_m / track_score_[i];  // m per px
+        if (std::abs(ground_dx_[i]) * per_px > p_.corridor_half_width_m ||
+            -ground_dh_[i] * per_px > p_.corridor_up_m)
+            class_[i] = PointClass::Outside;
+    }
 }
 
 bool FlowClassifier::fb_missed(const Trajectory& t, std::size_t n) const {

@@ -76,6 +76,9 @@ struct FlowParams : TrackerParams {
     // closed loop the fit took the foot of a pillar over a plain floor for the floor).
     double ground_fit_margin = 0.6;
     bool ground_fit_always = false;  // with the altitude too (measured: README)
+    // Without speed or altitude, the corridor from the floor fit's slope and this height above
+    // the floor, a lower bound of the real one (0 = no corridor without a speed).
+    double ground_height_m = 0.5;
     double ground_fit_quantile = 0.25;
     double ground_fit_min_dh_px = 20;
     int ground_fit_min_points = 8;
@@ -245,7 +248,8 @@ private:
     double foe_sigma_px_ = 0;  // standard error of the FOE used
     cv::Matx33d derot_ = cv::Matx33d::eye();
     std::vector<double> ts_, xs_, ys_, hazard_[3];
-    std::vector<double> ground_dh_;  // per track: distance below the horizon through the FOE (px)
+    std::vector<double> ground_dh_,
+        ground_dx_;  // per track: distance below the horizon through the FOE (px)
     std::vector<int> rated_count_;
     std::vector<PointClass> class_;
     std::vector<cv::Point2f> src_, dst_;

@@ -42,6 +42,12 @@ Flight make_flight(Motion m) {
             // 0.6 m below, from 2 m ahead (the bottom of the view is 1.85 m ahead) to 29 m.
             f.planes.push_back(make_plane({0, 0.6, 15.5}, {1, 0, 0}, {0, 0, 1}, 8, 27, 0.06, 14));
             break;
+        case Motion::FloorWidePass:
+            f.frames = 75;
+            f.planes.push_back(make_plane({0, 0, 30}, {1, 0, 0}, {0, 1, 0}, 44, 26, 0.08, 11));
+            f.planes.push_back(make_plane({0, 0.6, 15.5}, {1, 0, 0}, {0, 0, 1}, 8, 27, 0.06, 14));
+            f.planes.push_back(make_plane({1.5, -0.9, 10}, {0, 0, 1}, {0, 1, 0}, 12, 3, 0.02, 13));
+            break;
         case Motion::FloorObstacle:
             f.frames = 100;  // 5 m -> 1 m
             f.planes.push_back(make_plane({0, 0, 30}, {1, 0, 0}, {0, 1, 0}, 44, 26, 0.08, 11));
@@ -80,6 +86,7 @@ CameraPose Flight::pose_at(int i) const {
         case Motion::WidePass:
         case Motion::Floor:
         case Motion::FloorObstacle:
+        case Motion::FloorWidePass:
         case Motion::Crossing:
             p.position = {0, 0, kSpeed * t};
             break;

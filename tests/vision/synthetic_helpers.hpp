@@ -21,6 +21,7 @@ enum class Motion {
     Crossing,       // forward at 1 m/s, far wall; a person-sized board 7 m ahead walks off the path
                     // to the right at 1.3 m/s
     FloorObstacle,  // Floor, and a 1.2 m wide, 1.5 m tall board standing on it 5 m ahead
+    FloorWidePass,  // Floor, and WidePass's wall 1.5 m to the right standing on it
 };
 
 struct FrameRecord {
