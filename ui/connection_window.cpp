@@ -181,11 +181,12 @@ void KeysWindow::draw(ViewState& v) {
         "Gamepad (mode 2): left stick yaw / climb, right stick roll / pitch, "
         "A take off, B land, Back EMERGENCY, X flat trim, Y camera, Start record. "
         "A held key overrides the stick on its axis.");
-    ImGui::TextColored(colors::v4(colors::kDim),
-                       "F1 toggles this window, F2 the flight / engineering layout. Escape closes "
-                       "menus and dialogs and does nothing to the drone. Ctrl+Q quits (asks to "
-                       "land first when flying).");
-    v.layout.keys_clipped = ImGui::GetScrollMaxY() > 0.0f;
+    ImGui::PushStyleColor(ImGuiCol_Text, colors::v4(colors::kDim));
+    ImGui::TextWrapped(
+        "F1 toggles this window, F2 the flight / engineering layout. Escape closes menus and "
+        "dialogs and does nothing to the drone. Ctrl+Q quits (asks to land first when flying).");
+    ImGui::PopStyleColor();
+    v.layout.keys_clipped = ImGui::GetScrollMaxY() > 0.0f || ImGui::GetScrollMaxX() > 0.0f;
     ImGui::End();
 }
 

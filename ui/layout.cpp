@@ -76,7 +76,7 @@ Rect default_window_rect(const char* w, ImVec2 d, LayoutMode mode) {
     // the video, the connection and the replay controls in view.
     if (n == "Calibration") return {L, row3_top, W, H};
     // Helper windows float over the video, sized for their content, inside the viewport.
-    const float cw = std::min(W - 40.0f, fs * 34.0f);
+    const float cw = std::min(W - 40.0f, fs * 40.0f);
     const float ch = std::min(H - top - 20.0f, fs * 33.0f);
     if (n == "Keys" || n == "Drone settings" || n == "Messages")
         return {std::round((W - cw) * 0.5f), top + 10.0f, std::round((W + cw) * 0.5f),

@@ -214,7 +214,10 @@ void StatusBar::draw(const GuiSnapshot& s, ViewState& v, Actions& a) {
         }
     }
 
-    auto fits = [&](float w) { return ImGui::GetCursorPosX() + sp * 2 + w < x_right; };
+    // Where the last field ends (window coordinates): after an item ImGui's cursor sits at the
+    // start of the next line until SameLine, so GetCursorPosX() would say there is always room.
+    auto line_end = [] { return ImGui::GetItemRectMax().x - ImGui::GetWindowPos().x; };
+    auto fits = [&](float w) { return line_end() + sp * 2 + w < x_right; };
     // Battery.
     const Telemetry& t = s.telemetry;
     const double bat = t.valid ? t.nav.battery_pct : kUnknown;
@@ -297,7 +300,7 @@ void StatusBar::draw(const GuiSnapshot& s, ViewState& v, Actions& a) {
             if (ImGui::IsItemHovered())
                 ImGui::SetTooltip("recording to %s", s.recording.path.c_str());
             // The dataset path, cut to the room left.
-            const float room = x_right - ImGui::GetCursorPosX() - sp * 4;
+            const float room = x_right - line_end() - sp * 4;
             std::string path = s.recording.path;
             if (room > fs * 4) {
                 while (path.size() > 4 && ImGui::CalcTextSize(path.c_str()).x > room)
@@ -307,7 +310,14 @@ void StatusBar::draw(const GuiSnapshot& s, ViewState& v, Actions& a) {
             }
         }
     }
-    (void)x0;
+    {
+        // The left block as drawn (screen coordinates), for the layout checks: it must end
+        // before the flight buttons begin.
+        const ImVec2 w = ImGui::GetWindowPos();
+        v.layout.labels.push_back({"status.left",
+                                   {w.x + x0, ImGui::GetItemRectMin().y, ImGui::GetItemRectMax().x,
+                                    ImGui::GetItemRectMax().y}});
+    }
 
     // ---- The flight buttons -----------------------------------------------------------------
     ImGui::SameLine(std::max(x_right + fs, ImGui::GetCursorPosX() + sp));

@@ -191,6 +191,37 @@ TEST_F(CockpitLayout, FlightLayoutFillsTheWindowWithVideoAndPersists) {
     EXPECT_TRUE(drawn(gui, "Telemetry"));
 }
 
+// The status bar drops fields from the end of its left block when narrow, so that none runs
+// under the flight buttons. Its room check read the cursor after an item, which ImGui puts at
+// the start of the next line, so every field "fitted": the window at 1024x600 drew the video
+// field over "Take off" (looked at under Xvfb), and with this test's smaller font the left block
+// ran to x = 610 under buttons from x = 457 at 800x600.
+TEST_F(CockpitLayout, TheStatusBarNeverRunsUnderTheFlightButtons) {
+    for (const Size size : {Size{800, 600}, Size{1024, 600}, Size{1280, 720}, Size{1600, 900}}) {
+        restart(size);
+        Gui gui;
+        GuiSnapshot s;
+        make_demo_snapshot(s, 1);
+        s.recording.active = true;
+        s.recording.duration_s = 754;
+        s.recording.path = "/home/pilot/ardrone-gs/flights/2026-12-04_21-50-07";
+        for (int f = 0; f < 3; ++f) frame(gui, s);
+        const LayoutReport& l = gui.view().layout;
+        const Rect* left = nullptr;
+        for (const auto& [n, r] : l.labels)
+            if (n == "status.left") left = &r;
+        ASSERT_NE(left, nullptr) << size.w;
+        int buttons = 0;
+        for (const auto& [n, r] : l.buttons) {
+            if (n.rfind("flight.", 0) != 0) continue;
+            ++buttons;
+            EXPECT_LE(left->x1, r.x0) << n << " at " << size.w << "x" << size.h << ": "
+                                      << str(*left) << " against " << str(r);
+        }
+        EXPECT_EQ(buttons, 3) << size.w;
+    }
+}
+
 // Point 10: readable at 1280x720.
 TEST_F(CockpitLayout, ReadableAt1280x720) {
     restart({1280, 720});
