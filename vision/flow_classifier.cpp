@@ -448,6 +448,9 @@ void FlowClassifier::rate_points(const FrameInput& in) {
     // larger of the fixed margin and foe_sigma_k standard errors of where it is.
     const double min_d = std::max(p_.min_foe_distance_px, p_.foe_sigma_k * foe_sigma_px_);
     const double min_d2 = min_d * min_d;
+    // The horizon through the FOE, level with the roll the tracker uses (the floor fit).
+    const double roll = tracker_.roll_deg() * CV_PI / 180.0;
+    const double cos_r = std::cos(roll), sin_r = std::sin(roll);
     const cv::Matx33d level = level_from_camera(in.attitude.roll_deg, in.attitude.pitch_deg);
     const double floor_down = in.altitude_m - p_.floor_clearance_m;  // NaN: no floor test
     for (std::size_t i = 0; i < tracks.size(); ++i) {
@@ -493,12 +496,8 @@ void FlowClassifier::rate_points(const FrameInput& in) {
         const double d2 = dx * dx + dy * dy;
         if (d2 < min_d2) continue;
         const double dn = std::sqrt(d2);
-        {
-            // Below the horizon through the FOE, level with the roll the tracker uses.
-            const double r = tracker_.roll_deg() * CV_PI / 180.0;
-            ground_dh_[i] = -std::sin(r) * dx + std::cos(r) * dy;
-            ground_dx_[i] = std::cos(r) * dx + std::sin(r) * dy;
-        }
+        ground_dh_[i] = -sin_r * dx + cos_r * dy;
+        ground_dx_[i] = cos_r * dx + sin_r * dy;
         // Radial flow about the FOE divided by the distance to it: 1/TTC for a static point, the
         // x and y versions of (dx/dt)/(x - x_foe) combined by least squares.
         double radial = (fx.slope * dx + fy.slope * dy) / dn;
@@ -569,12 +568,14 @@ void FlowClassifier::rate_points(const FrameInput& in) {
 }
 
 void FlowClassifier::reject_ground() {
+    // The points the fit reads: rated static ones, far enough below the horizon.
+    auto below = [&](std::size_t i) {
+        return (class_[i] == PointClass::Hazard || class_[i] == PointClass::Outside) &&
+               ground_dh_[i] >= p_.ground_fit_min_dh_px && track_score_[i] > 0;
+    };
     scratch_.clear();
-    for (std::size_t i = 0; i < class_.size(); ++i) {
-        if (class_[i] != PointClass::Hazard && class_[i] != PointClass::Outside) continue;
-        const double dh = ground_dh_[i], rate = track_score_[i];
-        if (dh >= p_.ground_fit_min_dh_px && rate > 0) scratch_.push_back(rate / dh);
-    }
+    for (std::size_t i = 0; i < class_.size(); ++i)
+        if (below(i)) scratch_.push_back(track_score_[i] / ground_dh_[i]);
     if (static_cast<int>(scratch_.size()) < p_.ground_fit_min_points) return;
     const auto q = static_cast<std::ptrdiff_t>(p_.ground_fit_quantile *
                                                static_cast<double>(scratch_.size() - 1));
@@ -586,12 +587,9 @@ void FlowClassifier::reject_ground() {
     // and fits no line across the view.
     std::array<int, 3> fit{};
     const auto& tracks = tracker_.tracks();
-    for (std::size_t i = 0; i < class_.size(); ++i) {
-        if (class_[i] != PointClass::Hazard && class_[i] != PointClass::Outside) continue;
-        const double dh = ground_dh_[i];
-        if (dh >= p_.ground_fit_min_dh_px && track_score_[i] > 0 && track_score_[i] <= k * dh)
+    for (std::size_t i = 0; i < class_.size(); ++i)
+        if (below(i) && track_score_[i] <= k * ground_dh_[i])
             ++fit[static_cast<std::size_t>(region_of(tracks[i].at_back(0).stab.x))];
-    }
     int regions = 0;
     for (int n : fit) regions += n >= 3 ? 1 : 0;
     if (regions < 2) return;

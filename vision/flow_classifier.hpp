@@ -73,7 +73,7 @@ struct FlowParams : TrackerParams {
     // (1 + ground_fit_margin) times the floor's rate at its row is taken for the floor, when
     // at least three points of two regions fit it (a floor spans the view). Needs neither speed
     // nor altitude; used without the altitude only (with it, floor_clearance_m decides: in
-    // closed loop the fit took the foot of a pillar over a plain floor for the floor).
+    // closed loop the fit delayed the brake before a pillar, README).
     double ground_fit_margin = 0.6;
     bool ground_fit_always = false;  // with the altitude too (measured: README)
     // Without speed or altitude, the corridor from the floor fit's slope and this height above
@@ -248,8 +248,8 @@ private:
     double foe_sigma_px_ = 0;  // standard error of the FOE used
     cv::Matx33d derot_ = cv::Matx33d::eye();
     std::vector<double> ts_, xs_, ys_, hazard_[3];
-    std::vector<double> ground_dh_,
-        ground_dx_;  // per track: distance below the horizon through the FOE (px)
+    // Per track, from the FOE in the level frame (px): below the horizon, and across.
+    std::vector<double> ground_dh_, ground_dx_;
     std::vector<int> rated_count_;
     std::vector<PointClass> class_;
     std::vector<cv::Point2f> src_, dst_;

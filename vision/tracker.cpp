@@ -83,6 +83,13 @@ void TrajectoryTracker::compensate_gain() {
         band_ref_[std::size_t(b)] += a * (band_mean_[std::size_t(b)] - band_ref_[std::size_t(b)]);
 }
 
+void TrajectoryTracker::own_grey_track(const cv::Mat& image) {
+    if (grey_track_.data == image.data) {
+        grey_track_.copyTo(grey_own_);  // never change the caller's image
+        grey_track_ = grey_own_;
+    }
+}
+
 void TrajectoryTracker::reset() {
     tracks_.clear();
     prev_pts_.clear();
@@ -183,17 +190,11 @@ void TrajectoryTracker::update(const cv::Mat& image, std::int64_t t_ns, double r
         grey_track_ = *grey;  // header only
     }
     if (p_.gain_bands > 0) {
-        if (grey_track_.data == image.data) {
-            grey_track_.copyTo(grey_own_);  // never change the caller's image
-            grey_track_ = grey_own_;
-        }
+        own_grey_track(image);
         compensate_gain();
     }
     if (p_.highpass_px > 0) {
-        if (grey_track_.data == image.data) {
-            grey_track_.copyTo(grey_own_);
-            grey_track_ = grey_own_;
-        }
+        own_grey_track(image);
         const int k = p_.highpass_px | 1;
         cv::blur(grey_track_, local_mean_, cv::Size(k, k), cv::Point(-1, -1), cv::BORDER_REPLICATE);
         for (int y = 0; y < grey_track_.rows; ++y) {

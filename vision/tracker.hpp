@@ -273,6 +273,7 @@ private:
     int cell_quota() const;
     void balance_grid();
     void compensate_gain();
+    void own_grey_track(const cv::Mat& image);  // before changing grey_track_ in place
 
     CameraCalibration calib_;
     TrackerParams p_;
