@@ -160,7 +160,7 @@ private:
 struct RateErrorParams {
     double bias_sigma_dps = 0.5;
     double bias_tau_s = 10;
-    double scale_sigma = 0.2;
+    double scale_sigma = 0.03;  // a MEMS gyro's (TrackerParams::ego_scale_sigma)
     double scale_walk = 0.01;
     bool operator==(const RateErrorParams&) const = default;
 };
