@@ -93,6 +93,19 @@ const ParamTable<FlowParams>& FlowParams::table() {
                  "a side point that must be borne out looks this far for like-rated neighbours")
             .add("loom_confirm_sides", &P::loom_confirm_sides, 0, 1,
                  "flying forward, a side point counts only when its neighbours bear its rate out")
+            .add("history_check", &P::history_check, 0, 1,
+                 "a point that sat nearer the FOE than this share of where its rate puts a "
+                 "static point in its past is moving (0: off)")
+            .add("history_min_s", &P::history_min_s, 0.05, 2,
+                 "history check: only for a past this far before the rate's window")
+            .add("history_noise_px", &P::history_noise_px, 0, 100,
+                 "history check: a past position this much nearer the FOE is still static")
+            .add("history_slow", &P::history_slow, 0, 1,
+                 "history check: a point that covered less than this share of the way a static "
+                 "point with its rate would have since a past position is not rated (0: off)")
+            .add("fb_static", &P::fb_static, 0, 1,
+                 "with track.fb_max_px: a point that missed is not rated as static (0: misses "
+                 "only keep points out of a moving object's looming)")
             .add("moving_frames", &P::moving_frames, 1, 30,
                  "a point is moving after this many frames off the camera's motion")
             .add("side_inv_ttc_threshold", &P::side_inv_ttc_threshold, 0, 20,
@@ -164,6 +177,8 @@ void FlowClassifier::on_reset() {
     foe_source_ = FoeSource::None;
     nav_moving_ = false;
     nav_slow_ = false;
+    odometer_.clear();
+    last_speed_ = kUnknown;
     streak_ = {};
     rejections_ = 0;
     derot_ = cv::Matx33d::eye();
@@ -181,6 +196,20 @@ void FlowClassifier::prepare(const FrameInput& in, EgoPrior& prior) {
     nav_moving_ = false;
     nav_slow_ = false;
     nav_speed_ = kUnknown;
+    // The distance flown, for check_history: the trapezoid between this sample and the last.
+    const double t_s = static_cast<double>(in.t_ns) * 1e-9;
+    const double sp = have_v ? std::sqrt(in.vx_mps * in.vx_mps + in.vy_mps * in.vy_mps +
+                                         (std::isnan(in.vz_mps) ? 0.0 : in.vz_mps * in.vz_mps))
+                             : kUnknown;
+    if (odometer_.empty() || !(t_s > odometer_.back().t_s) || std::isnan(sp) ||
+        std::isnan(last_speed_)) {
+        odometer_.clear();  // a gap in the speed, or time not moving on: start again
+        if (!std::isnan(sp)) odometer_.push({t_s, 0.0});
+    } else {
+        odometer_.push(
+            {t_s, odometer_.back().s_m + 0.5 * (sp + last_speed_) * (t_s - odometer_.back().t_s)});
+    }
+    last_speed_ = sp;
     if (!have_v) {
         level_velocity_.clear();
         return;
@@ -392,6 +421,7 @@ void FlowClassifier::classify(const FrameInput& in) {
         return;
     }
     if (p_.looming) {
+        check_history();
         check_static_looming();
         rate_moving_points();
     }
@@ -438,6 +468,7 @@ void FlowClassifier::rate_points(const FrameInput& in) {
     class_.assign(tracks.size(), PointClass::Unrated);
     ground_dh_.assign(tracks.size(), kUnknown);
     ground_dx_.assign(tracks.size(), kUnknown);
+    past_.assign(tracks.size(), Past{kUnknown, kUnknown, kUnknown, 0, 0, 0, 0});
     for (auto& v : hazard_) v.clear();
     rated_count_.assign(3, 0);
     moving_idx_.clear();
@@ -517,6 +548,23 @@ void FlowClassifier::rate_points(const FrameInput& in) {
             tangential = 0;  // not measured
         }
         const double rate_then = radial / dn;
+        {
+            // Where it was, for check_history: along the direction its flow is measured in (the
+            // edge's normal on an edge), its translation-only path taken back from then.
+            double ux = dx / dn, uy = dy / dn;
+            if (ap.edge) {
+                const double sgn = ap.cos < 0 ? -1.0 : 1.0;
+                ux = sgn * ap.nx;
+                uy = sgn * ap.ny;
+            }
+            past_[i] = {t0 - lag,
+                        rate_then,
+                        dx * ux + dy * uy,
+                        ux,
+                        uy,
+                        fx.intercept - fx.slope * lag,
+                        fy.intercept - fy.slope * lag};
+        }
         // Time to contact now is `lag` less than it was then.
         const double ttc_now = 1.0 / rate_then - lag;
         const double rate = !(rate_then > 0) ? rate_then : ttc_now > 0.01 ? 1.0 / ttc_now : 100.0;
@@ -524,7 +572,7 @@ void FlowClassifier::rate_points(const FrameInput& in) {
         // came from in a frame of the fit window is not rated as a static point: its flow may be
         // a slip along a repeating pattern (a tiled floor) or an occluding edge dragging it (a
         // person walking past), not the scene's.
-        const bool fb_miss = nav_moving_ && fb_missed(t, n);
+        const bool fb_miss = p_.fb_static && nav_moving_ && fb_missed(t, n);
         if (fb_miss && !off_motion) continue;
         ++rated_count_[ri];
         track_score_[i] = rate;
@@ -630,9 +678,15 @@ double FlowClassifier::looming_rate(std::size_t a, bool moving_only, double lo, 
     const double min2 = p_.loom_min_spread_px * p_.loom_min_spread_px;
     const Trajectory& ta = tracks[a];
     loom_.clear();
+    // Flying forward, a moving object's points that LK could not track back (dragged along its
+    // outline over the background streaming past) do not move with it. Not before a still
+    // camera: there a hand opening as it reaches toward the lens misses too, and is all there is.
+    const bool fb_out = moving_only && nav_moving_;
+    if (fb_out && fb_missed(ta, std::min(win, ta.history_size()))) return kUnknown;
     const auto consider = [&](std::size_t b) {
         if (a == b) return;
         const Trajectory& tb = tracks[b];
+        if (fb_out && fb_missed(tb, std::min(win, tb.history_size()))) return;
         const cv::Point2f d_now = ta.at_back(0).derot - tb.at_back(0).derot;
         const double n2 = static_cast<double>(d_now.dot(d_now));
         if (n2 > r2max || n2 < min2) return;
@@ -663,6 +717,77 @@ double FlowClassifier::looming_rate(std::size_t a, bool moving_only, double lo, 
     }
     if (static_cast<int>(loom_.size()) < p_.loom_min_neighbours) return kUnknown;
     return median_inplace(loom_);
+}
+
+double FlowClassifier::distance_flown(double from_s, double to_s) const {
+    // Linear between the samples (binary search: the samples' times rise); NaN when the odometer
+    // does not cover the span.
+    const std::size_t n = odometer_.size();
+    if (n < 2 || from_s < odometer_[0].t_s - 1e-6 || to_s > odometer_.back().t_s + 1e-6)
+        return kUnknown;
+    const auto at = [this, n](double t) {
+        std::size_t lo = 1, hi = n - 1;  // the first sample at or after t, at least the second
+        while (lo < hi) {
+            const std::size_t mid = (lo + hi) / 2;
+            if (odometer_[mid].t_s < t)
+                lo = mid + 1;
+            else
+                hi = mid;
+        }
+        const Odometer& a = odometer_[lo - 1];
+        const Odometer& b = odometer_[lo];
+        const double w = std::clamp((t - a.t_s) / (b.t_s - a.t_s), 0.0, 1.0);
+        return a.s_m + w * (b.s_m - a.s_m);
+    };
+    return at(to_s) - at(from_s);
+}
+
+void FlowClassifier::check_history() {
+    // A static point nears the camera at the drone's speed: its depth dt ago was its depth now
+    // (speed / rate) plus the distance flown since, and it sat that much nearer the FOE. A point
+    // walking outward (a person leaving the path) reads as a near static point by its rate, but
+    // a near static point comes from close by the FOE only in its last moments: its past lies
+    // far nearer the FOE than such a point's would. Judged by its looming, it is not
+    // approaching.
+    if (!(p_.history_check > 0)) return;
+    const auto& tracks = tracker_.tracks();
+    const bool by_distance = nav_speed_ > p_.min_speed_mps;
+    for (std::size_t i = 0; i < class_.size(); ++i) {
+        if (class_[i] != PointClass::Hazard) continue;
+        const Past& p = past_[i];
+        const Trajectory& t = tracks[i];
+        // Every kept past position at least history_min_s before the rate's time, newest first.
+        bool moved = false, slow = false;
+        for (std::size_t back = 0; back < t.history_size() && !moved; ++back) {
+            const TrackPoint& q = t.at_back(back);
+            const double dt = p.t_s - q.t_s;
+            if (dt < p_.history_min_s) continue;
+            // Depth then over depth now = 1 + rate * (distance flown / speed).
+            const double flown = by_distance ? distance_flown(q.t_s, p.t_s) : kUnknown;
+            const double dt_eff = std::isnan(flown) ? dt : flown / nav_speed_;
+            const double predicted = p.a / (1.0 + p.rate * dt_eff);
+            const double was = p.a + (static_cast<double>(q.derot.x) - p.derot_x) * p.ux +
+                               (static_cast<double>(q.derot.y) - p.derot_y) * p.uy;
+            moved = was < p_.history_check * predicted - p_.history_noise_px;
+            // Covered a small share of the way a static point with its rate would have: it sat
+            // nearly still, and its rate is a slip or a jump (an occluding edge dragged it).
+            // Only with the distance flown known: a camera that sped up from rest sees its
+            // static points sit still and then move too.
+            if (p_.history_slow > 0 && !std::isnan(flown) &&
+                p.a - predicted > 4 * p_.history_noise_px &&
+                p.a - was < p_.history_slow * (p.a - predicted)) {
+                slow = true;
+                break;
+            }
+        }
+        if (slow) {
+            class_[i] = PointClass::Inconsistent;
+        } else if (moved) {
+            class_[i] = PointClass::Moving;
+            track_score_[i] = kUnknown;
+            moving_idx_.push_back(i);
+        }
+    }
 }
 
 void FlowClassifier::check_static_looming() {

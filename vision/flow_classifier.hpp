@@ -13,11 +13,15 @@
 //    (Z = forward speed x TTC), hence where it is: only points inside the flight corridor
 //    (beside the drone by less than corridor_half_width_m, above the floor, not far overhead) can
 //    be obstacles, so the floor and side walls do not raise alarms however fast they stream by;
-//  - optionally (track.fb_max_px, off by default), flying forward, a point that Lucas-Kanade
-//    could not track back to where it came from in a frame of its fit window is not rated as
-//    a static point: its flow may be a slip along a repeating pattern (a tiled floor) or an
-//    occluding edge dragging it (a person walking past). It also drops a near surface seen at
-//    a grazing angle, whose patches LK follows less exactly (README, Realism suite);
+//  - a static point's rate also sets its past (check_history): a point that came from nearer
+//    the focus of expansion than a static point with that rate could have (a person walking
+//    off the path) is moving, and one that sat still far longer (dragged by an occluding edge)
+//    is not rated;
+//  - a point that Lucas-Kanade could not track back to where it came from (track.fb_max_px)
+//    says nothing of a moving object's looming; optionally (fb_static), flying forward, nor of
+//    a static point's rate: its flow may be a slip along a repeating pattern (a tiled floor).
+//    That also drops a near surface seen at a grazing angle, whose patches LK follows less
+//    exactly, so it is off by default (README, Realism suite);
 //  - points that do not move with the scene (a hand, a person walking toward the drone) are
 //    judged by their own looming: the rate at which the distances to their neighbours on the same
 //    object grow, a time to contact that needs no FOE;
@@ -37,6 +41,9 @@ struct FlowParams : TrackerParams {
     FlowParams() {
         grid_cols = 4;  // trajectories spread over 4 x 3 cells: every part of the view is watched
         grid_rows = 3;
+        // Measured for every point; misses keep points dragged along an outline (a person's)
+        // out of a moving object's looming (fb_static).
+        fb_max_px = 0.5;
         // track.gain_bands (photometric compensation) stays off: on the realism suite's seed-2026
         // open-space flights 32 bands cut the false alarms from 6 of 9 to 1 of 9, but on the
         // real clips (tests/app/real_clips_test.cpp) it misses two hand approaches and flags
@@ -128,6 +135,26 @@ struct FlowParams : TrackerParams {
     // Flying forward (navdata), a side point counts only when its neighbours bear it out
     // (check_static_looming); elsewhere, or without them, it counts unconfirmed.
     bool loom_confirm_sides = true;
+    // A static point's past is set by its rate: its depth then was its depth now plus the
+    // distance flown since, so dt ago it sat 1 + rate * dt_eff times nearer the FOE (dt_eff: the
+    // distance flown over the current speed; dt itself without a navdata speed). Each kept past
+    // position at least history_min_s before the rate's time is compared with that
+    // (check_history):
+    //  - nearer the FOE than history_check of it, less history_noise_px: the point moved outward
+    //    on its own (a person walking off the path, whose outward flow reads as a near static
+    //    point's): it is moving, judged by its looming. 0: off;
+    //  - having covered less than history_slow of the way such a point would have since (that
+    //    way at least 4 noise widths): it sat nearly still, and its rate is a slip or a jump (a
+    //    point an occluding edge dragged): not rated. 0: off.
+    double history_check = 0.95;
+    double history_min_s = 0.3;
+    double history_noise_px = 1.5;
+    double history_slow = 0.4;
+    // With track.fb_max_px set (0.5 here): true, flying forward, a point that missed is not
+    // rated as static; false, misses only keep points out of a moving object's looming. A
+    // static miss also drops near surfaces LK follows less exactly (a wall seen at a grazing
+    // angle, a plain target's specks as it nears: README, Realism suite).
+    bool fb_static = false;
     int moving_frames = 2;  // a point is moving after this many frames off the camera's motion
     double side_inv_ttc_threshold = 0.3;  // 1/s: unsafe when time to contact < 3.3 s
     int side_min_support = 4;             // region score = k-th largest point rate
@@ -211,6 +238,8 @@ private:
     void rate_points(const FrameInput& in);
     void rate_moving_points();
     void check_static_looming();
+    void check_history();
+    double distance_flown(double from_s, double to_s) const;
     bool fb_missed(const Trajectory& t, std::size_t n) const;
     void reject_ground();
     double looming_rate(std::size_t a, bool moving_only, double lo, double hi, double radius);
@@ -250,6 +279,20 @@ private:
     std::vector<double> ts_, xs_, ys_, hazard_[3];
     // Per track, from the FOE in the level frame (px): below the horizon, and across.
     std::vector<double> ground_dh_, ground_dx_;
+    // Per track, for check_history: the rate's reference time (s) and its rate then (1/s), the
+    // point's distance from the FOE along the direction its flow is measured in (u) then (px),
+    // and its translation-only (derot) position then.
+    struct Past {
+        double t_s, rate, a, ux, uy, derot_x, derot_y;
+    };
+    std::vector<Past> past_;
+    // Distance flown (navdata speed integrated, m) by capture time; NaN while the speed was
+    // unknown.
+    struct Odometer {
+        double t_s, s_m;
+    };
+    RingBuffer<Odometer> odometer_{Trajectory::kHistory + 1};
+    double last_speed_ = kUnknown;  // the last frame's navdata speed (m/s), for the odometer
     std::vector<int> rated_count_;
     std::vector<PointClass> class_;
     std::vector<cv::Point2f> src_, dst_;

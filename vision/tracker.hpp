@@ -156,8 +156,9 @@ void describe_tracker_params(ParamTable<P>& t) {
         .add("track.lk_iterations", &P::lk_iterations, 1, 100, "Lucas-Kanade iterations per level")
         .add("track.lk_epsilon", &P::lk_epsilon, 1e-4, 1, "Lucas-Kanade convergence (px)")
         .add("track.fb_max_px", &P::fb_max_px, 0, 100,
-             "forward-backward check: flying forward, flow does not rate a point as static when "
-             "tracked back it missed its start by more than this (px) in its fit window (0: off)")
+             "forward-backward check: a point that, tracked back, missed its start by more than "
+             "this (px) in its fit window is left out of a moving object's looming (and, with "
+             "fb_static, not rated as static flying forward; 0: not measured)")
         .add("track.lk_min_eig", &P::lk_min_eig, 0, 0.1,
              "Lucas-Kanade: drop points with a weaker gradient matrix")
         .add("track.track_scale", &P::track_scale, 0.25, 1, "track on an image resized by this",
