@@ -24,6 +24,15 @@ Expected<std::vector<std::uint8_t>, FileError> read_binary(const std::filesystem
     return std::vector<std::uint8_t>(text.begin(), text.end());
 }
 
+// The warning for a binary file of records that ends inside record `index` (at byte `at`: `have`
+// of its `need` bytes are there).
+std::string cut_record_warning(const std::string& name, std::size_t index, std::size_t at,
+                               std::size_t have, std::size_t need) {
+    return name + ": incomplete last record (record " + std::to_string(index) + " at byte " +
+           std::to_string(at) + ": " + std::to_string(have) + " of " + std::to_string(need) +
+           " bytes) ignored: the recording was cut short";
+}
+
 }  // namespace
 
 void append_raw_record(std::string& out, std::int64_t t_us, std::span<const std::uint8_t> payload) {
@@ -60,13 +69,21 @@ void append_at_line(std::string& out, std::int64_t t_us, std::string_view datagr
 }
 
 Expected<RawReadResult, FileError> parse_navdata_bin(std::span<const std::uint8_t> bytes,
-                                                     const std::string& name) {
+                                                     const std::string& name,
+                                                     std::vector<std::string>* warnings) {
     RawReadResult r;
     std::size_t pos = 0;
     std::int64_t prev = 0;
+    // The file ends inside the record at `pos` (docs/dataset.md 1.1: a cut recording).
+    auto cut = [&](std::size_t record_bytes) {
+        r.truncated_tail = true;
+        if (warnings)
+            warnings->push_back(
+                cut_record_warning(name, r.records.size(), pos, bytes.size() - pos, record_bytes));
+    };
     while (pos < bytes.size()) {
         if (bytes.size() - pos < 12) {
-            r.truncated_tail = true;
+            cut(12);
             break;
         }
         const auto t = static_cast<std::int64_t>(get_le(bytes.data() + pos, 8));
@@ -82,7 +99,7 @@ Expected<RawReadResult, FileError> parse_navdata_bin(std::span<const std::uint8_
                                         "record " + std::to_string(r.records.size()) + " at byte " +
                                             std::to_string(pos) + ": time goes backwards"});
         if (bytes.size() - pos - 12 < len) {
-            r.truncated_tail = true;
+            cut(12 + std::size_t{len});
             break;
         }
         prev = t;
@@ -95,10 +112,12 @@ Expected<RawReadResult, FileError> parse_navdata_bin(std::span<const std::uint8_
 }
 
 Expected<std::vector<RawChunk>, FileError> parse_video_chunks(std::span<const std::uint8_t> bytes,
-                                                              const std::string& name) {
+                                                              const std::string& name,
+                                                              std::vector<std::string>* warnings) {
     std::vector<RawChunk> out;
     std::uint64_t offset = 0;
-    for (std::size_t pos = 0; pos + 12 <= bytes.size(); pos += 12) {
+    std::size_t pos = 0;
+    for (; pos + 12 <= bytes.size(); pos += 12) {
         RawChunk c;
         c.t_us = static_cast<std::int64_t>(get_le(bytes.data() + pos, 8));
         c.length = static_cast<std::uint32_t>(get_le(bytes.data() + pos + 8, 4));
@@ -110,17 +129,26 @@ Expected<std::vector<RawChunk>, FileError> parse_video_chunks(std::span<const st
         offset += c.length;
         out.push_back(c);
     }
+    if (pos < bytes.size() && warnings)
+        warnings->push_back(cut_record_warning(name, out.size(), pos, bytes.size() - pos, 12));
     return out;
 }
 
 Expected<std::vector<AtRecord>, FileError> parse_at_log(std::string_view text,
-                                                        const std::string& name) {
+                                                        const std::string& name,
+                                                        std::vector<std::string>* warnings) {
     std::vector<AtRecord> out;
     int line_no = 0;
     std::size_t pos = 0;
     while (pos < text.size()) {
         const std::size_t nl = text.find('\n', pos);
-        if (nl == std::string_view::npos) break;  // partial last line of a killed recording
+        if (nl == std::string_view::npos) {  // partial last line of a killed recording
+            if (warnings)
+                warnings->push_back(name + ":" + std::to_string(line_no + 1) +
+                                    ": incomplete last line (" + std::to_string(text.size() - pos) +
+                                    " bytes, no newline) ignored: the recording was cut short");
+            break;
+        }
         std::string_view line = text.substr(pos, nl - pos);
         pos = nl + 1;
         ++line_no;
@@ -171,24 +199,27 @@ Expected<std::filesystem::path, FileError> raw_file_path(const std::filesystem::
 }
 
 Expected<RawReadResult, FileError> read_navdata_bin(const std::filesystem::path& raw_dir,
+                                                    std::vector<std::string>* warnings,
                                                     std::uintmax_t max_bytes) {
     GS_TRY_ASSIGN(auto p, raw_file_path(raw_dir, "navdata.bin"));
     GS_TRY_ASSIGN(auto b, read_binary(p, "raw/navdata.bin", max_bytes));
-    return parse_navdata_bin(b);
+    return parse_navdata_bin(b, "raw/navdata.bin", warnings);
 }
 
 Expected<std::vector<AtRecord>, FileError> read_at_log(const std::filesystem::path& raw_dir,
+                                                       std::vector<std::string>* warnings,
                                                        std::uintmax_t max_bytes) {
     GS_TRY_ASSIGN(auto p, raw_file_path(raw_dir, "at.log"));
     GS_TRY_ASSIGN(auto t, read_text_file(p, "raw/at.log", max_bytes));
-    return parse_at_log(t);
+    return parse_at_log(t, "raw/at.log", warnings);
 }
 
 Expected<std::vector<RawChunk>, FileError> read_video_chunks(const std::filesystem::path& raw_dir,
+                                                             std::vector<std::string>* warnings,
                                                              std::uintmax_t max_bytes) {
     GS_TRY_ASSIGN(auto p, raw_file_path(raw_dir, "video_chunks.bin"));
     GS_TRY_ASSIGN(auto b, read_binary(p, "raw/video_chunks.bin", max_bytes));
-    return parse_video_chunks(b);
+    return parse_video_chunks(b, "raw/video_chunks.bin", warnings);
 }
 
 }  // namespace gs::dataset

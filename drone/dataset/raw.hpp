@@ -7,7 +7,9 @@
 //   raw/video_chunks.bin  (extension) records {u64 t_us LE, u32 length LE}: when each received
 //                     chunk of video.pave arrived, so replay knows frame receive times
 // t_us is microseconds since the start of the recording on the receiver's monotonic clock.
-// A recording killed mid-write may end in a partial record: readers report it, not fail on it.
+// A recording killed mid-write (power loss, a full disk) may end in a partial record or line:
+// readers leave it out and report it in `warnings` (docs/dataset.md 1.1: "read with a warning"),
+// naming the file, rather than fail on it.
 
 #include "drone/core/expected.hpp"
 #include "drone/core/file_error.hpp"
@@ -49,13 +51,18 @@ struct RawReadResult {
     bool truncated_tail = false;  // the file ends inside a record (killed recording)
 };
 
-// `name` is what errors call the file ("raw/navdata.bin").
+// `name` is what errors and warnings call the file ("raw/navdata.bin"). A file that ends inside
+// its last record or line gives everything before it, and one warning in `warnings` (when given)
+// naming the file and where it was cut.
 Expected<RawReadResult, FileError> parse_navdata_bin(std::span<const std::uint8_t> bytes,
-                                                     const std::string& name = "raw/navdata.bin");
+                                                     const std::string& name = "raw/navdata.bin",
+                                                     std::vector<std::string>* warnings = nullptr);
 Expected<std::vector<RawChunk>, FileError> parse_video_chunks(
-    std::span<const std::uint8_t> bytes, const std::string& name = "raw/video_chunks.bin");
-Expected<std::vector<AtRecord>, FileError> parse_at_log(std::string_view text,
-                                                        const std::string& name = "raw/at.log");
+    std::span<const std::uint8_t> bytes, const std::string& name = "raw/video_chunks.bin",
+    std::vector<std::string>* warnings = nullptr);
+Expected<std::vector<AtRecord>, FileError> parse_at_log(
+    std::string_view text, const std::string& name = "raw/at.log",
+    std::vector<std::string>* warnings = nullptr);
 
 // File readers (bounded by `max_bytes`).
 // `name` inside `raw_dir` (a dataset's raw/), or UnsafePath when it, or raw/ itself, leads out of
@@ -64,10 +71,13 @@ Expected<std::filesystem::path, FileError> raw_file_path(const std::filesystem::
                                                          const std::string& name);
 
 Expected<RawReadResult, FileError> read_navdata_bin(const std::filesystem::path& raw_dir,
+                                                    std::vector<std::string>* warnings = nullptr,
                                                     std::uintmax_t max_bytes = 2ull << 30);
 Expected<std::vector<AtRecord>, FileError> read_at_log(const std::filesystem::path& raw_dir,
+                                                       std::vector<std::string>* warnings = nullptr,
                                                        std::uintmax_t max_bytes = 1ull << 30);
-Expected<std::vector<RawChunk>, FileError> read_video_chunks(const std::filesystem::path& raw_dir,
-                                                             std::uintmax_t max_bytes = 1ull << 30);
+Expected<std::vector<RawChunk>, FileError> read_video_chunks(
+    const std::filesystem::path& raw_dir, std::vector<std::string>* warnings = nullptr,
+    std::uintmax_t max_bytes = 1ull << 30);
 
 }  // namespace gs::dataset

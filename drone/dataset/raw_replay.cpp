@@ -9,9 +9,27 @@
 
 namespace gs::dataset {
 
-Expected<std::vector<VideoConnection>, FileError> parse_video_connections(std::string text) {
+namespace {
+
+// A cut last line (no newline) that does not parse: left out with a warning (docs/dataset.md 1.1),
+// as navdata.csv's is. False when row `r` is not such a line (the problem is then an error).
+bool cut_last_row(const csv::Table& t, std::size_t r, const FileError& e,
+                  std::vector<std::string>* warnings) {
+    if (r + 1 != t.rows() || !t.last_row_unterminated()) return false;
+    if (warnings)
+        warnings->push_back(to_string(e) +
+                            " (incomplete last line, no newline: ignored, the recording was cut "
+                            "short)");
+    return true;
+}
+
+}  // namespace
+
+Expected<std::vector<VideoConnection>, FileError> parse_video_connections(
+    std::string text, std::vector<std::string>* warnings) {
     auto t = csv::Table::parse(std::move(text), "raw/video_connections.csv", true);
     if (!t) return Unexpected(t.error());
+    if (warnings && !t->cut_tail_warning().empty()) warnings->push_back(t->cut_tail_warning());
     const auto oc = t->column("offset"), tc = t->column("t_us");
     if (!oc || !tc)
         return Unexpected(FileError{FileErrorCode::Missing, "raw/video_connections.csv", 1, 0,
@@ -21,8 +39,9 @@ Expected<std::vector<VideoConnection>, FileError> parse_video_connections(std::s
         auto o = t->integer(r, *oc);
         auto tu = t->integer(r, *tc);
         if (!o || !tu) {
-            if (r + 1 == t->rows() && t->last_row_unterminated()) break;  // cut short
-            return Unexpected(!o ? o.error() : tu.error());
+            const FileError e = !o ? o.error() : tu.error();
+            if (cut_last_row(*t, r, e, warnings)) break;
+            return Unexpected(e);
         }
         if (*o < 0 || (!out.empty() && static_cast<std::uint64_t>(*o) < out.back().offset))
             return Unexpected(t->error_at(r, *oc, "offsets must not decrease"));
@@ -31,9 +50,11 @@ Expected<std::vector<VideoConnection>, FileError> parse_video_connections(std::s
     return out;
 }
 
-Expected<std::vector<RecordedCapture>, FileError> parse_capture_times(std::string text) {
+Expected<std::vector<RecordedCapture>, FileError> parse_capture_times(
+    std::string text, std::vector<std::string>* warnings) {
     auto t = csv::Table::parse(std::move(text), "raw/capture_times.csv", true);
     if (!t) return Unexpected(t.error());
+    if (warnings && !t->cut_tail_warning().empty()) warnings->push_back(t->cut_tail_warning());
     const auto fc = t->column("frame_number"), sc = t->column("timestamp_ms"),
                tc = t->column("t_us");
     if (!fc || !sc || !tc)
@@ -45,11 +66,12 @@ Expected<std::vector<RecordedCapture>, FileError> parse_capture_times(std::strin
         auto s = t->u32(r, *sc, false, false);
         auto tu = t->integer(r, *tc);
         if (!f || !s || !tu || !*f || !*s) {
-            if (r + 1 == t->rows() && t->last_row_unterminated()) break;  // cut short
-            if (!f) return Unexpected(f.error());
-            if (!s) return Unexpected(s.error());
-            if (!tu) return Unexpected(tu.error());
-            return Unexpected(t->error_at(r, *fc, "empty field"));
+            const FileError e = !f    ? f.error()
+                                : !s  ? s.error()
+                                : !tu ? tu.error()
+                                      : t->error_at(r, !*f ? *fc : *sc, "empty field");
+            if (cut_last_row(*t, r, e, warnings)) break;
+            return Unexpected(e);
         }
         if (*tu < -(std::int64_t{1} << 50) || *tu > (std::int64_t{1} << 50))
             return Unexpected(t->error_at(r, *tc, "time out of range"));
@@ -65,20 +87,22 @@ namespace {
 template <class Value>
 Expected<std::optional<Value>, FileError> read_optional_raw(
     const std::filesystem::path& raw_dir, const char* name, std::size_t limit,
-    Expected<Value, FileError> (*parse)(std::string)) {
+    Expected<Value, FileError> (*parse)(std::string, std::vector<std::string>*),
+    std::vector<std::string>* warnings) {
     std::error_code ec;
     if (!std::filesystem::exists(raw_dir / name, ec)) return std::optional<Value>();
     GS_TRY_ASSIGN(auto path, raw_file_path(raw_dir, name));
     GS_TRY_ASSIGN(auto text, read_text_file(path, std::string("raw/") + name, limit));
-    GS_TRY_ASSIGN(auto value, parse(std::move(text)));
+    GS_TRY_ASSIGN(auto value, parse(std::move(text), warnings));
     return std::optional<Value>(std::move(value));
 }
 
 }  // namespace
 
 Expected<std::optional<std::vector<RecordedCapture>>, FileError> read_capture_times(
-    const std::filesystem::path& raw_dir) {
-    return read_optional_raw(raw_dir, "capture_times.csv", 256u << 20, parse_capture_times);
+    const std::filesystem::path& raw_dir, std::vector<std::string>* warnings) {
+    return read_optional_raw(raw_dir, "capture_times.csv", 256u << 20, parse_capture_times,
+                             warnings);
 }
 
 std::map<std::uint32_t, std::int64_t> frames_of_pave_numbers(
@@ -95,27 +119,36 @@ std::map<std::uint32_t, std::int64_t> frames_of_pave_numbers(
 
 Expected<std::vector<FrameRow>, FileError> replay_raw(const std::filesystem::path& raw_dir,
                                                       RawReplayDecoders& dec,
+                                                      std::vector<std::string>* warnings,
                                                       TimeNs max_nav_wait_ns) {
-    GS_TRY_ASSIGN(auto nav, read_navdata_bin(raw_dir));
+    GS_TRY_ASSIGN(auto nav, read_navdata_bin(raw_dir, warnings));
     std::vector<RawChunk> chunks;
     std::ifstream pave;
+    std::uint64_t pave_size = 0;
+    bool video_cut = false;  // raw/video_chunks.bin or raw/video.pave cut short (and said so)
     std::error_code ec;
     if (std::filesystem::exists(raw_dir / "video_chunks.bin", ec)) {
-        GS_TRY_ASSIGN(auto c, read_video_chunks(raw_dir));
+        const std::size_t warned = warnings ? warnings->size() : 0;
+        GS_TRY_ASSIGN(auto c, read_video_chunks(raw_dir, warnings));
+        video_cut = warnings && warnings->size() > warned;
         chunks = std::move(c);
         GS_TRY_ASSIGN(auto pave_path, raw_file_path(raw_dir, "video.pave"));
         pave.open(pave_path, std::ios::binary);
         if (!pave)
             return Unexpected(
                 FileError{FileErrorCode::Missing, "raw/video.pave", 0, 0, "file not found"});
+        std::error_code size_ec;
+        pave_size = std::filesystem::file_size(pave_path, size_ec);
+        if (size_ec) pave_size = 0;
     }
     // Connection boundaries and recorded capture times (docs/dataset.md 1.1; both optional).
-    GS_TRY_ASSIGN(auto recorded_connections, read_optional_raw(raw_dir, "video_connections.csv",
-                                                               64u << 20, parse_video_connections));
+    GS_TRY_ASSIGN(auto recorded_connections,
+                  read_optional_raw(raw_dir, "video_connections.csv", 64u << 20,
+                                    parse_video_connections, warnings));
     const std::vector<VideoConnection> connections =
         std::move(recorded_connections).value_or(std::vector<VideoConnection>());
     if (dec.capture_times) {
-        auto c = read_capture_times(raw_dir);
+        auto c = read_capture_times(raw_dir, warnings);
         if (!c) return Unexpected(c.error());
         if (*c) dec.capture_times(std::move(**c));
     }
@@ -153,7 +186,20 @@ Expected<std::vector<FrameRow>, FileError> replay_raw(const std::filesystem::pat
             latest = std::max(latest, t);
             buf.resize(c.length);
             pave.read(reinterpret_cast<char*>(buf.data()), c.length);
-            if (static_cast<std::size_t>(pave.gcount()) != c.length) break;  // killed mid-chunk
+            if (const auto got = static_cast<std::size_t>(pave.gcount()); got != c.length) {
+                // Cut short (docs/dataset.md 1.1): the video ends here; the navdata goes on.
+                if (warnings)
+                    warnings->push_back(
+                        "raw/video.pave: ends inside chunk " + std::to_string(ci - 1) + " (" +
+                        std::to_string(got) + " of its " + std::to_string(c.length) +
+                        " bytes at byte " + std::to_string(pave_offset) + "); it and the " +
+                        std::to_string(chunks.size() - ci) +
+                        " chunks after it in raw/video_chunks.bin ignored: the recording was cut "
+                        "short");
+                ci = chunks.size();
+                video_cut = true;
+                continue;
+            }
             captured.clear();
             // Connections that begin inside this chunk (normally at its first byte): the bytes
             // before and after the boundary go to different connections, never joined.
@@ -183,6 +229,14 @@ Expected<std::vector<FrameRow>, FileError> replay_raw(const std::filesystem::pat
         }
         settle();
     }
+    // Bytes no chunk record covers (raw/video_chunks.bin stopped by a full disk or a kill before
+    // video.pave, at a whole record): not replayed, as they have no receive time; said, not
+    // dropped silently (a cut inside a record of either file has been said already).
+    if (warnings && !video_cut && pave_size > pave_offset)
+        warnings->push_back("raw/video.pave: the " + std::to_string(pave_size - pave_offset) +
+                            " bytes after byte " + std::to_string(pave_offset) +
+                            " have no record in raw/video_chunks.bin (no receive time) and were "
+                            "not replayed: the recording was cut short");
     aligner.finish();
     settle();
     return rows;

@@ -49,18 +49,21 @@ RawReplayDecoders make_protocol_replay_decoders();
 std::optional<NavState> navdata_state(std::span<const std::uint8_t> datagram);
 
 // raw/video_connections.csv: the byte offsets in raw/video.pave where each connection begins and
-// when it opened (docs/dataset.md 1.1). Absent: one connection (offset 0). A cut last line is
-// ignored.
+// when it opened (docs/dataset.md 1.1). Absent: one connection (offset 0). A cut last line (no
+// newline) is left out with a warning in `warnings`.
 struct VideoConnection {
     std::uint64_t offset = 0;
     std::int64_t t_us = 0;
 };
-Expected<std::vector<VideoConnection>, FileError> parse_video_connections(std::string text);
-// raw/capture_times.csv (an extension of this recorder); a cut last line is ignored.
-Expected<std::vector<RecordedCapture>, FileError> parse_capture_times(std::string text);
+Expected<std::vector<VideoConnection>, FileError> parse_video_connections(
+    std::string text, std::vector<std::string>* warnings = nullptr);
+// raw/capture_times.csv (an extension of this recorder); a cut last line is left out with a
+// warning in `warnings`.
+Expected<std::vector<RecordedCapture>, FileError> parse_capture_times(
+    std::string text, std::vector<std::string>* warnings = nullptr);
 // Reads and parses `raw_dir`/capture_times.csv; nullopt when the recording has none.
 Expected<std::optional<std::vector<RecordedCapture>>, FileError> read_capture_times(
-    const std::filesystem::path& raw_dir);
+    const std::filesystem::path& raw_dir, std::vector<std::string>* warnings = nullptr);
 
 // PaVE frame number -> the dataset frame (frames.csv row) captured at the same time, to the
 // microsecond. Frames the recording did not keep map to nothing.
@@ -68,9 +71,13 @@ std::map<std::uint32_t, std::int64_t> frames_of_pave_numbers(
     const std::vector<FrameRow>& frames, const std::vector<RecordedCapture>& captures);
 
 // Replays `raw_dir` (raw/navdata.bin, raw/video.pave, raw/video_chunks.bin, and when present
-// raw/video_connections.csv and raw/capture_times.csv) into frames.csv rows.
+// raw/video_connections.csv and raw/capture_times.csv) into frames.csv rows. A recording cut
+// short (docs/dataset.md 1.1) is replayed up to the cut: a file ending inside its last record or
+// line, and raw/video.pave ending before the chunks raw/video_chunks.bin lists, each add one
+// warning to `warnings` naming the file; what comes before the cut is replayed.
 Expected<std::vector<FrameRow>, FileError> replay_raw(const std::filesystem::path& raw_dir,
                                                       RawReplayDecoders& decoders,
+                                                      std::vector<std::string>* warnings = nullptr,
                                                       TimeNs max_nav_wait_ns = 500'000'000);
 
 }  // namespace gs::dataset

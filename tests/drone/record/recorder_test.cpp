@@ -192,8 +192,10 @@ TEST_F(RecorderFlight, RawReplayThroughTheProtocolParsersReproducesFramesCsv) {
     auto d = dataset::Dataset::open(*dir_ / "rec");
     ASSERT_TRUE(d) << to_string(d.error());
     auto dec = dataset::make_protocol_replay_decoders();
-    auto replayed = dataset::replay_raw(*dir_ / "rec/raw", dec);
+    std::vector<std::string> warnings;  // a whole recording is not cut short anywhere
+    auto replayed = dataset::replay_raw(*dir_ / "rec/raw", dec, &warnings);
     ASSERT_TRUE(replayed) << to_string(replayed.error());
+    EXPECT_TRUE(warnings.empty()) << warnings.front();
     ASSERT_EQ(replayed->size(), d->frames().size());
     for (std::size_t i = 0; i < replayed->size(); ++i) {
         const dataset::FrameRow& a = (*replayed)[i];
@@ -339,8 +341,10 @@ TEST(RecorderFaults, AResetInsideAnIdrAndReorderedNavdataLeaveADatasetThatReplay
 
     // raw/ through the real parsers, connection boundaries included, gives frames.csv.
     auto dec = dataset::make_protocol_replay_decoders();
-    auto replayed = dataset::replay_raw(t / "rec/raw", dec);
+    std::vector<std::string> warnings;  // a whole recording is not cut short anywhere
+    auto replayed = dataset::replay_raw(t / "rec/raw", dec, &warnings);
     ASSERT_TRUE(replayed) << to_string(replayed.error());
+    EXPECT_TRUE(warnings.empty()) << warnings.front();
     ASSERT_EQ(replayed->size(), d->frames().size());
     for (std::size_t i = 0; i < replayed->size(); ++i) {
         EXPECT_EQ((*replayed)[i].nav.t_ns, d->frames()[i].nav.t_ns) << i;
