@@ -229,6 +229,11 @@ struct SessionOptions {
     // and auto capture keeps at most one view per calibration_auto_interval_ms.
     int calibration_interval_ms = 150;
     int calibration_auto_interval_ms = 1000;
+    // Tests: a recording's writer fails as a full disk does once this dataset-relative file
+    // ("frames.csv", "raw/video.pave" ...) would pass record_inject_failure_after_bytes
+    // (dataset::DatasetWriterOptions::inject_failure_file). Empty: no injected failure.
+    std::string record_inject_failure_file;
+    std::uint64_t record_inject_failure_after_bytes = 0;
 };
 
 // Writes <dir>/assist.csv (docs/dataset.md) from a recording's interventions; `start_ns`: the
@@ -297,7 +302,8 @@ private:
     void replay_control(const ReplayLoop& q);
     bool replay_tick(TimeNs& wait_ns);
     bool replay_step(int delta);
-    // Recording control: app/session_recording.cpp.
+    // Recording control: app/session_recording.cpp. A recorder that stopped itself (a write
+    // failed: a full disk) is stopped by the next publish_recording(), which says so once.
     void record_start(const std::string& dir);
     void record_stop();
     void record_assist(const Intervention& i);

@@ -115,6 +115,8 @@ void Session::record_start(const std::string& dir) {
     ro.camera = c.camera;
     ro.writer.calibration = c.camera == CameraId::Bottom ? odometry_.calibration() : calib_in_use_;
     ro.writer.source = c.kind == SessionSource::Sim ? "simulated (virtual drone)" : "recorded";
+    ro.writer.inject_failure_file = opts_.record_inject_failure_file;
+    ro.writer.inject_failure_after_bytes = opts_.record_inject_failure_after_bytes;
     if (auto st = recorder_->start(path, ro); !st) {
         message("recording failed: " + st.error().message);
         recorder_.reset();
@@ -136,6 +138,10 @@ void Session::record_stop() {
     if (!recorder_) return;
     const record::RecorderStatus st = recorder_->stop();
     recorder_.reset();
+    // A recorder that stopped itself at a write failure (a full disk): its sentence names the
+    // dataset, the disk and what is kept, as the terminal's `record` prints it. Said once (the
+    // recorder is gone now) and first. The link was never touched: flying goes on.
+    if (st.disk_full) message(st.error);
     if (!st.path.empty())
         if (auto e = write_assist_csv(st.path, st.start_ns, assist_rows_))
             message("assist.csv could not be written in " + st.path + ": " + to_string(*e));
@@ -149,9 +155,10 @@ void Session::record_stop() {
     ri.disk_free_bytes = disk_free_bytes_;
     ri.last_path = last_record_path_;
     recording_.publish(std::move(ri));
-    message("recording stopped: " + std::to_string(st.frames) + " frames, " +
-            std::to_string(st.navdata) + " navdata in " + last_record_path_ +
-            (st.drops ? ", " + std::to_string(st.drops) + " dropped" : ""));
+    if (!st.disk_full)
+        message("recording stopped: " + std::to_string(st.frames) + " frames, " +
+                std::to_string(st.navdata) + " navdata in " + last_record_path_ +
+                (st.drops ? ", " + std::to_string(st.drops) + " dropped" : ""));
 }
 
 void Session::publish_recording(TimeNs now) {
@@ -166,8 +173,14 @@ void Session::publish_recording(TimeNs now) {
     ri.status = recorder_->status();
     ri.disk_free_bytes = disk_free_bytes_;
     ri.last_path = last_record_path_;
-    recording_.publish(std::move(ri));
     last_record_publish_ = now;
+    // A write failed (a full disk): the recorder stopped itself. Finish it as a stop does, with
+    // one message naming the dataset and the disk (issue 14 point 4: terminal and window).
+    if (!ri.status.recording && ri.status.disk_full) {
+        record_stop();
+        return;
+    }
+    recording_.publish(std::move(ri));
 }
 
 }  // namespace gs::app

@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <string>
@@ -244,6 +245,76 @@ TEST(Session, RecordsALiveSourceAndStops) {
     EXPECT_TRUE(std::filesystem::exists(dir / "frames.csv"));
     ASSERT_TRUE(wait_message(s, "recording stopped", seen)) << joined(seen);
     std::filesystem::remove_all(dir);
+}
+
+// Issue 14 point 4: a full disk during a recording started from the window. The recorder stops
+// itself at the first failed write (here injected into frames.csv, as a full disk fails it); the
+// session says so once, in a message naming the dataset and the disk (the window's status bar
+// and message log show the session's messages), publishes the error for the recording window,
+// leaves a dataset that opens, and the flight goes on: the drone stays up, the link connected,
+// AT commands still sent every 30 ms.
+TEST(Session, AFullDiskStopsTheRecordingWithOneMessageAndTheFlightGoesOn) {
+    SessionOptions o = headless_options();
+    o.record_inject_failure_file = "frames.csv";
+    o.record_inject_failure_after_bytes = 3000;  // the header and ~40 rows: about 1.5 s
+    Session s(o);
+    std::vector<std::string> seen;
+    ASSERT_TRUE(s.request(StartSim{"thesis_pillar_left", false}));
+    ASSERT_TRUE(wait_until([&] { return latest(s.source()).kind == SessionSource::Sim; }, 10s))
+        << latest(s.source()).error;
+    const SourceInfo src = latest(s.source());
+    ASSERT_TRUE(src.link && src.virtual_drone);
+    ASSERT_TRUE(
+        wait_until([&] { return src.link->state() == link::ConnectionState::Connected; }, 10s))
+        << src.link->status().reason;
+    (void)src.link->submit(link::Takeoff{});
+    auto up = [&] {
+        const sim::VirtualDroneStatus d = src.virtual_drone->status();
+        return d.flight.flying() && d.flight.z_m > 0.5;
+    };
+    ASSERT_TRUE(wait_until(up, 20s)) << src.virtual_drone->status().flight.z_m;
+
+    test::TempDir tmp;
+    const std::filesystem::path dir = tmp.path() / "full_disk";
+    ASSERT_TRUE(s.request(RecordStart{dir.string()}));
+    ASSERT_TRUE(wait_message(s, "the disk holding it is full", seen)) << joined(seen);
+    const std::string& said = seen.back();
+    EXPECT_NE(said.find(dir.string()), std::string::npos) << said;  // the dataset
+    EXPECT_NE(said.find("frames.csv"), std::string::npos) << said;  // the file that failed
+    EXPECT_NE(said.find("frames on disk are kept"), std::string::npos) << said;
+    const RecordingInfo r = latest(s.recording());
+    EXPECT_FALSE(r.status.recording);
+    EXPECT_TRUE(r.status.disk_full);
+    EXPECT_EQ(r.status.error, said);  // the recording window shows the same sentence
+    EXPECT_GT(r.status.frames, 0u);
+
+    // The flight goes on: 60 more AT datagrams (about 2 s) while connected and flying, and the
+    // session keeps classifying the video.
+    const std::uint64_t at0 = src.link->status().at.counters.datagrams;
+    const std::uint64_t frames0 = s.frames_processed();
+    ASSERT_TRUE(wait_until(
+        [&] {
+            return src.link->status().at.counters.datagrams >= at0 + 60 &&
+                   s.frames_processed() >= frames0 + 20;
+        },
+        20s))
+        << src.link->status().at.counters.datagrams - at0 << " AT datagrams, "
+        << s.frames_processed() - frames0 << " frames";
+    EXPECT_EQ(src.link->state(), link::ConnectionState::Connected);
+    EXPECT_TRUE(up());
+    EXPECT_FALSE(latest(s.recording()).status.recording);
+
+    // Said once, whatever the session published since.
+    while (auto m = s.next_message()) seen.push_back(*m);
+    const auto times = std::count_if(seen.begin(), seen.end(), [](const std::string& m) {
+        return m.find("the disk holding it") != std::string::npos;
+    });
+    EXPECT_EQ(times, 1) << joined(seen);
+
+    // What is on disk opens, with the frames the recorder counted.
+    auto d = dataset::Dataset::open(dir);
+    ASSERT_TRUE(d) << to_string(d.error());
+    EXPECT_EQ(static_cast<std::uint64_t>(d->frame_count()), r.status.frames);
 }
 
 TEST(Session, ClassifierAndCalibrationRequestsAreHandled) {
