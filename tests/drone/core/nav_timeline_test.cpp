@@ -57,5 +57,48 @@ TEST(NavTimeline, NoSampleWithinTheGapIsUnknownNotAnOldSampleRelabelled) {
     EXPECT_TRUE(std::isnan(tl.state_at(0, 50 * kMs).roll_deg));
 }
 
+// Issue 14 point 2: "alignment never uses a sample older than one already used". Once a sample
+// has been used (state_at interpolated with it), a sample from before it that arrives later (a
+// late or duplicated packet the caller failed to drop) changes nothing: it is not inserted
+// between the two it falls between, it does not become the newest, and it takes no place in the
+// ring. Sequence numbers are the link's to check (LinkStateMachine::on_navdata drops a late or
+// duplicated sequence before any sample reaches a timeline); the timeline orders by time.
+TEST(NavTimeline, ASampleOlderThanOneAlreadyUsedIsIgnored) {
+    NavTimeline tl(3);
+    NavState a = sample(100 * kMs, 1), b = sample(200 * kMs, 3);
+    a.seq = 10;
+    b.seq = 11;
+    tl.push(a);
+    tl.push(b);
+    ASSERT_DOUBLE_EQ(tl.state_at(150 * kMs).roll_deg, 2);  // both used
+
+    NavState late = sample(150 * kMs, 50);  // between the two, arriving after them
+    late.seq = 9;
+    tl.push(late);
+    NavState dup = sample(100 * kMs, -40);  // the first one's time again, other values
+    dup.seq = 10;
+    tl.push(dup);
+    EXPECT_EQ(tl.size(), 2u);
+    EXPECT_EQ(tl.newest_t(), 200 * kMs);
+    EXPECT_DOUBLE_EQ(tl.state_at(150 * kMs).roll_deg, 2);
+    EXPECT_DOUBLE_EQ(tl.state_at(125 * kMs).roll_deg, 1.5);
+    EXPECT_DOUBLE_EQ(tl.state_at(100 * kMs).roll_deg, 1);
+    EXPECT_EQ(tl.state_at(175 * kMs).seq, b.seq);  // nearest sample's sequence: the newer one
+
+    // The next sample in order is taken, and the ring's capacity (3) went to it, not to the
+    // ignored ones: the first sample is still there.
+    NavState c = sample(300 * kMs, 5);
+    c.seq = 12;
+    tl.push(c);
+    EXPECT_EQ(tl.size(), 3u);
+    EXPECT_DOUBLE_EQ(tl.state_at(250 * kMs).roll_deg, 4);
+    EXPECT_DOUBLE_EQ(tl.state_at(100 * kMs).roll_deg, 1);
+    // And a late one after it is ignored too, with the ring full.
+    tl.push(sample(250 * kMs, 70));
+    EXPECT_EQ(tl.newest_t(), 300 * kMs);
+    EXPECT_DOUBLE_EQ(tl.state_at(250 * kMs).roll_deg, 4);
+    EXPECT_DOUBLE_EQ(tl.state_at(100 * kMs).roll_deg, 1);
+}
+
 }  // namespace
 }  // namespace gs
