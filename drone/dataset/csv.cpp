@@ -69,9 +69,9 @@ std::string shown(std::string_view f) {
 Expected<Table, FileError> Table::parse(std::string text, std::string file,
                                         bool tolerate_cut_tail) {
     Table t;
-    t.text_ = std::move(text);
+    t.text_ = std::make_shared<const std::string>(std::move(text));
     t.file_ = std::move(file);
-    std::string_view all(t.text_);
+    std::string_view all(*t.text_);
     if (all.find('\0') != std::string_view::npos) {
         return Unexpected(FileError{FileErrorCode::Malformed, t.file_, 0, 0,
                                     "binary data (NUL byte) in a text file"});

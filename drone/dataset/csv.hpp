@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -61,7 +62,9 @@ private:
         int line = 0;
         std::vector<std::string_view> fields;
     };
-    std::string text_;
+    // The fields are views into this text: held by pointer so that they stay valid when the table
+    // is moved or copied (a moved std::string short enough for its inline buffer changes address).
+    std::shared_ptr<const std::string> text_;
     std::string file_;
     std::vector<std::string> header_;
     std::vector<Row> rows_;

@@ -1,9 +1,11 @@
 #include "support/dataset_fixtures.hpp"
 
 #include "drone/dataset/annexb.hpp"
+#include "drone/dataset/csv.hpp"
 #include "drone/dataset/dataset.hpp"
 #include "drone/dataset/frame_store.hpp"
 #include "drone/dataset/raw.hpp"
+#include "drone/dataset/raw_replay.hpp"
 #include "drone/dataset/thesis.hpp"
 
 #include <gtest/gtest.h>
@@ -23,6 +25,35 @@ std::string open_error(const fs::path& dir, const DatasetOpenOptions& o = {}) {
     auto d = Dataset::open(dir, o);
     if (d) return "(opened)";
     return to_string(d.error());
+}
+
+// Fills a stretch of the stack with a pattern: what a finished call left there is gone.
+[[gnu::noinline]] int scribble_stack() {
+    volatile char junk[4096];
+    for (std::size_t i = 0; i < sizeof junk; ++i) junk[i] = 'Z';
+    return junk[100];
+}
+
+// A csv::Table's fields are views into its text. A text short enough for std::string's inline
+// buffer (15 bytes here) moved with the table changed address, and the views read what the stack
+// held after Table::parse returned: "a,b\n1,2\n" read back field (0, 0) as 'I'. The smallest
+// dataset CSV, raw/video_connections.csv with one connection and no final newline, is 15 bytes.
+TEST(CsvTable, AShortTextKeepsItsFieldsWhenTheTableIsMovedOrCopied) {
+    auto t = csv::Table::parse("a,b\n1,2\n", "x.csv");
+    ASSERT_TRUE(t);
+    csv::Table moved = std::move(*t);
+    const csv::Table copied = moved;
+    EXPECT_EQ(scribble_stack(), 'Z');
+    EXPECT_EQ(moved.field(0, 0), "1");
+    EXPECT_EQ(moved.field(0, 1), "2");
+    EXPECT_EQ(copied.field(0, 0), "1");
+    EXPECT_EQ(copied.field(0, 1), "2");
+    // Through a reader: one connection at offset 0 opened at t = 9 us.
+    auto c = parse_video_connections("offset,t_us\n0,9");
+    ASSERT_TRUE(c) << to_string(c.error());
+    ASSERT_EQ(c->size(), 1u);
+    EXPECT_EQ((*c)[0].offset, 0u);
+    EXPECT_EQ((*c)[0].t_us, 9);
 }
 
 TEST(DatasetReader, ReadsAPngDatasetExactly) {
