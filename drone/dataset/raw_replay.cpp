@@ -23,28 +23,53 @@ bool cut_last_row(const csv::Table& t, std::size_t r, const FileError& e,
     return true;
 }
 
+// A raw/ CSV with `columns`, or nullopt when the file ends inside its header line (a recording
+// stopped before its first flush was whole): read as holding no rows, with a warning.
+Expected<std::optional<csv::Table>, FileError> raw_csv(std::string text, const std::string& name,
+                                                       const std::vector<const char*>& columns,
+                                                       std::vector<std::string>* warnings) {
+    const bool one_line = text.find('\n') == std::string::npos;
+    auto t = csv::Table::parse(std::move(text), name, true);
+    bool complete = t.has_value();
+    for (const char* c : columns) complete = complete && t->column(c).has_value();
+    if (!complete && one_line) {
+        if (warnings)
+            warnings->push_back(name +
+                                ": incomplete header line (no newline) ignored, read as no rows: "
+                                "the recording was cut short");
+        return std::optional<csv::Table>();
+    }
+    if (!t) return Unexpected(t.error());
+    if (!complete) {
+        std::string names;
+        for (const char* c : columns) names += (names.empty() ? "" : ",") + std::string(c);
+        return Unexpected(
+            FileError{FileErrorCode::Missing, name, 1, 0, "expected the columns " + names});
+    }
+    if (warnings && !t->cut_tail_warning().empty()) warnings->push_back(t->cut_tail_warning());
+    return std::optional<csv::Table>(std::move(*t));
+}
+
 }  // namespace
 
 Expected<std::vector<VideoConnection>, FileError> parse_video_connections(
     std::string text, std::vector<std::string>* warnings) {
-    auto t = csv::Table::parse(std::move(text), "raw/video_connections.csv", true);
-    if (!t) return Unexpected(t.error());
-    if (warnings && !t->cut_tail_warning().empty()) warnings->push_back(t->cut_tail_warning());
-    const auto oc = t->column("offset"), tc = t->column("t_us");
-    if (!oc || !tc)
-        return Unexpected(FileError{FileErrorCode::Missing, "raw/video_connections.csv", 1, 0,
-                                    "expected the columns offset,t_us"});
+    GS_TRY_ASSIGN(auto table, raw_csv(std::move(text), "raw/video_connections.csv",
+                                      {"offset", "t_us"}, warnings));
     std::vector<VideoConnection> out;
-    for (std::size_t r = 0; r < t->rows(); ++r) {
-        auto o = t->integer(r, *oc);
-        auto tu = t->integer(r, *tc);
+    if (!table) return out;
+    const csv::Table& t = *table;
+    const std::size_t oc = *t.column("offset"), tc = *t.column("t_us");
+    for (std::size_t r = 0; r < t.rows(); ++r) {
+        auto o = t.integer(r, oc);
+        auto tu = t.integer(r, tc);
         if (!o || !tu) {
             const FileError e = !o ? o.error() : tu.error();
-            if (cut_last_row(*t, r, e, warnings)) break;
+            if (cut_last_row(t, r, e, warnings)) break;
             return Unexpected(e);
         }
         if (*o < 0 || (!out.empty() && static_cast<std::uint64_t>(*o) < out.back().offset))
-            return Unexpected(t->error_at(r, *oc, "offsets must not decrease"));
+            return Unexpected(t.error_at(r, oc, "offsets must not decrease"));
         out.push_back({static_cast<std::uint64_t>(*o), *tu});
     }
     return out;
@@ -52,29 +77,32 @@ Expected<std::vector<VideoConnection>, FileError> parse_video_connections(
 
 Expected<std::vector<RecordedCapture>, FileError> parse_capture_times(
     std::string text, std::vector<std::string>* warnings) {
-    auto t = csv::Table::parse(std::move(text), "raw/capture_times.csv", true);
-    if (!t) return Unexpected(t.error());
-    if (warnings && !t->cut_tail_warning().empty()) warnings->push_back(t->cut_tail_warning());
-    const auto fc = t->column("frame_number"), sc = t->column("timestamp_ms"),
-               tc = t->column("t_us");
-    if (!fc || !sc || !tc)
-        return Unexpected(FileError{FileErrorCode::Missing, "raw/capture_times.csv", 1, 0,
-                                    "expected the columns frame_number,timestamp_ms,t_us"});
+    GS_TRY_ASSIGN(auto table, raw_csv(std::move(text), "raw/capture_times.csv",
+                                      {"frame_number", "timestamp_ms", "t_us"}, warnings));
     std::vector<RecordedCapture> out;
-    for (std::size_t r = 0; r < t->rows(); ++r) {
-        auto f = t->u32(r, *fc, false, false);
-        auto s = t->u32(r, *sc, false, false);
-        auto tu = t->integer(r, *tc);
-        if (!f || !s || !tu || !*f || !*s) {
-            const FileError e = !f    ? f.error()
-                                : !s  ? s.error()
-                                : !tu ? tu.error()
-                                      : t->error_at(r, !*f ? *fc : *sc, "empty field");
-            if (cut_last_row(*t, r, e, warnings)) break;
-            return Unexpected(e);
+    if (!table) return out;
+    const csv::Table& t = *table;
+    const std::size_t fc = *t.column("frame_number"), sc = *t.column("timestamp_ms"),
+                      tc = *t.column("t_us");
+    for (std::size_t r = 0; r < t.rows(); ++r) {
+        // Only this recorder writes the file, every line with its newline: a last line without
+        // one was cut, even where what is left parses (a time cut to its first digits would).
+        if (r + 1 == t.rows() && t.last_row_unterminated()) {
+            if (warnings)
+                warnings->push_back(t.file() + ":" + std::to_string(t.line_of(r)) +
+                                    ": incomplete last line (no newline) ignored: the recording "
+                                    "was cut short");
+            break;
         }
+        auto f = t.u32(r, fc, false, false);
+        auto s = t.u32(r, sc, false, false);
+        auto tu = t.integer(r, tc);
+        if (!f) return Unexpected(f.error());
+        if (!s) return Unexpected(s.error());
+        if (!tu) return Unexpected(tu.error());
+        if (!*f || !*s) return Unexpected(t.error_at(r, !*f ? fc : sc, "empty field"));
         if (*tu < -(std::int64_t{1} << 50) || *tu > (std::int64_t{1} << 50))
-            return Unexpected(t->error_at(r, *tc, "time out of range"));
+            return Unexpected(t.error_at(r, tc, "time out of range"));
         out.push_back({**f, **s, *tu * 1000});
     }
     return out;
