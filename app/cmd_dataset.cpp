@@ -4,16 +4,20 @@
 //   dataset import-thesis FOLDER OUT     a thesis-style folder into a dataset directory
 //   dataset frames DATASET OUT [--every N] [--from A --to B]   frames as PNG files
 //   dataset import-video FILE --out DIR [--fps N]  any video file (no navdata) into a dataset
+//   dataset check-raw DATASET            raw/ replayed through the protocol parsers = frames.csv?
 #include "app/cli_options.hpp"
 #include "app/command.hpp"
 #include "app/replay_outputs.hpp"
+#include "drone/dataset/raw_replay.hpp"
 #include "drone/dataset/thesis.hpp"
 #include "drone/dataset/video_frames.hpp"
 #include "drone/dataset/video_import.hpp"
+#include "drone/dataset/writer.hpp"
 
 #include <opencv2/imgcodecs.hpp>
 
 #include <unistd.h>
+#include <algorithm>
 #include <cstdio>
 #include <iostream>
 #include <memory>
@@ -167,6 +171,60 @@ int import_video_cmd(const Opts& o) {
     return 0;
 }
 
+// frames.csv's row for `r` as the writer writes it (docs/dataset.md), the ground-truth columns
+// left empty (raw/ has no ground truth): what a replay of raw/ must reproduce, as the file says it.
+std::string frame_text(dataset::FrameRow r) {
+    r.gt = {};
+    std::string s = dataset::frames_csv_row(r);
+    s.pop_back();  // the newline
+    return s;
+}
+
+// docs/dataset.md "raw/": replaying raw/ through the protocol parsers (the link's navdata rule and
+// video receiver) must reproduce frames.csv. Prints what it read (with every warning: a file cut
+// short is replayed up to the cut), the frame counts, and exits 0 only when every row matches.
+int check_raw_cmd(const Opts& o) {
+    auto d = dataset::Dataset::open(o.in);
+    if (!d) throw fail(o.in + ": " + to_string(d.error()));
+    if (!d->raw_dir())
+        throw fail(o.in + ": no raw/ folder (recordings write one): nothing to replay");
+    std::vector<std::string> warnings;
+    auto dec = dataset::make_protocol_replay_decoders();
+    auto rows = dataset::replay_raw(*d->raw_dir(), dec, &warnings);
+    if (!rows) throw fail(o.in + ": " + to_string(rows.error()));
+    const std::vector<dataset::FrameRow>& frames = d->frames();
+    std::cout << o.in << ": raw/ replayed through the protocol parsers\n";
+    for (const auto& w : d->warnings()) std::cout << "  warning: " << w << '\n';
+    for (const auto& w : warnings) std::cout << "  warning: " << w << '\n';
+    std::cout << "  frames: " << rows->size() << " replayed, " << frames.size()
+              << " in frames.csv\n";
+    const std::size_t n = std::min(rows->size(), frames.size());
+    std::size_t same = 0;
+    std::string difference;
+    for (; same < n; ++same) {
+        const std::string want = frame_text(frames[same]), got = frame_text((*rows)[same]);
+        if (want != got) {
+            difference = "frame " + std::to_string(same) + ": frames.csv has '" + want +
+                         "', the replay gives '" + got + "'";
+            break;
+        }
+    }
+    if (difference.empty() && rows->size() == frames.size()) {
+        std::cout << "  every frame as in frames.csv (index, capture time, attitude, velocity, "
+                     "altitude)\n";
+        return 0;
+    }
+    std::cout << "  the first " << same << " frames as in frames.csv\n";
+    if (difference.empty())
+        difference = rows->size() < frames.size()
+                         ? std::to_string(frames.size() - rows->size()) +
+                               " frames.csv rows after the replay's last frame"
+                         : std::to_string(rows->size() - frames.size()) +
+                               " replayed frames after frames.csv's last row";
+    if (!warnings.empty()) difference += " (raw/ was cut short: see the warnings)";
+    throw fail(o.in + ": raw/ does not reproduce frames.csv: " + difference);
+}
+
 CommandRegistration reg_info(
     70, "dataset", "Look at and convert flight datasets (docs/dataset.md)", [](CLI::App& parent) {
         auto o = std::make_shared<Opts>();
@@ -250,6 +308,24 @@ CommandRegistration reg_import_video(
             ->check(CLI::NonNegativeNumber);
         c->add_flag("--quiet,-q", o->quiet, "No summary line");
         set_action(*c, [o] { return import_video_cmd(*o); });
+    });
+
+CommandRegistration reg_check_raw(
+    75, "dataset", "Look at and convert flight datasets (docs/dataset.md)", [](CLI::App& parent) {
+        auto o = std::make_shared<Opts>();
+        auto* c = parent.add_subcommand(
+            "check-raw", "Replay raw/ through the protocol parsers and check it gives frames.csv");
+        c->footer(
+            "A recording keeps what crossed the wire in raw/ (docs/dataset.md): every navdata "
+            "datagram, the video stream with its connections and receive times. Replayed through "
+            "the link's own navdata rule and video receiver, it must give frames.csv row for row "
+            "(index, capture time, attitude, velocity, altitude). Prints the frame counts and "
+            "every warning (a raw/ file cut short is replayed up to the cut); exits 1 at the "
+            "first row that differs or when the counts differ.");
+        c->add_option("DATASET", o->in, "Recorded dataset directory (with raw/)")
+            ->required()
+            ->check(CLI::ExistingDirectory);
+        set_action(*c, [o] { return check_raw_cmd(*o); });
     });
 
 }  // namespace

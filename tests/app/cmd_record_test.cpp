@@ -5,6 +5,7 @@
 #include "cli_test_util.hpp"
 #include "drone/dataset/csv.hpp"
 #include "drone/dataset/dataset.hpp"
+#include "drone/dataset/raw.hpp"
 #include "drone/dataset/raw_replay.hpp"
 #include "drone/dataset/video_frames.hpp"
 #include "vision/classifier.hpp"
@@ -120,6 +121,84 @@ TEST_F(RecordCommand, RawReplayReproducesFramesCsv) {
         EXPECT_TRUE(same((*rows)[i].nav.pitch_deg, d->frames()[i].nav.pitch_deg)) << i;
         EXPECT_TRUE(same((*rows)[i].nav.yaw_deg, d->frames()[i].nav.yaw_deg)) << i;
     }
+}
+
+// `dataset check-raw` (scripts/soak.sh runs it): raw/ replayed through the protocol parsers gives
+// frames.csv, said with the frame counts, exit 0; a row that differs is named, with how far the
+// replay agreed, exit 1; raw/video.pave cut inside a chunk is replayed up to the cut with a
+// warning naming the file, and the missing frames are counted, exit 1; no raw/: a clear error.
+TEST_F(RecordCommand, DatasetCheckRawSaysWhetherRawReplaysToFramesCsv) {
+    auto d = gs::dataset::Dataset::open(dir());
+    ASSERT_TRUE(d) << gs::to_string(d.error());
+    const std::string n = std::to_string(d->frame_count());
+    const RunResult ok = gs::test::run_cli("dataset check-raw " + dir().string());
+    EXPECT_EQ(ok.exit_code, 0) << ok.out;
+    EXPECT_NE(ok.out.find("  frames: " + n + " replayed, " + n + " in frames.csv\n"),
+              std::string::npos)
+        << ok.out;
+    EXPECT_NE(ok.out.find("every frame as in frames.csv"), std::string::npos) << ok.out;
+    EXPECT_EQ(ok.out.find("warning"), std::string::npos) << ok.out;
+
+    // frames.csv edited at frame 10 (its pitch): named, the first 10 frames agreed.
+    const fs::path edited = gs::test::scratch_dir("check_raw", "edited");
+    fs::copy(dir(), edited, fs::copy_options::recursive);
+    std::istringstream in(gs::test::read_text(edited / "frames.csv"));
+    std::string text;
+    int line_no = 0;
+    for (std::string line; std::getline(in, line); ++line_no) {
+        if (line_no == 11) {  // frame 10: frame,t_ms,roll_deg,pitch_deg,...
+            std::size_t at = 0;
+            for (int comma = 0; comma < 3; ++comma) at = line.find(',', at) + 1;
+            line = line.substr(0, at) + "-77.5" + line.substr(line.find(',', at));
+        }
+        text += line + "\n";
+    }
+    std::ofstream(edited / "frames.csv", std::ios::trunc) << text;
+    const RunResult bad = gs::test::run_cli("dataset check-raw " + edited.string());
+    EXPECT_EQ(bad.exit_code, 1) << bad.out;
+    EXPECT_NE(bad.out.find("the first 10 frames as in frames.csv"), std::string::npos) << bad.out;
+    EXPECT_NE(bad.out.find("raw/ does not reproduce frames.csv: frame 10: frames.csv has '10,"),
+              std::string::npos)
+        << bad.out;
+    EXPECT_NE(bad.out.find(",-77.5,"), std::string::npos) << bad.out;
+
+    // raw/video.pave cut in the middle of the chunk halfway through it.
+    const fs::path cut = gs::test::scratch_dir("check_raw", "cut");
+    fs::copy(dir(), cut, fs::copy_options::recursive);
+    auto chunks = gs::dataset::read_video_chunks(cut / "raw");
+    ASSERT_TRUE(chunks) << gs::to_string(chunks.error());
+    std::size_t k = chunks->size() / 2;
+    while (k < chunks->size() && (*chunks)[k].length < 2) ++k;
+    ASSERT_LT(k, chunks->size());
+    fs::resize_file(cut / "raw" / "video.pave", (*chunks)[k].offset + (*chunks)[k].length / 2);
+    const RunResult short_raw = gs::test::run_cli("dataset check-raw " + cut.string());
+    EXPECT_EQ(short_raw.exit_code, 1) << short_raw.out;
+    EXPECT_NE(short_raw.out.find("  warning: raw/video.pave: ends inside chunk " +
+                                 std::to_string(k) + " "),
+              std::string::npos)
+        << short_raw.out;
+    const auto at = short_raw.out.find("  frames: ");
+    ASSERT_NE(at, std::string::npos) << short_raw.out;
+    const long replayed = std::strtol(short_raw.out.c_str() + at + 10, nullptr, 10);
+    EXPECT_GT(replayed, 0) << short_raw.out;
+    EXPECT_LT(replayed, d->frame_count()) << short_raw.out;
+    EXPECT_NE(
+        short_raw.out.find("the first " + std::to_string(replayed) + " frames as in frames.csv"),
+        std::string::npos)
+        << short_raw.out;
+    EXPECT_NE(short_raw.out.find(std::to_string(d->frame_count() - replayed) +
+                                 " frames.csv rows after the replay's last frame (raw/ was cut "
+                                 "short: see the warnings)"),
+              std::string::npos)
+        << short_raw.out;
+
+    // A dataset without raw/ (rendered, not recorded).
+    const RunResult none =
+        gs::test::run_cli("dataset check-raw " GS_TEST_DATA_DIR "/flights/ci_pillar_left");
+    EXPECT_EQ(none.exit_code, 1) << none.out;
+    EXPECT_NE(none.out.find("no raw/ folder (recordings write one): nothing to replay"),
+              std::string::npos)
+        << none.out;
 }
 
 // The classifier re-run over the recorded dataset (pixels from video.h264, time and attitude
