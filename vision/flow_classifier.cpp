@@ -196,11 +196,11 @@ void FlowClassifier::prepare(const FrameInput& in, EgoPrior& prior) {
     nav_moving_ = false;
     nav_slow_ = false;
     nav_speed_ = kUnknown;
-    // The distance flown, for check_history: the trapezoid between this sample and the last.
+    nav_forward_mps_ = kUnknown;
+    // The distance flown forward, for check_history: the trapezoid between this sample and the
+    // last (signed: hovering jitter and a drift backward add nothing).
     const double t_s = static_cast<double>(in.t_ns) * 1e-9;
-    const double sp = have_v ? std::sqrt(in.vx_mps * in.vx_mps + in.vy_mps * in.vy_mps +
-                                         (std::isnan(in.vz_mps) ? 0.0 : in.vz_mps * in.vz_mps))
-                             : kUnknown;
+    const double sp = have_v ? in.vx_mps : kUnknown;
     if (odometer_.empty() || !(t_s > odometer_.back().t_s) || std::isnan(sp) ||
         std::isnan(last_speed_)) {
         odometer_.clear();  // a gap in the speed, or time not moving on: start again
@@ -240,6 +240,7 @@ void FlowClassifier::prepare(const FrameInput& in, EgoPrior& prior) {
     const cv::Vec3d c = camera_velocity(a.roll_deg, a.pitch_deg, v[0], v[1], v[2]);
     const double speed = cv::norm(c);
     nav_speed_ = speed;
+    nav_forward_mps_ = v[0];
     nav_slow_ = speed < p_.min_speed_mps;
     // Hovering, the direction of travel is noise; backward or sideways, nothing ahead approaches.
     if (!(speed >= p_.min_speed_mps && c[2] > 0.2 * speed)) return;
@@ -750,8 +751,11 @@ void FlowClassifier::check_history() {
     // far nearer the FOE than such a point's would. Judged by its looming, it is not
     // approaching.
     if (!(p_.history_check > 0)) return;
+    // With a navdata velocity, only while it says the drone flies forward: hovering, the rates
+    // are noise and the past says nothing.
+    const bool have_v = !std::isnan(nav_speed_);
+    if (have_v && !nav_moving_) return;
     const auto& tracks = tracker_.tracks();
-    const bool by_distance = nav_speed_ > p_.min_speed_mps;
     for (std::size_t i = 0; i < class_.size(); ++i) {
         if (class_[i] != PointClass::Hazard) continue;
         const Past& p = past_[i];
@@ -763,8 +767,10 @@ void FlowClassifier::check_history() {
             const double dt = p.t_s - q.t_s;
             if (dt < p_.history_min_s) continue;
             // Depth then over depth now = 1 + rate * (distance flown / speed).
-            const double flown = by_distance ? distance_flown(q.t_s, p.t_s) : kUnknown;
-            const double dt_eff = std::isnan(flown) ? dt : flown / nav_speed_;
+            const double flown = have_v ? distance_flown(q.t_s, p.t_s) : kUnknown;
+            const double dt_eff = std::isnan(flown) || !(nav_forward_mps_ > p_.min_speed_mps)
+                                      ? dt
+                                      : flown / nav_forward_mps_;
             const double predicted = p.a / (1.0 + p.rate * dt_eff);
             const double was = p.a + (static_cast<double>(q.derot.x) - p.derot_x) * p.ux +
                                (static_cast<double>(q.derot.y) - p.derot_y) * p.uy;

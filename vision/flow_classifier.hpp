@@ -268,10 +268,11 @@ private:
     RingBuffer<cv::Vec3d> level_velocity_{Trajectory::kHistory};  // navdata (forward, right, down)
     RingBuffer<DirectionSample> image_dirs_{Trajectory::kHistory};
     bool metric_ = false;
-    bool nav_moving_ = false;      // the navdata velocity is known, forward and fast enough
-    bool nav_slow_ = false;        // the navdata velocity is known and below min_speed_mps
-    bool nav_rejected_ = false;    // the images contradicted the navdata FOE this frame
-    double nav_speed_ = kUnknown;  // its magnitude (m/s), NaN without one
+    bool nav_moving_ = false;            // the navdata velocity is known, forward and fast enough
+    bool nav_slow_ = false;              // the navdata velocity is known and below min_speed_mps
+    bool nav_rejected_ = false;          // the images contradicted the navdata FOE this frame
+    double nav_speed_ = kUnknown;        // its magnitude (m/s), NaN without one
+    double nav_forward_mps_ = kUnknown;  // its forward component (level frame, m/s)
     cv::Vec3d nav_dir_{0, 0, 1};
     double nav_sigma_px_ = 0;  // standard error of its FOE
     double foe_sigma_px_ = 0;  // standard error of the FOE used
@@ -286,13 +287,13 @@ private:
         double t_s, rate, a, ux, uy, derot_x, derot_y;
     };
     std::vector<Past> past_;
-    // Distance flown (navdata speed integrated, m) by capture time; NaN while the speed was
-    // unknown.
+    // Distance flown forward (the navdata's forward velocity integrated, m) by capture time;
+    // restarted after a frame without it.
     struct Odometer {
         double t_s, s_m;
     };
     RingBuffer<Odometer> odometer_{Trajectory::kHistory + 1};
-    double last_speed_ = kUnknown;  // the last frame's navdata speed (m/s), for the odometer
+    double last_speed_ = kUnknown;  // the last frame's forward velocity (m/s), for the odometer
     std::vector<int> rated_count_;
     std::vector<PointClass> class_;
     std::vector<cv::Point2f> src_, dst_;
