@@ -49,6 +49,9 @@ const vision::ParamTable<AssistParams>& assist_param_table() {
             .add("detect_ttc_s", &P::detect_ttc_s, 0, 20,
                  "in sight: the remembered obstacle's time to contact at the present speed under "
                  "this (s)")
+            .add("evidence_min_mps", &P::evidence_min_mps, 0, 2,
+                 "in sight also needs at least this forward speed (m/s): slower, the classifier "
+                 "takes the drone for hovering and reads clear")
             .add("rebrake_mps", &P::rebrake_mps, 0, 3,
                  "holding and faster than this toward the obstacle (m/s): brake again")
             .add("react_s", &P::react_s, 0, 2,
@@ -224,8 +227,8 @@ AssistOutput Assist::step(const AssistInput& in) {
         // "Clear" is evidence only when the classifier could have seen the remembered obstacle:
         // its time to contact at this speed under the classifier's threshold. A stopped or
         // creeping drone sees no expansion, so its "clear" says nothing about what is ahead.
-        const bool in_sight =
-            moving_forward && known(remaining) && remaining < p_.detect_ttc_s * in.vx_mps;
+        const bool in_sight = moving_forward && in.vx_mps >= p_.evidence_min_mps &&
+                              known(remaining) && remaining < p_.detect_ttc_s * in.vx_mps;
         // Unknown pauses the count (no evidence either way: at a probe's speed the classifier
         // often cannot judge the centre); only an unsafe reading starts it again.
         if (centre == RegionState::Unsafe) {

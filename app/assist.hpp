@@ -115,6 +115,9 @@ struct AssistParams {
     // `detect_ttc_s` (the flow classifier flags below 3.3 s).
     double forget_after_clear_s = 0.7;
     double detect_ttc_s = 3.3;
+    // ... and at least this fast: slower, the flow classifier takes the drone for hovering (its
+    // min_speed_mps, 0.2, and the navdata's noise) and reads "clear" whatever is ahead.
+    double evidence_min_mps = 0.3;
     double rebrake_mps = 0.35;  // holding and faster than this toward the obstacle: brake again
     // The stopping distance allowed for when letting a held drone approach: reaction (the video
     // and decision latency) then this deceleration (full nose-up on the AR.Drone 2 gives about

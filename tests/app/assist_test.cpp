@@ -127,6 +127,30 @@ TEST(Assist, CentreUnsafeWhileMovingForwardBrakesThenHoldsUntilClear) {
     EXPECT_EQ(o.command, forward());
 }
 
+TEST(Assist, AClearCentreWhileCreepingSlowerThanTheClassifierJudgesIsNoEvidence) {
+    // Seed 11's ahead-pillar-0.6 in closed loop: stopped 0.15 m short of the pillar, the drone
+    // crept toward it at about 0.2 m/s, which the flow classifier takes for hovering (its
+    // min_speed_mps, 0.2): it read the centre clear, the assist forgot the pillar after 0.7 s
+    // and let the pilot fly into it. A clear reading counts from evidence_min_mps (0.3 m/s).
+    const auto last_action = [](double evidence_min_mps) {
+        AssistParams p;
+        p.evidence_min_mps = evidence_min_mps;
+        Assist a(p);
+        AssistInput in = flying_forward(1.5, unsafe(0.8));  // remembered 0.84 m ahead
+        a.step(in);
+        in.vx_mps = 0.2;
+        in.regions[1] = clear();
+        AssistOutput o;
+        for (int i = 1; i <= 25; ++i) {  // 2.5 s, 0.5 m crept: in sight after 0.9 s
+            in.t_s = 0.1 * i;
+            o = a.step(in);
+        }
+        return o.action;
+    };
+    EXPECT_NE(last_action(0.3), AssistAction::Watching) << "forgot the obstacle it cannot see";
+    EXPECT_EQ(last_action(0.0), AssistAction::Watching) << "the rule before: forgotten";
+}
+
 TEST(Assist, HeldAndStillMovingTowardTheObstacleItBrakesAgain) {
     AssistParams p;
     p.default_obstacle_m = 0.8;  // no time to contact: remembered closer than the gap
