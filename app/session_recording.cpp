@@ -138,10 +138,6 @@ void Session::record_stop() {
     if (!recorder_) return;
     const record::RecorderStatus st = recorder_->stop();
     recorder_.reset();
-    // A recorder that stopped itself at a write failure (a full disk): its sentence names the
-    // dataset, the disk and what is kept, as the terminal's `record` prints it. Said once (the
-    // recorder is gone now) and first. The link was never touched: flying goes on.
-    if (st.disk_full) message(st.error);
     if (!st.path.empty())
         if (auto e = write_assist_csv(st.path, st.start_ns, assist_rows_))
             message("assist.csv could not be written in " + st.path + ": " + to_string(*e));
@@ -154,8 +150,14 @@ void Session::record_stop() {
     ri.status.recording = false;
     ri.disk_free_bytes = disk_free_bytes_;
     ri.last_path = last_record_path_;
+    // Published before it is said: whoever reads the message finds the recording stopped.
     recording_.publish(std::move(ri));
-    if (!st.disk_full)
+    // A recorder that stopped itself at a write failure (a full disk): its sentence names the
+    // dataset, the disk and what is kept, as the terminal's `record` prints it. Said once (the
+    // recorder is gone now). The link was never touched: flying goes on.
+    if (st.disk_full)
+        message(st.error);
+    else
         message("recording stopped: " + std::to_string(st.frames) + " frames, " +
                 std::to_string(st.navdata) + " navdata in " + last_record_path_ +
                 (st.drops ? ", " + std::to_string(st.drops) + " dropped" : ""));

@@ -284,6 +284,7 @@ TEST(Session, AFullDiskStopsTheRecordingWithOneMessageAndTheFlightGoesOn) {
     EXPECT_NE(said.find(dir.string()), std::string::npos) << said;  // the dataset
     EXPECT_NE(said.find("frames.csv"), std::string::npos) << said;  // the file that failed
     EXPECT_NE(said.find("frames on disk are kept"), std::string::npos) << said;
+    // Published before it is said (a TSan run once read the state between the two).
     const RecordingInfo r = latest(s.recording());
     EXPECT_FALSE(r.status.recording);
     EXPECT_TRUE(r.status.disk_full);
