@@ -178,7 +178,6 @@ void FlowClassifier::on_reset() {
     nav_moving_ = false;
     nav_slow_ = false;
     odometer_.clear();
-    last_speed_ = kUnknown;
     streak_ = {};
     rejections_ = 0;
     derot_ = cv::Matx33d::eye();
@@ -201,15 +200,13 @@ void FlowClassifier::prepare(const FrameInput& in, EgoPrior& prior) {
     // last (signed: hovering jitter and a drift backward add nothing).
     const double t_s = static_cast<double>(in.t_ns) * 1e-9;
     const double sp = have_v ? in.vx_mps : kUnknown;
-    if (odometer_.empty() || !(t_s > odometer_.back().t_s) || std::isnan(sp) ||
-        std::isnan(last_speed_)) {
+    if (odometer_.empty() || !(t_s > odometer_.back().t_s) || std::isnan(sp)) {
         odometer_.clear();  // a gap in the speed, or time not moving on: start again
-        if (!std::isnan(sp)) odometer_.push({t_s, 0.0});
+        if (!std::isnan(sp)) odometer_.push({t_s, 0.0, sp});
     } else {
-        odometer_.push(
-            {t_s, odometer_.back().s_m + 0.5 * (sp + last_speed_) * (t_s - odometer_.back().t_s)});
+        const Odometer& last = odometer_.back();
+        odometer_.push({t_s, last.s_m + 0.5 * (sp + last.v_mps) * (t_s - last.t_s), sp});
     }
-    last_speed_ = sp;
     if (!have_v) {
         level_velocity_.clear();
         return;
@@ -720,27 +717,23 @@ double FlowClassifier::looming_rate(std::size_t a, bool moving_only, double lo, 
     return median_inplace(loom_);
 }
 
-double FlowClassifier::distance_flown(double from_s, double to_s) const {
-    // Linear between the samples (binary search: the samples' times rise); NaN when the odometer
-    // does not cover the span.
+double FlowClassifier::odometer_at(double t_s) const {
+    // Linear between the samples (binary search: the samples' times rise); NaN outside them.
     const std::size_t n = odometer_.size();
-    if (n < 2 || from_s < odometer_[0].t_s - 1e-6 || to_s > odometer_.back().t_s + 1e-6)
+    if (n < 2 || t_s < odometer_[0].t_s - 1e-6 || t_s > odometer_.back().t_s + 1e-6)
         return kUnknown;
-    const auto at = [this, n](double t) {
-        std::size_t lo = 1, hi = n - 1;  // the first sample at or after t, at least the second
-        while (lo < hi) {
-            const std::size_t mid = (lo + hi) / 2;
-            if (odometer_[mid].t_s < t)
-                lo = mid + 1;
-            else
-                hi = mid;
-        }
-        const Odometer& a = odometer_[lo - 1];
-        const Odometer& b = odometer_[lo];
-        const double w = std::clamp((t - a.t_s) / (b.t_s - a.t_s), 0.0, 1.0);
-        return a.s_m + w * (b.s_m - a.s_m);
-    };
-    return at(to_s) - at(from_s);
+    std::size_t lo = 1, hi = n - 1;  // the first sample at or after t_s, at least the second
+    while (lo < hi) {
+        const std::size_t mid = (lo + hi) / 2;
+        if (odometer_[mid].t_s < t_s)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    const Odometer& a = odometer_[lo - 1];
+    const Odometer& b = odometer_[lo];
+    const double w = std::clamp((t_s - a.t_s) / (b.t_s - a.t_s), 0.0, 1.0);
+    return a.s_m + w * (b.s_m - a.s_m);
 }
 
 void FlowClassifier::check_history() {
@@ -760,6 +753,7 @@ void FlowClassifier::check_history() {
         if (class_[i] != PointClass::Hazard) continue;
         const Past& p = past_[i];
         const Trajectory& t = tracks[i];
+        const double s_then = have_v ? odometer_at(p.t_s) : kUnknown;  // at the rate's time
         // Every kept past position at least history_min_s before the rate's time, newest first.
         bool moved = false, slow = false;
         for (std::size_t back = 0; back < t.history_size() && !moved; ++back) {
@@ -767,7 +761,7 @@ void FlowClassifier::check_history() {
             const double dt = p.t_s - q.t_s;
             if (dt < p_.history_min_s) continue;
             // Depth then over depth now = 1 + rate * (distance flown / speed).
-            const double flown = have_v ? distance_flown(q.t_s, p.t_s) : kUnknown;
+            const double flown = s_then - odometer_at(q.t_s);  // NaN when either is unknown
             const double dt_eff = std::isnan(flown) || !(nav_forward_mps_ > p_.min_speed_mps)
                                       ? dt
                                       : flown / nav_forward_mps_;

@@ -239,7 +239,7 @@ private:
     void rate_moving_points();
     void check_static_looming();
     void check_history();
-    double distance_flown(double from_s, double to_s) const;
+    double odometer_at(double t_s) const;  // distance flown forward by then (m), NaN unknown
     bool fb_missed(const Trajectory& t, std::size_t n) const;
     void reject_ground();
     double looming_rate(std::size_t a, bool moving_only, double lo, double hi, double radius);
@@ -290,10 +290,9 @@ private:
     // Distance flown forward (the navdata's forward velocity integrated, m) by capture time;
     // restarted after a frame without it.
     struct Odometer {
-        double t_s, s_m;
+        double t_s, s_m, v_mps;  // time, distance so far, forward velocity then
     };
     RingBuffer<Odometer> odometer_{Trajectory::kHistory + 1};
-    double last_speed_ = kUnknown;  // the last frame's forward velocity (m/s), for the odometer
     std::vector<int> rated_count_;
     std::vector<PointClass> class_;
     std::vector<cv::Point2f> src_, dst_;
