@@ -83,6 +83,9 @@ const vision::ParamTable<AssistParams>& assist_param_table() {
                  "a side unsafe: the roll away from it, fraction of the maximum tilt (0: none)")
             .add("side_away_mps", &P::side_away_mps, 0, 3,
                  "the roll away stops above this lateral speed away (m/s)")
+            .add("side_shift_max_m", &P::side_shift_max_m, 0, 5,
+                 "the roll away from one side's obstacle ends after this much sideways movement "
+                 "(m)")
             .add("default_side_m", &P::default_side_m, 0, 20,
                  "where a side obstacle is assumed to be ahead when its time to contact is "
                  "unknown (m)")
@@ -172,6 +175,7 @@ AssistOutput Assist::step(const AssistInput& in) {
         st_.probing = false;
         st_.stopped_clear_s = 0;
         st_.side_left_m = {kUnknown, kUnknown};
+        st_.side_shift_m = {0, 0};
         out.action = !in.enabled   ? AssistAction::Off
                      : in.override ? AssistAction::Override
                                    : AssistAction::Watching;
@@ -379,6 +383,12 @@ AssistOutput Assist::step(const AssistInput& in) {
             ahead = kUnknown;  // past it (or no velocity to know: only what is seen counts)
         }
         limited[i] = side_state[i] == RegionState::Unsafe || known(ahead);
+        if (!limited[i]) st_.side_shift_m[i] = 0;
+    }
+    // Movement away from each side since its obstacle was first seen (right is +vy).
+    if (known(in.vy_mps)) {
+        if (limited[0]) st_.side_shift_m[0] += std::max(0.0, in.vy_mps) * dt;
+        if (limited[1]) st_.side_shift_m[1] += std::max(0.0, -in.vy_mps) * dt;
     }
     // Roll > 0 is right: the left side (0) limits negative roll, the right (1) positive roll.
     // Push away from a side obstacle until the drone is abreast of where it was seen, not only
@@ -392,10 +402,14 @@ AssistOutput Assist::step(const AssistInput& in) {
     // (side_nudge 0: no steering at all, only the limits; never a STEERING line that pushes
     // nothing.)
     const bool may_nudge = p_.side_nudge > 0 && moving_forward && known(in.vy_mps);
-    const bool nudge_right =
-        may_nudge && still_ahead(0) && !limited[1] && in.vy_mps < p_.side_away_mps;
-    const bool nudge_left =
-        may_nudge && still_ahead(1) && !limited[0] && -in.vy_mps < p_.side_away_mps;
+    // Only toward a side that reads clear, and no farther than side_shift_max_m for one obstacle.
+    const auto may_push_away_from = [&](std::size_t i) {
+        const std::size_t other = 1 - i;
+        return may_nudge && still_ahead(static_cast<int>(i)) && !limited[other] &&
+               side_state[other] == RegionState::Clear && st_.side_shift_m[i] < p_.side_shift_max_m;
+    };
+    const bool nudge_right = may_push_away_from(0) && in.vy_mps < p_.side_away_mps;
+    const bool nudge_left = may_push_away_from(1) && -in.vy_mps < p_.side_away_mps;
     const bool limit_left = limited[0] && cmd.progressive && cmd.roll < 0;
     const bool limit_right = limited[1] && cmd.progressive && cmd.roll > 0;
     if (limit_left || limit_right) cmd.roll = 0;

@@ -28,7 +28,9 @@
 //    a few centimetres), while the other side is not limited and the drone moves forward, the
 //    assist also rolls away from it (`side_nudge`, up to `side_away_mps` of lateral speed away):
 //    zeroing alone leaves a drone that drifts or holds a line close to a pillar passing it at a
-//    few centimetres. With both sides unsafe (a corridor, a doorway) nothing is nudged.
+//    few centimetres. With both sides unsafe (a corridor, a doorway) nothing is nudged; nor
+//    toward a side that does not read clear (unknown or stale: no evidence that the way is
+//    free), nor farther than `side_shift_max_m` sideways for one obstacle.
 //  - Never limited: yaw, climb and descent, backing away (nose-up pitch), roll away from a side.
 //  - Unknown or stale regions (no evidence) never brake; the output says so.
 //  - Emergency and landing are not commands the assist sees: they go straight to the link. The
@@ -153,8 +155,15 @@ struct AssistParams {
     // Sides: the roll away while a side is unsafe (a fraction of the maximum tilt, as commands
     // are), the lateral speed away beyond which it stops pushing, where a side obstacle is
     // assumed to be when its time to contact is unknown, and how far past it the limit lasts.
-    double side_nudge = 0.15;
+    // 0.5: about 6 degrees of roll at the AR.Drone's default 12 degree limit, 1 m/s^2 sideways,
+    // so a side obstacle seen 1-2 s ahead is passed 0.2-0.3 m wider (0.15 gave 0.3 m/s^2, a few
+    // centimetres in that time; eval-assist, README "Collision assist").
+    double side_nudge = 0.5;
     double side_away_mps = 0.4;
+    // The push away from one side's obstacle ends after this much sideways movement (m): a brief
+    // false side alarm, or one seen while braking (the drone then never flies past it), must not
+    // carry the drone across the room.
+    double side_shift_max_m = 0.5;
     double default_side_m = 1.5;
     double side_pass_margin_m = 0.8;
 };
@@ -208,6 +217,8 @@ private:
         bool first = true;
         // Per side (left, right): how much farther forward the limit toward it lasts.
         std::array<double, 2> side_left_m{kUnknown, kUnknown};
+        // Per side: how far the drone has moved away from that side's obstacle while pushed.
+        std::array<double, 2> side_shift_m{0, 0};
     };
     RegionState effective(const RegionEvidence& e) const;
     AssistParams p_;

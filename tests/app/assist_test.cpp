@@ -408,6 +408,57 @@ TEST(Assist, ASideObstacleIsSteeredAwayFromUntilAbreastAndLimitedUntilPast) {
     EXPECT_EQ(o.action, AssistAction::Watching);
 }
 
+TEST(Assist, TheSideNudgeNeverPushesTowardASideWithoutEvidenceNorFartherThanItsShift) {
+    // Seed 2027's open-none-1.5-47 (eval-assist, side_nudge 0.5): a one-frame right alarm while
+    // braking, never flown past, kept the drone rolling left for seconds, toward a left side
+    // that read unknown, into a box.
+    Assist a;
+    AssistInput in = flying_forward(1.0, clear());
+    in.regions[2] = unsafe(1.5);
+    in.regions[0] = {RegionState::Unknown, 0.05, kUnknown};
+    in.pilot.roll = 0.3f;  // the pilot rolls toward the obstacle: that is zeroed, as always
+    AssistOutput o = a.step(in);
+    EXPECT_FLOAT_EQ(o.command.roll, 0.0f);  // nothing known to the left: not pushed there
+    EXPECT_NE(o.action, AssistAction::SteerLeft);
+    EXPECT_EQ(o.action, AssistAction::LimitRight);
+    in.regions[0] = {RegionState::Stale, 0.9, kUnknown};
+    in.t_s = 0.03;
+    o = a.step(in);
+    EXPECT_FLOAT_EQ(o.command.roll, 0.0f);  // stale is no evidence either
+    // The left reads clear: pushed left, until the drone has moved side_shift_max_m away.
+    Assist b;
+    in = flying_forward(1.0, clear());
+    in.regions[2] = unsafe(5.0);  // far enough ahead not to be abreast within the run
+    in.vy_mps = -0.3;             // drifting left at 0.3 m/s, under side_away_mps
+    in.pilot.roll = 0.3f;
+    const double shift = b.params().side_shift_max_m;
+    double t = 0;
+    for (; t < shift / 0.3 - 0.1; t += 0.03) {
+        in.t_s = t;
+        o = b.step(in);
+        ASSERT_FLOAT_EQ(o.command.roll, -static_cast<float>(b.params().side_nudge))
+            << "at " << t << " s";
+    }
+    for (; t < shift / 0.3 + 0.1; t += 0.03) {
+        in.t_s = t;
+        o = b.step(in);
+    }
+    EXPECT_FLOAT_EQ(o.command.roll, 0.0f);
+    EXPECT_EQ(o.action, AssistAction::LimitRight);  // still limited toward it, no more pushed
+    // Once the side reads clear and the drone is past it, a new alarm pushes again.
+    in.regions[2] = clear();
+    for (; t < 9.0; t += 0.03) {  // abreast 5.0 m after the last alarm, past 0.8 m later
+        in.t_s = t;
+        o = b.step(in);
+    }
+    EXPECT_EQ(o.action, AssistAction::Watching);
+    EXPECT_FLOAT_EQ(o.command.roll, 0.3f);
+    in.regions[2] = unsafe(2.0);
+    in.t_s = t;
+    o = b.step(in);
+    EXPECT_EQ(o.action, AssistAction::SteerLeft);
+}
+
 TEST(Assist, UnknownAndStaleEvidenceNeverBrakesAndSaysSo) {
     Assist a;
     AssistOutput o = a.step(flying_forward(1.5, {RegionState::Unknown, kUnknown, kUnknown}));
