@@ -383,12 +383,12 @@ AssistOutput Assist::step(const AssistInput& in) {
             ahead = kUnknown;  // past it (or no velocity to know: only what is seen counts)
         }
         limited[i] = side_state[i] == RegionState::Unsafe || known(ahead);
-        if (!limited[i]) st_.side_shift_m[i] = 0;
-    }
-    // Movement away from each side since its obstacle was first seen (right is +vy).
-    if (known(in.vy_mps)) {
-        if (limited[0]) st_.side_shift_m[0] += std::max(0.0, in.vy_mps) * dt;
-        if (limited[1]) st_.side_shift_m[1] += std::max(0.0, -in.vy_mps) * dt;
+        // Movement away from this side since its obstacle was first seen (right is +vy).
+        double& shift = st_.side_shift_m[i];
+        if (!limited[i])
+            shift = 0;
+        else if (known(in.vy_mps))
+            shift += std::max(0.0, i == 0 ? in.vy_mps : -in.vy_mps) * dt;
     }
     // Roll > 0 is right: the left side (0) limits negative roll, the right (1) positive roll.
     // Push away from a side obstacle until the drone is abreast of where it was seen, not only
