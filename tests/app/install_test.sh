@@ -20,14 +20,16 @@ for f in bin/ardrone-gs share/ardrone-gs/calibration/ardrone2_front.json \
 done
 [[ ! -e $prefix/share/ardrone-gs/screenshots ]] || fail "the README's screenshots were installed"
 [[ ! -e $prefix/share/ardrone-gs/desktop ]] || fail "the desktop files were installed as assets"
-zcat "$prefix/share/man/man1/ardrone-gs.1.gz" | grep -q '^\.SS "ardrone-gs replay"' ||
-  fail "the man page lacks the replay subcommand"
-zcat "$prefix/share/man/man1/ardrone-gs.1.gz" | grep -q 'ARDRONE_GS_ASSETS' ||
-  fail "the man page lacks the environment section"
+# Each output is captured whole before it is searched: `producer | grep -q` under pipefail fails
+# when grep stops at an early match and the producer dies of SIGPIPE (it did in CI, stop 34).
+man=$(zcat "$prefix/share/man/man1/ardrone-gs.1.gz")
+grep -q '^\.SS "ardrone-gs replay"' <<<"$man" || fail "the man page lacks the replay subcommand"
+grep -q '^\.B ARDRONE_GS_ASSETS' <<<"$man" || fail "the man page lacks the environment section"
 
 exe=$prefix/bin/ardrone-gs
 unset ARDRONE_GS_ASSETS
-"$exe" --help | grep -q "replay" || fail "--help does not list replay"
+help=$("$exe" --help)
+grep -q "replay" <<<"$help" || fail "--help does not list replay"
 version=$("$exe" --version)
 expected="assets: $(cd "$prefix/share/ardrone-gs" && pwd -P) (installed)"
 grep -qxF "$expected" <<<"$version" || fail "--version said '$version', expected '$expected'"
@@ -48,8 +50,8 @@ fi
 # ARDRONE_GS_ASSETS overrides; naming no folder is an error that says so (--help and --version
 # still answer, so the folder in use can be looked at).
 mkdir -p "$tmp/other"
-ARDRONE_GS_ASSETS=$tmp/other "$exe" --version | grep -qxF "assets: $tmp/other (environment)" ||
-  fail "ARDRONE_GS_ASSETS was not used"
+version=$(ARDRONE_GS_ASSETS=$tmp/other "$exe" --version)
+grep -qxF "assets: $tmp/other (environment)" <<<"$version" || fail "ARDRONE_GS_ASSETS was not used"
 if ARDRONE_GS_ASSETS=$tmp/missing "$exe" replay "$tmp/flight" --out "$tmp/replay2" -q 2>"$tmp/err"; then
   fail "a missing ARDRONE_GS_ASSETS folder was accepted"
 fi
