@@ -77,6 +77,15 @@ const vision::ParamTable<AssistParams>& assist_param_table() {
                  "distance (m)")
             .add("probe_rebrake_margin_mps", &P::probe_rebrake_margin_mps, 0, 3,
                  "probing: brake again above the probe speed plus this (m/s)")
+            .add("confirm_s", &P::confirm_s, 0, 5,
+                 "free flight: a centre alarm brakes once it has read unsafe this long in all (s; "
+                 "0: at once)")
+            .add("confirm_clear_s", &P::confirm_clear_s, 0, 5,
+                 "a centre alarm being confirmed is dropped after the centre read clear this long "
+                 "(s)")
+            .add("confirm_gap_m", &P::confirm_gap_m, 0, 10,
+                 "a centre alarm brakes at once when waiting would stop the drone nearer than "
+                 "this to the obstacle its time to contact places ahead (m)")
             .add("ttc_trust", &P::ttc_trust, 0, 1,
                  "the remembered distance is this fraction of time to contact x speed")
             .add("side_nudge", &P::side_nudge, 0, 1,
@@ -141,13 +150,15 @@ const char* to_string(AssistAction a) {
             return "APPROACHING";
         case AssistAction::Probing:
             return "PROBING";
+        case AssistAction::Confirming:
+            return "CONFIRMING";
     }
     return "?";
 }
 
 bool is_intervention(AssistAction a) {
     return a != AssistAction::Off && a != AssistAction::Override && a != AssistAction::Watching &&
-           a != AssistAction::Approaching;
+           a != AssistAction::Approaching && a != AssistAction::Confirming;
 }
 
 RegionState Assist::effective(const RegionEvidence& e) const {
@@ -155,6 +166,50 @@ RegionState Assist::effective(const RegionEvidence& e) const {
     if (e.state != RegionState::Unknown && known(e.age_s) && e.age_s > p_.stale_after_s)
         return RegionState::Stale;
     return e.state;
+}
+
+bool Assist::confirm_centre(const AssistInput& in, RegionState centre, double dt) {
+    const bool moving = known(in.vx_mps) && in.vx_mps > p_.moving_forward_mps;
+    if (!moving || p_.confirm_s <= 0) {
+        st_.pending = false;
+        return centre == RegionState::Unsafe;
+    }
+    if (centre == RegionState::Unsafe) {
+        // How long the brake may wait: until the drone, braking then, would stop confirm_gap_m
+        // short of where this reading's time to contact places the obstacle. Nothing to place it
+        // by (no time to contact, too slow for one to mean a distance): no wait.
+        const RegionEvidence& c = in.regions[1];
+        double slack_s = 0;
+        if (known(c.ttc_s) && in.vx_mps > 0.2) {
+            const double v = in.vx_mps;
+            const double age = known(c.age_s) ? std::max(c.age_s, 0.0) : 0.0;
+            const double ahead = p_.ttc_trust * std::max(c.ttc_s - age, 0.0) * v;
+            const double stop = v * p_.react_s + v * v / (2 * p_.brake_decel_mps2);
+            slack_s = (ahead - stop - p_.confirm_gap_m) / v;
+        }
+        if (!st_.pending) {
+            st_.pending = true;
+            st_.pending_unsafe_s = 0;
+            st_.pending_deadline_s = in.t_s + slack_s;
+        } else {
+            st_.pending_unsafe_s += dt;
+            st_.pending_deadline_s = std::min(st_.pending_deadline_s, in.t_s + slack_s);
+        }
+        st_.pending_clear_s = 0;
+        st_.pending_evidence = c;
+        st_.pending_t_s = in.t_s;
+        return st_.pending_unsafe_s >= p_.confirm_s || in.t_s >= st_.pending_deadline_s;
+    }
+    if (!st_.pending) return false;
+    if (centre == RegionState::Clear) {
+        st_.pending_clear_s += dt;
+        if (st_.pending_clear_s >= p_.confirm_clear_s) {
+            st_.pending = false;
+            return false;
+        }
+    }
+    // Unknown, stale or briefly clear: the deadline stands.
+    return in.t_s >= st_.pending_deadline_s;
 }
 
 AssistOutput Assist::step(const AssistInput& in) {
@@ -176,6 +231,7 @@ AssistOutput Assist::step(const AssistInput& in) {
         st_.stopped_clear_s = 0;
         st_.side_left_m = {kUnknown, kUnknown};
         st_.side_shift_m = {0, 0};
+        st_.pending = false;
         out.action = !in.enabled   ? AssistAction::Off
                      : in.override ? AssistAction::Override
                                    : AssistAction::Watching;
@@ -198,11 +254,11 @@ AssistOutput Assist::step(const AssistInput& in) {
     const double dt = known(st_.last_t_s) ? std::clamp(in.t_s - st_.last_t_s, 0.0, 0.5) : 0.0;
     st_.last_t_s = in.t_s;
     if (vx_known) st_.travelled_m += in.vx_mps * dt;
-    auto remember = [&] {
+    auto remember = [&](const RegionEvidence& e) {
         // Time to contact at the frame's capture, less what was flown since it was captured.
-        const double age = known(c.age_s) ? std::max(c.age_s, 0.0) : 0.0;
-        const double d = known(c.ttc_s) && vx_known && in.vx_mps > 0.2
-                             ? p_.ttc_trust * std::max(c.ttc_s - age, 0.0) * in.vx_mps
+        const double age = known(e.age_s) ? std::max(e.age_s, 0.0) : 0.0;
+        const double d = known(e.ttc_s) && vx_known && in.vx_mps > 0.2
+                             ? p_.ttc_trust * std::max(e.ttc_s - age, 0.0) * in.vx_mps
                              : kUnknown;
         const double est = known(d) ? d : p_.default_obstacle_m;
         const double remaining = known(st_.obstacle_m) ? st_.obstacle_m - st_.travelled_m : 1e9;
@@ -212,16 +268,29 @@ AssistOutput Assist::step(const AssistInput& in) {
         st_.clear_seen_s = 0;
     };
 
-    // Centre: brake, hold, release.
-    if (centre == RegionState::Unsafe && (moving_forward || pilot_forward) &&
+    // Centre: confirm, brake, hold, release. In free flight an alarm brakes once confirmed (or
+    // its deadline come); one braked for at its deadline, no longer read unsafe, is remembered
+    // where its last unsafe reading placed it.
+    bool alarm = centre == RegionState::Unsafe;
+    RegionEvidence alarm_evidence = c;
+    if (st_.phase == Phase::Free) {
+        alarm = confirm_centre(in, centre, dt);
+        if (alarm && centre != RegionState::Unsafe) {
+            alarm_evidence = st_.pending_evidence;
+            alarm_evidence.age_s = (known(alarm_evidence.age_s) ? alarm_evidence.age_s : 0.0) +
+                                   in.t_s - st_.pending_t_s;
+        }
+    }
+    if (alarm || st_.phase != Phase::Free) st_.pending = false;
+    if (alarm && (moving_forward || pilot_forward) &&
         (st_.phase == Phase::Free || (st_.phase == Phase::Holding && moving_forward))) {
-        remember();
+        remember(alarm_evidence);
         st_.phase = moving_forward ? Phase::Braking : Phase::Holding;
         st_.since_s = in.t_s;
     } else if (centre == RegionState::Unsafe && st_.phase == Phase::Holding) {
         // Not while braking: a time to contact fitted over frames from before the brake,
         // times the falling speed, places the obstacle much nearer than it is.
-        remember();
+        remember(c);
     }
     // The remembered obstacle's distance ahead now (unknown when there is none).
     double remaining = known(st_.obstacle_m) ? st_.obstacle_m - st_.travelled_m : kUnknown;
@@ -343,6 +412,13 @@ AssistOutput Assist::step(const AssistInput& in) {
                       remaining, probe_mps);
         out.action = AssistAction::Probing;
         out.reason = buf;
+    } else if (st_.pending) {
+        out.action = AssistAction::Confirming;
+        out.reason =
+            "CONFIRMING: centre alarm" +
+            (centre == RegionState::Unsafe ? contact_text(c)
+                                           : std::string(" (now ") + to_string(centre) + ")") +
+            ", braking if it holds";
     } else if (st_.phase == Phase::Holding) {
         if (!vx_known && !pilot_backing) {
             cmd = FlightCommand{};  // no velocity to hold against: the drone's own hover

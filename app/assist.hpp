@@ -5,7 +5,17 @@
 // session calls it on every pilot change and classifier decision, the evaluation on every step.
 //
 // Rules:
-//  - Centre unsafe while the drone moves forward: BRAKE. With a navdata velocity: full nose-up
+//  - Centre unsafe while the drone moves forward: first CONFIRM, when there is time to. A centre
+//    alarm that lasts a frame or two is mostly a false one (the first metres of a flight, the
+//    drone pitching to accelerate), and a brake in open space is what makes a pilot switch an
+//    assist off. So in free flight an alarm brakes once the centre has read unsafe for
+//    `confirm_s` in all, or at once when waiting would leave less than `confirm_gap_m` between
+//    where the drone would stop (reaction time, then `brake_decel_mps2`) and the obstacle its
+//    time to contact places ahead (at `ttc_trust`), or when it comes with no time to contact or
+//    no velocity. It is dropped after the centre has read clear for `confirm_clear_s`; the
+//    deadline is kept whatever the centre reads meanwhile (unknown is no reason to wait longer).
+//    The pilot's commands pass unchanged while confirming, and the HUD says so.
+//    Then BRAKE. With a navdata velocity: full nose-up
 //    pitch until the forward speed is under `brake_release_mps`, then the drone's own hover (on
 //    the AR.Drone's dynamics this stops shorter than hover alone: the hover controller tilts in
 //    proportion to the residual speed, so its last half metre per second decays slowly; see
@@ -95,6 +105,9 @@ enum class AssistAction : std::uint8_t {
     // Stopped short of a remembered obstacle that the centre has since read clear: the pilot may
     // creep toward it slowly enough for the classifier to see it again (forward pitch capped).
     Probing,
+    // A centre alarm being confirmed (see the rules above): the pilot's commands pass unchanged,
+    // the brake comes when it holds or its deadline comes (not an intervention).
+    Confirming,
 };
 const char* to_string(AssistAction a);  // "OFF", "OVERRIDE", "WATCHING", "BRAKING" ...
 // The assist acts on the pilot's commands (braking, holding, limiting, steering).
@@ -148,6 +161,12 @@ struct AssistParams {
     double probe_max_mps = 0.6;
     double probe_min_gap_m = 0.5;
     double probe_rebrake_margin_mps = 0.35;  // probing: brake again above probe speed + this
+    // Confirming a centre alarm in free flight (see the rules above). 0.25 s: on the closed-loop
+    // suite, most false alarms in open space last under that (one to eight frames), true ones
+    // 1-3 s; waiting costs 0.25 s x speed of clearance, never below confirm_gap_m.
+    double confirm_s = 0.25;
+    double confirm_clear_s = 0.2;
+    double confirm_gap_m = 1.0;
     // The flow classifier's time to contact reads long while the obstacle grows (a fit over past
     // frames): 3.1 s for a true 2.45 s, 2.4 s for 1.74 s on the suite's ahead flights. The
     // remembered distance is this fraction of time to contact x speed.
@@ -219,7 +238,17 @@ private:
         std::array<double, 2> side_left_m{kUnknown, kUnknown};
         // Per side: how far the drone has moved away from that side's obstacle while pushed.
         std::array<double, 2> side_shift_m{0, 0};
+        // A centre alarm being confirmed: unsafe and clear time so far, the time by which it
+        // brakes whatever happens, and the last unsafe reading (with its time) to brake for.
+        bool pending = false;
+        double pending_unsafe_s = 0;
+        double pending_clear_s = 0;
+        double pending_deadline_s = 0;
+        RegionEvidence pending_evidence{};
+        double pending_t_s = 0;
     };
+    // Whether a centre alarm in free flight brakes now (see the rules above).
+    bool confirm_centre(const AssistInput& in, RegionState centre, double dt);
     RegionState effective(const RegionEvidence& e) const;
     AssistParams p_;
     State st_;

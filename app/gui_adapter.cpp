@@ -90,6 +90,7 @@ void GuiAdapter::fill_assist(ui::GuiSnapshot& s) {
     a.dry_run = st.dry_run || source_.kind == SessionSource::Replay;
     a.acting = st.acting;
     a.unknown = st.unknown;
+    a.confirming = st.confirming;
     a.action = st.action;
     a.line = st.line;
     a.interventions = st.interventions;

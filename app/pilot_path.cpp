@@ -112,6 +112,11 @@ AssistStatus PilotPath::status() const {
             s.action = o.action == AssistAction::SteerLeft ? "STEERING LEFT" : "STEERING RIGHT";
             line = o.reason;  // "STEERING right: obstacle left, contact in 1.7 s"
             break;
+        case AssistAction::Confirming:
+            s.action = "CONFIRMING";
+            s.confirming = true;
+            line = o.reason;  // "CONFIRMING: centre alarm, contact in 2.8 s, braking if it holds"
+            break;
         case AssistAction::Watching:
         case AssistAction::Approaching:
             if (s.unknown) {

@@ -342,13 +342,14 @@ void Hud::draw(ImDrawList* dl, ImVec2 p0, ImVec2 p1, const GuiSnapshot& s, ViewS
     // ---- The assist: what it does and why, under the warnings -------------------------------
     const AssistView& as = s.assist;
     if (as.available) {
-        const bool say = as.acting || as.unknown || as.override_held || !as.enabled;
+        const bool say =
+            as.acting || as.unknown || as.confirming || as.override_held || !as.enabled;
         const std::string_view msg =
             say ? std::string_view(as.line) : (as.dry_run ? "ASSIST (dry run)" : "ASSIST ON");
-        const std::uint32_t col = as.acting                        ? colors::kBad
-                                  : as.unknown || as.override_held ? colors::kWarn
-                                  : !as.enabled                    ? colors::kWarn
-                                                                   : colors::kGood;
+        const std::uint32_t col = as.acting                                         ? colors::kBad
+                                  : as.unknown || as.confirming || as.override_held ? colors::kWarn
+                                  : !as.enabled                                     ? colors::kWarn
+                                                                                    : colors::kGood;
         const float size = say ? fs * 1.35f : fs * 0.9f;
         // Wider than the picture (a long PROBING line on a small window): broken at spaces into
         // lines that fit, each centred, never cut off at the picture's edges. At spaces only:

@@ -382,11 +382,12 @@ struct AssistView {
     bool available = false;  // a source is open (live: it filters; replay: a dry run)
     bool enabled = true;     // ASSIST ON / OFF
     bool override_held = false;
-    bool dry_run = false;  // a replay: what it would have done, nothing sent
-    bool acting = false;   // braking, holding or blocking a side now
-    bool unknown = false;  // flying forward into a centre with no evidence: not braking
-    std::string action;    // "BRAKING", "HOLDING", "LEFT BLOCKED", "UNKNOWN", "WATCHING" ...
-    std::string line;      // "BRAKING: obstacle ahead, contact in 1.8 s", "ASSIST ON" ...
+    bool dry_run = false;     // a replay: what it would have done, nothing sent
+    bool acting = false;      // braking, holding or blocking a side now
+    bool unknown = false;     // flying forward into a centre with no evidence: not braking
+    bool confirming = false;  // a centre alarm being confirmed: braking if it holds
+    std::string action;       // "BRAKING", "HOLDING", "LEFT BLOCKED", "UNKNOWN", "WATCHING" ...
+    std::string line;         // "BRAKING: obstacle ahead, contact in 1.8 s", "ASSIST ON" ...
     std::uint64_t interventions = 0;
 };
 

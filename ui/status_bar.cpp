@@ -349,8 +349,8 @@ void StatusBar::draw(const GuiSnapshot& s, ViewState& v, Actions& a) {
         banners.push_back(
             {t.emergency_commanded ? "EMERGENCY (commanded)" : "EMERGENCY", colors::kBad});
     if (s.video.stale) banners.push_back({"VIDEO STALE", colors::kWarn});
-    if (s.assist.available &&
-        (s.assist.acting || s.assist.unknown || s.assist.override_held || !s.assist.enabled)) {
+    if (s.assist.available && (s.assist.acting || s.assist.unknown || s.assist.confirming ||
+                               s.assist.override_held || !s.assist.enabled)) {
         banners.push_back({s.assist.line, s.assist.acting ? colors::kBad : colors::kWarn});
         v.layout.assist.banner = s.assist.line;
     }

@@ -170,7 +170,9 @@ TEST(Assist, HeldAndStillMovingTowardTheObstacleItBrakesAgain) {
 }
 
 TEST(Assist, AfterABrakeTheDroneIsHeldNoFartherThanTheGapFromWhereItStopped) {
-    Assist a;
+    AssistParams p;
+    p.confirm_s = 0;  // braking at the first reading (confirmation: the tests below)
+    Assist a(p);
     // Unsafe with 3 s to contact at 1.2 m/s, on a frame 50 ms old: 3.54 m, remembered at 2.66 m.
     // But a time to contact at the classifier's threshold may come from an obstacle seen late
     // (much nearer): once stopped, it is remembered no farther than the gap ahead.
@@ -582,24 +584,131 @@ RegionEvidence flow_like(double vx, double true_ttc_s) {
 }
 
 TEST(Assist, AFalseAlarmFromHoverIsProbedAndForgottenInsteadOfHoldingForEver) {
-    // Nothing ahead. The classifier flags the centre for 4 decisions (contact in 3.1 s) as the
-    // drone passes 0.75 m/s accelerating from hover, as on the suite's open flights (runs of 1-6
-    // AT cycles in the first metres), and reads as flow_like does otherwise.
-    Assist a;
-    int flagged = 0;
-    const PilotRun r = fly_with_pilot_forward(a, 25.0, 1e9, [&](double, double, double vx) {
-        if ((vx > 0.75 || flagged > 0) && flagged < 4) {
-            ++flagged;
-            return unsafe(3.1);
+    // Nothing ahead. The classifier flags the centre (contact in 3.1 s) as the drone passes
+    // 0.75 m/s accelerating from hover, as on the suite's open flights (runs of 1-20 AT cycles in
+    // the first metres), and reads as flow_like does otherwise.
+    for (const int run : {4, 14}) {
+        Assist a;
+        int flagged = 0;
+        const PilotRun r = fly_with_pilot_forward(a, 25.0, 1e9, [&](double, double, double vx) {
+            if ((vx > 0.75 || flagged > 0) && flagged < run) {
+                ++flagged;
+                return unsafe(3.1);
+            }
+            return flow_like(vx, 1e9);
+        });
+        if (run == 4) {
+            // 4 AT cycles (0.09 s) is under confirm_s: never a brake.
+            EXPECT_EQ(r.brakes, 0);
+            EXPECT_FALSE(r.probed);
+        } else {
+            // 14 (0.39 s) is confirmed: the brake, and those of the approach toward where the
+            // obstacle was placed until it is in sight and seen clear; then it is forgotten.
+            EXPECT_GE(r.brakes, 1);
+            EXPECT_TRUE(r.probed);
         }
-        return flow_like(vx, 1e9);
-    });
-    // The brake, and those of the approach toward where the obstacle was placed (1.5 m ahead)
-    // until it is in sight and seen clear; then it is forgotten.
-    EXPECT_GE(r.brakes, 1);
-    EXPECT_TRUE(r.probed);
-    EXPECT_EQ(r.last, AssistAction::Watching) << "still held at the end";
-    EXPECT_GT(r.x_end_m, 10.0);  // the flight went on
+        EXPECT_EQ(r.last, AssistAction::Watching) << run << ": still held at the end";
+        EXPECT_GT(r.x_end_m, 10.0) << run;  // the flight went on
+    }
+}
+
+TEST(Assist, ACentreAlarmWithTimeToSpareIsConfirmedBeforeItBrakes) {
+    // 3 s to contact at 1.0 m/s on a frame 50 ms old: 2.21 m ahead at ttc_trust; braking now
+    // stops within 0.53 m (0.2 s reaction, 1.5 m/s^2), so the brake may wait 0.68 s and still
+    // stop confirm_gap_m (1 m) short of it.
+    Assist a;
+    AssistInput in = flying_forward(1.0, unsafe(3.0));
+    AssistOutput o = a.step(in);
+    EXPECT_EQ(o.action, AssistAction::Confirming) << o.reason;
+    EXPECT_EQ(o.command, forward()) << "confirming changes nothing the pilot sends";
+    EXPECT_FALSE(o.intervened);
+    EXPECT_FALSE(is_intervention(o.action));
+    EXPECT_EQ(o.reason, "CONFIRMING: centre alarm, contact in 3.0 s, braking if it holds");
+    // A one-frame alarm, then clear for confirm_clear_s: dropped, nothing braked.
+    in.regions[1] = clear();
+    for (double t = 0.03; t < 0.3; t += 0.03) {
+        in.t_s = t;
+        o = a.step(in);
+        EXPECT_NE(o.action, AssistAction::Braking) << t;
+    }
+    EXPECT_EQ(o.action, AssistAction::Watching) << o.reason;
+    // An alarm that holds: braked once it has read unsafe for confirm_s (0.25 s), not before,
+    // even with a clear frame in between (under confirm_clear_s).
+    in.regions[1] = unsafe(3.0);
+    double braked_at = -1;
+    for (int i = 0; i < 30 && braked_at < 0; ++i) {
+        in.t_s = 1.0 + 0.03 * i;
+        in.regions[1] = i == 3 ? clear() : unsafe(3.0);
+        if (a.step(in).action == AssistAction::Braking) braked_at = in.t_s;
+    }
+    // Unsafe from 1.00 s, clear at 1.09 s, unsafe again: 0.25 s of unsafe readings by 1.30 s.
+    EXPECT_NEAR(braked_at, 1.30, 0.031);
+}
+
+TEST(Assist, ACentreAlarmWithNoTimeToSpareOrNoDistanceBrakesAtOnceAndItsDeadlineStands) {
+    // Near (0.8 s at 1.5 m/s: the stop would come within a metre of it): at once.
+    {
+        Assist a;
+        EXPECT_EQ(a.step(flying_forward(1.5, unsafe(0.8))).action, AssistAction::Braking);
+    }
+    // No time to contact, or no velocity: nothing places the obstacle, so nothing to wait for.
+    {
+        Assist a;
+        EXPECT_EQ(a.step(flying_forward(1.0, unsafe())).action, AssistAction::Braking);
+        Assist b;
+        AssistInput in = flying_forward(kUnknown, unsafe(3.0));
+        EXPECT_NE(b.step(in).action, AssistAction::Confirming);
+    }
+    // Confirmation off: at once, as before it existed.
+    {
+        AssistParams p;
+        p.confirm_s = 0;
+        Assist a(p);
+        EXPECT_EQ(a.step(flying_forward(1.0, unsafe(3.0))).action, AssistAction::Braking);
+    }
+    // 1.5 s to contact at 2 m/s: 2.2 m ahead, a 1.7 m stop (0.4 m reaction, 1.33 m braking):
+    // at once.
+    {
+        Assist a;
+        EXPECT_EQ(a.step(flying_forward(2.0, unsafe(1.5))).action, AssistAction::Braking);
+    }
+    // One unsafe reading with time to spare, then the centre reads unknown (no evidence either
+    // way): the brake comes at the deadline the reading set (0.68 s), for the obstacle it placed.
+    Assist a;
+    AssistInput in = flying_forward(1.0, unsafe(3.0));
+    ASSERT_EQ(a.step(in).action, AssistAction::Confirming);
+    in.regions[1] = {RegionState::Unknown, kUnknown, kUnknown};
+    double braked_at = -1;
+    AssistOutput o;
+    for (int i = 1; i < 40 && braked_at < 0; ++i) {
+        in.t_s = 0.03 * i;
+        o = a.step(in);
+        if (o.action == AssistAction::Braking)
+            braked_at = in.t_s;
+        else
+            EXPECT_EQ(o.action, AssistAction::Confirming) << in.t_s;
+    }
+    EXPECT_NEAR(braked_at, 0.69, 0.031);
+    // Remembered where that reading placed it (2.21 m, less the 0.69 m flown since), not at the
+    // default distance.
+    EXPECT_NEAR(o.obstacle_m, 0.75 * (3.0 - 0.05 - 0.69) * 1.0, 0.02);
+}
+
+TEST(Assist, AFlickeringAlarmOfARealObstacleStillStopsTheDroneShortOfIt) {
+    // An obstacle ahead whose alarm reads unsafe only every other AT cycle (points come and go),
+    // clear in between: the unsafe time adds up across the clear cycles, and the deadline of each
+    // reading stands, so the drone stops short of it.
+    for (double obstacle : {3.0, 6.0}) {
+        Assist a;
+        int beat = 0;
+        const PilotRun r =
+            fly_with_pilot_forward(a, 20.0, obstacle, [&](double, double x, double vx) {
+                const RegionEvidence e = flow_like(vx, vx > 0 ? (obstacle - x) / vx : 1e9);
+                return ++beat % 2 == 0 && e.state == RegionState::Unsafe ? clear() : e;
+            });
+        EXPECT_GT(r.min_gap_m, 0.6) << obstacle << " m";
+        EXPECT_GE(r.brakes, 1) << obstacle << " m";
+    }
 }
 
 TEST(Assist, AProbeTowardARealObstacleBrakesAgainAndNeverReachesIt) {
