@@ -86,6 +86,9 @@ const vision::ParamTable<AssistParams>& assist_param_table() {
             .add("confirm_gap_m", &P::confirm_gap_m, 0, 10,
                  "a centre alarm brakes at once when waiting would stop the drone nearer than "
                  "this to the obstacle its time to contact places ahead (m)")
+            .add("confirm_recall_s", &P::confirm_recall_s, 0, 10,
+                 "a centre alarm within this long (s) of the last unsafe reading of one dropped "
+                 "unconfirmed brakes at once")
             .add("ttc_trust", &P::ttc_trust, 0, 1,
                  "the remembered distance is this fraction of time to contact x speed")
             .add("side_nudge", &P::side_nudge, 0, 1,
@@ -187,6 +190,11 @@ bool Assist::confirm_centre(const AssistInput& in, RegionState centre, double dt
             const double stop = v * p_.react_s + v * v / (2 * p_.brake_decel_mps2);
             slack_s = (ahead - stop - p_.confirm_gap_m) / v;
         }
+        // Recurring within confirm_recall_s of an alarm dropped unconfirmed: confirmed.
+        const bool recurs = !st_.pending && known(st_.last_unsafe_t_s) &&
+                            in.t_s - st_.last_unsafe_t_s <= p_.confirm_recall_s;
+        st_.last_unsafe_t_s = in.t_s;
+        if (recurs) return true;
         if (!st_.pending) {
             st_.pending = true;
             st_.pending_unsafe_s = 0;
@@ -232,6 +240,7 @@ AssistOutput Assist::step(const AssistInput& in) {
         st_.side_left_m = {kUnknown, kUnknown};
         st_.side_shift_m = {0, 0};
         st_.pending = false;
+        st_.last_unsafe_t_s = kUnknown;
         out.action = !in.enabled   ? AssistAction::Off
                      : in.override ? AssistAction::Override
                                    : AssistAction::Watching;

@@ -12,7 +12,8 @@
 //    `confirm_s` in all, or at once when waiting would leave less than `confirm_gap_m` between
 //    where the drone would stop (reaction time, then `brake_decel_mps2`) and the obstacle its
 //    time to contact places ahead (at `ttc_trust`), or when it comes with no time to contact or
-//    no velocity. It is dropped after the centre has read clear for `confirm_clear_s`; the
+//    no velocity. It is dropped after the centre has read clear for `confirm_clear_s`, but
+//    another alarm within `confirm_recall_s` of its last unsafe reading brakes at once; the
 //    deadline is kept whatever the centre reads meanwhile (unknown is no reason to wait longer).
 //    The pilot's commands pass unchanged while confirming, and the HUD says so.
 //    Then BRAKE. With a navdata velocity: full nose-up
@@ -167,6 +168,11 @@ struct AssistParams {
     double confirm_s = 0.25;
     double confirm_clear_s = 0.2;
     double confirm_gap_m = 1.0;
+    // An alarm within this long of the last unsafe reading of one dropped unconfirmed brakes at
+    // once: a true obstacle can be flagged a frame at a time, a second apart (seed 11's
+    // ahead-pillar-1.5 read unsafe for 3 frames, clear for 0.27 s, unsafe for 1 frame, then clear
+    // until 0.6 s before contact), and a recurring alarm is evidence enough.
+    double confirm_recall_s = 1.0;
     // The flow classifier's time to contact reads long while the obstacle grows (a fit over past
     // frames): 3.1 s for a true 2.45 s, 2.4 s for 1.74 s on the suite's ahead flights. The
     // remembered distance is this fraction of time to contact x speed.
@@ -246,6 +252,7 @@ private:
         double pending_deadline_s = 0;
         RegionEvidence pending_evidence{};
         double pending_t_s = 0;
+        double last_unsafe_t_s = kUnknown;  // the centre's last unsafe reading (free flight)
     };
     // Whether a centre alarm in free flight brakes now (see the rules above).
     bool confirm_centre(const AssistInput& in, RegionState centre, double dt);

@@ -632,17 +632,50 @@ TEST(Assist, ACentreAlarmWithTimeToSpareIsConfirmedBeforeItBrakes) {
         EXPECT_NE(o.action, AssistAction::Braking) << t;
     }
     EXPECT_EQ(o.action, AssistAction::Watching) << o.reason;
-    // An alarm that holds: braked once it has read unsafe for confirm_s (0.25 s), not before,
-    // even with a clear frame in between (under confirm_clear_s).
-    in.regions[1] = unsafe(3.0);
+    // Another alarm after more than confirm_recall_s (1 s) is confirmed on its own: braked once
+    // it has read unsafe for confirm_s (0.25 s), not before, even with a clear frame in between
+    // (under confirm_clear_s).
     double braked_at = -1;
     for (int i = 0; i < 30 && braked_at < 0; ++i) {
-        in.t_s = 1.0 + 0.03 * i;
+        in.t_s = 1.5 + 0.03 * i;
         in.regions[1] = i == 3 ? clear() : unsafe(3.0);
         if (a.step(in).action == AssistAction::Braking) braked_at = in.t_s;
     }
-    // Unsafe from 1.00 s, clear at 1.09 s, unsafe again: 0.25 s of unsafe readings by 1.30 s.
-    EXPECT_NEAR(braked_at, 1.30, 0.031);
+    // Unsafe from 1.50 s, clear at 1.59 s, unsafe again: 0.25 s of unsafe readings by 1.80 s.
+    EXPECT_NEAR(braked_at, 1.80, 0.031);
+}
+
+TEST(Assist, ACentreAlarmThatRecursWithinTheRecallOfOneDroppedBrakesAtOnce) {
+    // A true obstacle flagged a frame at a time (seed 11's ahead-pillar-1.5: unsafe, 0.27 s
+    // clear, unsafe, then clear until 0.6 s before contact): the first is dropped unconfirmed,
+    // the second, within confirm_recall_s of it, brakes at once.
+    Assist a;
+    AssistInput in = flying_forward(1.5, unsafe(2.8));
+    ASSERT_EQ(a.step(in).action, AssistAction::Confirming);
+    in.regions[1] = clear();
+    for (double t = 0.03; t < 0.3; t += 0.03) {
+        in.t_s = t;
+        ASSERT_NE(a.step(in).action, AssistAction::Braking) << t;
+    }
+    ASSERT_EQ(a.step(in).action, AssistAction::Watching) << "dropped";
+    in.t_s = 0.9;
+    in.regions[1] = unsafe(3.1);
+    EXPECT_EQ(a.step(in).action, AssistAction::Braking);
+    // Past the recall, an alarm is confirmed afresh.
+    AssistParams p;
+    p.confirm_recall_s = 0.5;
+    Assist b(p);
+    in.t_s = 0;
+    in.regions[1] = unsafe(2.8);
+    ASSERT_EQ(b.step(in).action, AssistAction::Confirming);
+    in.regions[1] = clear();
+    for (double t = 0.03; t < 0.3; t += 0.03) {
+        in.t_s = t;
+        (void)b.step(in);
+    }
+    in.t_s = 0.9;
+    in.regions[1] = unsafe(3.1);
+    EXPECT_EQ(b.step(in).action, AssistAction::Confirming);
 }
 
 TEST(Assist, ACentreAlarmWithNoTimeToSpareOrNoDistanceBrakesAtOnceAndItsDeadlineStands) {
