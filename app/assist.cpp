@@ -164,6 +164,17 @@ bool is_intervention(AssistAction a) {
            a != AssistAction::Approaching && a != AssistAction::Confirming;
 }
 
+double Assist::placed_ahead_m(const RegionEvidence& e, double vx_mps) const {
+    // Time to contact at the frame's capture, less what was flown since it was captured.
+    if (!known(e.ttc_s) || !known(vx_mps) || vx_mps <= 0.2) return kUnknown;
+    const double age = known(e.age_s) ? std::max(e.age_s, 0.0) : 0.0;
+    return p_.ttc_trust * std::max(e.ttc_s - age, 0.0) * vx_mps;
+}
+
+double Assist::stopping_m(double v_mps) const {
+    return v_mps * p_.react_s + v_mps * v_mps / (2 * p_.brake_decel_mps2);
+}
+
 RegionState Assist::effective(const RegionEvidence& e) const {
     if (e.state == RegionState::Stale) return RegionState::Stale;
     if (e.state != RegionState::Unknown && known(e.age_s) && e.age_s > p_.stale_after_s)
@@ -182,14 +193,9 @@ bool Assist::confirm_centre(const AssistInput& in, RegionState centre, double dt
         // short of where this reading's time to contact places the obstacle. Nothing to place it
         // by (no time to contact, too slow for one to mean a distance): no wait.
         const RegionEvidence& c = in.regions[1];
-        double slack_s = 0;
-        if (known(c.ttc_s) && in.vx_mps > 0.2) {
-            const double v = in.vx_mps;
-            const double age = known(c.age_s) ? std::max(c.age_s, 0.0) : 0.0;
-            const double ahead = p_.ttc_trust * std::max(c.ttc_s - age, 0.0) * v;
-            const double stop = v * p_.react_s + v * v / (2 * p_.brake_decel_mps2);
-            slack_s = (ahead - stop - p_.confirm_gap_m) / v;
-        }
+        const double ahead = placed_ahead_m(c, in.vx_mps);
+        const double slack_s =
+            known(ahead) ? (ahead - stopping_m(in.vx_mps) - p_.confirm_gap_m) / in.vx_mps : 0.0;
         // Recurring within confirm_recall_s of an alarm dropped unconfirmed: confirmed.
         const bool recurs = !st_.pending && known(st_.last_unsafe_t_s) &&
                             in.t_s - st_.last_unsafe_t_s <= p_.confirm_recall_s;
@@ -205,7 +211,6 @@ bool Assist::confirm_centre(const AssistInput& in, RegionState centre, double dt
         }
         st_.pending_clear_s = 0;
         st_.pending_evidence = c;
-        st_.pending_t_s = in.t_s;
         return st_.pending_unsafe_s >= p_.confirm_s || in.t_s >= st_.pending_deadline_s;
     }
     if (!st_.pending) return false;
@@ -264,11 +269,7 @@ AssistOutput Assist::step(const AssistInput& in) {
     st_.last_t_s = in.t_s;
     if (vx_known) st_.travelled_m += in.vx_mps * dt;
     auto remember = [&](const RegionEvidence& e) {
-        // Time to contact at the frame's capture, less what was flown since it was captured.
-        const double age = known(e.age_s) ? std::max(e.age_s, 0.0) : 0.0;
-        const double d = known(e.ttc_s) && vx_known && in.vx_mps > 0.2
-                             ? p_.ttc_trust * std::max(e.ttc_s - age, 0.0) * in.vx_mps
-                             : kUnknown;
+        const double d = placed_ahead_m(e, in.vx_mps);
         const double est = known(d) ? d : p_.default_obstacle_m;
         const double remaining = known(st_.obstacle_m) ? st_.obstacle_m - st_.travelled_m : 1e9;
         st_.obstacle_m = std::min(est, remaining);
@@ -287,7 +288,7 @@ AssistOutput Assist::step(const AssistInput& in) {
         if (alarm && centre != RegionState::Unsafe) {
             alarm_evidence = st_.pending_evidence;
             alarm_evidence.age_s = (known(alarm_evidence.age_s) ? alarm_evidence.age_s : 0.0) +
-                                   in.t_s - st_.pending_t_s;
+                                   in.t_s - st_.last_unsafe_t_s;
         }
     }
     if (alarm || st_.phase != Phase::Free) st_.pending = false;
@@ -328,7 +329,7 @@ AssistOutput Assist::step(const AssistInput& in) {
     // Holding: forward allowed while the remembered obstacle stays more than the gap away once
     // the drone has stopped from its present speed (reaction time, then the braking deceleration).
     const double v_fwd = vx_known ? std::max(in.vx_mps, 0.0) : 0.0;
-    const double stop_m = v_fwd * p_.react_s + v_fwd * v_fwd / (2 * p_.brake_decel_mps2);
+    const double stop_m = stopping_m(v_fwd);
     auto room = [&] {
         return st_.phase == Phase::Holding && vx_known && known(remaining) &&
                remaining - stop_m > p_.hold_gap_m && centre != RegionState::Unsafe;

@@ -245,18 +245,24 @@ private:
         // Per side: how far the drone has moved away from that side's obstacle while pushed.
         std::array<double, 2> side_shift_m{0, 0};
         // A centre alarm being confirmed: unsafe and clear time so far, the time by which it
-        // brakes whatever happens, and the last unsafe reading (with its time) to brake for.
+        // brakes whatever happens, and the last unsafe reading to brake for (at
+        // last_unsafe_t_s).
         bool pending = false;
         double pending_unsafe_s = 0;
         double pending_clear_s = 0;
         double pending_deadline_s = 0;
         RegionEvidence pending_evidence{};
-        double pending_t_s = 0;
         double last_unsafe_t_s = kUnknown;  // the centre's last unsafe reading (free flight)
     };
     // Whether a centre alarm in free flight brakes now (see the rules above).
     bool confirm_centre(const AssistInput& in, RegionState centre, double dt);
     RegionState effective(const RegionEvidence& e) const;
+    // Where a reading's time to contact places its obstacle ahead (x ttc_trust, less what was
+    // flown since its frame), or unknown (no time to contact, or too slow for one to mean a
+    // distance).
+    double placed_ahead_m(const RegionEvidence& e, double vx_mps) const;
+    // Stopping distance from this forward speed: the reaction time, then brake_decel_mps2.
+    double stopping_m(double v_mps) const;
     AssistParams p_;
     State st_;
 };
