@@ -503,10 +503,17 @@ std::vector<AssistFlightSpec> default_assist_suite(const std::vector<double>& sp
             sim::Scene s = base_room("center", r.uniform(0.8, 1.0), r.next());
             add("clutter", "target", std::move(s), face + 2.0);
         }
-        // Open spaces: nothing on the path.
+        // Open spaces: nothing on the path, nor within the classifier's horizon past the goal.
+        // The generated room's far wall can stand 12 m from the start, 4 m past the goal: at 2 m/s
+        // that is 2 s to contact when the flight ends, a wall the classifier rightly flags (its
+        // threshold is 3.3 s) and the assist rightly brakes for, which the suite would count as a
+        // nuisance. So the far wall stands at least kOpenHorizonS at the flight's speed, plus
+        // kOpenMarginM, beyond the goal (the room only grows; nothing else in it moves).
         for (int i = 0; i < 5; ++i) {
             sim::Scene s = base_room("none", r.uniform(0.0, 1.0), r.next());
-            add("open", "none", std::move(s), 8.0);
+            s.room.x_max_m = std::max(s.room.x_max_m,
+                                      s.start.x_m + kOpenGoalM + kOpenHorizonS * v + kOpenMarginM);
+            add("open", "none", std::move(s), kOpenGoalM);
         }
     }
     return out;

@@ -89,6 +89,13 @@ struct AssistFlightResult {
 Expected<AssistFlightResult, std::string> fly_assist_flight(const AssistFlightSpec& spec,
                                                             const AssistEvalOptions& options);
 
+// The suite's open flights fly kOpenGoalM; their room's far wall stands at least kOpenHorizonS at
+// the flight's speed plus kOpenMarginM past that (4 s: over the flow classifier's 3.3 s threshold
+// on time to contact, with its estimate's scatter), so nothing is to be flagged ahead of them.
+inline constexpr double kOpenGoalM = 8.0;
+inline constexpr double kOpenHorizonS = 4.0;
+inline constexpr double kOpenMarginM = 1.0;
+
 // The default suite at the given speeds, its scenes drawn from `seed`.
 std::vector<AssistFlightSpec> default_assist_suite(const std::vector<double>& speeds,
                                                    std::uint64_t seed);
