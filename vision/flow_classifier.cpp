@@ -73,6 +73,14 @@ const ParamTable<FlowParams>& FlowParams::table() {
                  "fused with the navdata's, the images' FOE counts as known no better than this")
             .add("foe_gate", &P::foe_gate, 0.5, 100,
                  "navdata FOE rejected this many standard errors from the images'")
+            .add("foe_arbitrate", &P::foe_arbitrate, 0, 2,
+                 "the points' fitted flows pick the FOE they run radially from: 0 off (beyond "
+                 "foe_gate the images decide), 1 beyond foe_gate, 2 also within it (see ratio)")
+            .add("foe_arbitrate_ratio", &P::foe_arbitrate_ratio, 0, 1,
+                 "mode 2, within foe_gate: the navdata's FOE replaces the fused one when its "
+                 "misfit is under this share of the fused one's")
+            .add("foe_arbitrate_min_points", &P::foe_arbitrate_min_points, 3, 1000,
+                 "fewer points to arbitrate with: the images decide")
             .add("max_rotation_dps", &P::max_rotation_dps, 1, 2000,
                  "regions unknown while the camera turns faster than this")
             .add("looming", &P::looming, 0, 1,
@@ -297,21 +305,33 @@ bool FlowClassifier::choose_foe(const FrameInput& in, UnknownReason& why) {
     const bool img_ok = !std::isnan(img_sigma) && img_sigma <= p_.max_foe_sigma_px;
     const cv::Point2d nav_foe = calib_.project(nav_dir_);
     nav_rejected_ = false;
+    img_overruled_ = false;
     if (img_ok && nav_moving_) {
         // Both: inverse-variance fusion, unless they disagree beyond what their errors allow
-        // (a biased velocity, a stale sample): then the images decide.
+        // (a biased velocity, a stale sample; or the images' FOE traded for a rotation): then
+        // the one the points' fitted flows run radially from (foe_arbitrate), else the images.
+        // Agreeing, the navdata's still replaces the fused one when the points plainly say so.
         const double s_img = std::max(img_sigma, p_.fused_image_foe_floor_px);
         const double v_img = s_img * s_img, v_nav = nav_sigma_px_ * nav_sigma_px_;
         const cv::Point2d d = img_foe - nav_foe;
         if (d.dot(d) > p_.foe_gate * p_.foe_gate * (v_img + v_nav)) {
-            nav_rejected_ = true;
-            foe_ = cv::Point2f(img_foe);
-            foe_sigma_px_ = img_sigma;
+            // One of them is wrong: the one the points' fitted flows do not run radially from.
+            const double nav_misfit = p_.foe_arbitrate ? radial_misfit(nav_foe) : kUnknown;
+            const double img_misfit = p_.foe_arbitrate ? radial_misfit(img_foe) : kUnknown;
+            img_overruled_ = nav_misfit < img_misfit;
+            nav_rejected_ = !img_overruled_;
+            foe_ = cv::Point2f(img_overruled_ ? nav_foe : img_foe);
+            foe_sigma_px_ = img_overruled_ ? nav_sigma_px_ : img_sigma;
         } else {
-            foe_ = cv::Point2f((img_foe * v_nav + nav_foe * v_img) * (1.0 / (v_img + v_nav)));
-            foe_sigma_px_ = std::sqrt(v_img * v_nav / (v_img + v_nav));
+            const cv::Point2d fused = (img_foe * v_nav + nav_foe * v_img) * (1.0 / (v_img + v_nav));
+            const double nav_misfit = p_.foe_arbitrate >= 2 ? radial_misfit(nav_foe) : kUnknown;
+            const double fused_misfit = p_.foe_arbitrate >= 2 ? radial_misfit(fused) : kUnknown;
+            img_overruled_ = nav_misfit < p_.foe_arbitrate_ratio * fused_misfit;
+            foe_ = cv::Point2f(img_overruled_ ? nav_foe : fused);
+            foe_sigma_px_ =
+                img_overruled_ ? nav_sigma_px_ : std::sqrt(v_img * v_nav / (v_img + v_nav));
         }
-        foe_source_ = FoeSource::Images;
+        foe_source_ = img_overruled_ ? FoeSource::Navdata : FoeSource::Images;
     } else if (img_ok) {
         foe_ = cv::Point2f(img_foe);
         foe_sigma_px_ = img_sigma;
@@ -375,6 +395,7 @@ void FlowClassifier::classify(const FrameInput& in) {
     plot(s_image_yaw_, nav_judged ? -em.image_rad[1] * 180.0 / CV_PI : kUnknown);
     plot(s_image_pitch_, nav_judged ? -em.image_rad[0] * 180.0 / CV_PI : kUnknown);
     UnknownReason why = UnknownReason::None;
+    fit_windows();
     const bool known = choose_foe(in, why);
     plot(s_prior_rejected_, em.prior_rotation_rejected || nav_rejected_ ? 1 : 0);
     const bool img_known = em.translation == EgoMotion::Translation::Known;
@@ -461,6 +482,67 @@ void FlowClassifier::classify(const FrameInput& in) {
     plot(s_hazards_, hazards);
 }
 
+void FlowClassifier::fit_windows() {
+    const auto& tracks = tracker_.tracks();
+    fits_.assign(tracks.size(), WindowFit{});
+    const auto win = static_cast<std::size_t>(p_.velocity_window);
+    const auto min_len = static_cast<std::size_t>(std::max(2, p_.min_track_length));
+    for (std::size_t i = 0; i < tracks.size(); ++i) {
+        const Trajectory& t = tracks[i];
+        const std::size_t n = std::min(win, t.history_size());
+        if (n < min_len) continue;
+        ts_.resize(n);
+        xs_.resize(n);
+        ys_.resize(n);
+        const double t0 = t.at_back(0).t_s;
+        for (std::size_t k = 0; k < n; ++k) {
+            const TrackPoint& q = t.at_back(n - 1 - k);
+            ts_[k] = q.t_s - t0;
+            xs_[k] = q.derot.x;
+            ys_[k] = q.derot.y;
+        }
+        const LineFit fx = fit_line(ts_, xs_);
+        const LineFit fy = fit_line(ts_, ys_);
+        if (!fx.ok || !fy.ok) continue;
+        // The fitted velocity is the one at the window's mean time, `lag` seconds ago: measure
+        // the point where it was then (its translational motion since taken off the current
+        // position), so rate, depth and position all refer to one instant.
+        double lag = 0;
+        for (double v : ts_) lag -= v;
+        lag /= static_cast<double>(n);
+        WindowFit& w = fits_[i];
+        w.ok = true;
+        w.t0 = t0;
+        w.lag = lag;
+        w.vx = fx.slope;
+        w.vy = fy.slope;
+        w.mx = static_cast<double>(t.undist.x) - fx.slope * lag;
+        w.my = static_cast<double>(t.undist.y) - fy.slope * lag;
+        w.dx = fx.intercept - fx.slope * lag;
+        w.dy = fy.intercept - fy.slope * lag;
+    }
+}
+
+double FlowClassifier::radial_misfit(const cv::Point2d& foe) {
+    const auto& tracks = tracker_.tracks();
+    const double min_d2 = p_.min_foe_distance_px * p_.min_foe_distance_px;
+    const double min_v2 = p_.flow_noise_px_s * p_.flow_noise_px_s;
+    scratch_.clear();
+    for (std::size_t i = 0; i < fits_.size(); ++i) {
+        const WindowFit& w = fits_[i];
+        if (!w.ok || (p_.ego_motion && tracks[i].moving_streak >= p_.moving_frames)) continue;
+        const double dx = w.mx - foe.x, dy = w.my - foe.y;
+        const double d2 = dx * dx + dy * dy, v2 = w.vx * w.vx + w.vy * w.vy;
+        if (d2 < min_d2 || v2 < min_v2) continue;
+        const double dn = std::sqrt(d2);
+        const double radial = std::abs(w.vx * dx + w.vy * dy) / dn;
+        const double across = std::abs(w.vx * dy - w.vy * dx) / dn;
+        scratch_.push_back(across / (radial + across));
+    }
+    if (static_cast<int>(scratch_.size()) < p_.foe_arbitrate_min_points) return kUnknown;
+    return median_inplace(scratch_);
+}
+
 void FlowClassifier::rate_points(const FrameInput& in) {
     const auto& tracks = tracker_.tracks();
     class_.assign(tracks.size(), PointClass::Unrated);
@@ -500,27 +582,10 @@ void FlowClassifier::rate_points(const FrameInput& in) {
             ++rated_count_[ri];
             continue;
         }
-        ts_.resize(n);
-        xs_.resize(n);
-        ys_.resize(n);
-        const double t0 = t.at_back(0).t_s;
-        for (std::size_t k = 0; k < n; ++k) {
-            const TrackPoint& q = t.at_back(n - 1 - k);
-            ts_[k] = q.t_s - t0;
-            xs_[k] = q.derot.x;
-            ys_[k] = q.derot.y;
-        }
-        const LineFit fx = fit_line(ts_, xs_);
-        const LineFit fy = fit_line(ts_, ys_);
-        if (!fx.ok || !fy.ok) continue;
-        // The fitted velocity is the one at the window's mean time, `lag` seconds ago: measure
-        // the point where it was then (its translational motion since taken off the current
-        // position), so rate, depth and position below all refer to one instant.
-        double lag = 0;
-        for (double v : ts_) lag -= v;
-        lag /= static_cast<double>(n);
-        const double mx = static_cast<double>(t.undist.x) - fx.slope * lag;
-        const double my = static_cast<double>(t.undist.y) - fy.slope * lag;
+        const WindowFit& w = fits_[i];
+        if (!w.ok) continue;
+        const double t0 = w.t0, lag = w.lag, mx = w.mx, my = w.my;
+        const double vx = w.vx, vy = w.vy;
         const double dx = mx - static_cast<double>(foe_.x), dy = my - static_cast<double>(foe_.y);
         const double d2 = dx * dx + dy * dy;
         if (d2 < min_d2) continue;
@@ -529,8 +594,8 @@ void FlowClassifier::rate_points(const FrameInput& in) {
         ground_dx_[i] = cos_r * dx + sin_r * dy;
         // Radial flow about the FOE divided by the distance to it: 1/TTC for a static point, the
         // x and y versions of (dx/dt)/(x - x_foe) combined by least squares.
-        double radial = (fx.slope * dx + fy.slope * dy) / dn;
-        double tangential = (fx.slope * dy - fy.slope * dx) / dn;
+        double radial = (vx * dx + vy * dy) / dn;
+        double tangential = (vx * dy - vy * dx) / dn;
         // On an edge only the flow across it is measured; along it LK guesses, and the point
         // slides (a wall's foot, the line between two plain walls: lines toward the FOE, along
         // which a slide is a radial flow, a false approach). Such a point's radial flow comes
@@ -542,7 +607,7 @@ void FlowClassifier::rate_points(const FrameInput& in) {
                 class_[i] = PointClass::Aperture;
                 continue;
             }
-            radial = (fx.slope * ap.nx + fy.slope * ap.ny) / ap.cos;
+            radial = (vx * ap.nx + vy * ap.ny) / ap.cos;
             tangential = 0;  // not measured
         }
         const double rate_then = radial / dn;
@@ -555,13 +620,7 @@ void FlowClassifier::rate_points(const FrameInput& in) {
                 ux = sgn * ap.nx;
                 uy = sgn * ap.ny;
             }
-            past_[i] = {t0 - lag,
-                        rate_then,
-                        dx * ux + dy * uy,
-                        ux,
-                        uy,
-                        fx.intercept - fx.slope * lag,
-                        fy.intercept - fy.slope * lag};
+            past_[i] = {t0 - lag, rate_then, dx * ux + dy * uy, ux, uy, w.dx, w.dy};
         }
         // Time to contact now is `lag` less than it was then.
         const double ttc_now = 1.0 / rate_then - lag;

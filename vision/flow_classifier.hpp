@@ -115,8 +115,25 @@ struct FlowParams : TrackerParams {
     // and the centre's false alarms rise: off by default (README, Collision assist). Without a
     // navdata velocity, or with it rejected, the images' FOE keeps its own standard error.
     double fused_image_foe_floor_px = 0;
-    double foe_gate = 3;            // navdata FOE this many standard errors off: rejected
-    double max_rotation_dps = 150;  // faster rotation: regions unknown (tracking unreliable)
+    double foe_gate = 3;  // navdata FOE this many standard errors off: rejected
+    // Where both the navdata and the images give an FOE, the points' own flows arbitrate: their
+    // derotated velocities, fitted over velocity_window frames (the ones the rates come from),
+    // run more or less radially from each candidate (misfit: the median share of the flow across
+    // the ray, over static points at least min_foe_distance_px from it and flowing faster than
+    // flow_noise_px_s). The images' own FOE is a median of per-frame estimates, each free to
+    // trade a few hundredths of a degree of rotation for tens of pixels of FOE when the
+    // translation's flow is small: in the clean closed loop's first metres it sat 90-120 px
+    // below the navdata's while the points' fitted flows ran radially from the navdata's (misfit
+    // 0.02-0.05 against 0.17-0.27), and floor points rated about it read a third of their time
+    // to contact and ended inside the corridor. 0: the images decide beyond foe_gate, as before;
+    // 1: beyond foe_gate, the candidate with the smaller misfit; 2 (default): also within it,
+    // the navdata's replaces the fused FOE when its misfit is under foe_arbitrate_ratio of the
+    // fused one's (under the realism layer's late, biased navdata the two are often close, and
+    // taking the navdata's on any difference delayed centre detections: README).
+    int foe_arbitrate = 2;
+    double foe_arbitrate_ratio = 0.5;
+    int foe_arbitrate_min_points = 12;  // fewer such points: the images decide
+    double max_rotation_dps = 150;      // faster rotation: regions unknown (tracking unreliable)
     // Moving objects: the looming rate of points that do not follow the camera's motion, from the
     // growth of their distances to neighbours within loom_radius_px (median over at least
     // loom_min_neighbours of them).
@@ -234,6 +251,10 @@ private:
     void on_reset() override;
     void add_overlay_points() override;
     bool choose_foe(const FrameInput& in, UnknownReason& why);
+    void fit_windows();  // fits_ for this frame's tracks
+    // Median share of the fitted flows across their rays from `foe` (0 radial, 1 across); NaN
+    // with fewer than foe_arbitrate_min_points usable points.
+    double radial_misfit(const cv::Point2d& foe);
     void all_unknown(UnknownReason why);  // every region unknown for `why`, no alarm
     void rate_points(const FrameInput& in);
     void rate_moving_points();
@@ -271,6 +292,7 @@ private:
     bool nav_moving_ = false;            // the navdata velocity is known, forward and fast enough
     bool nav_slow_ = false;              // the navdata velocity is known and below min_speed_mps
     bool nav_rejected_ = false;          // the images contradicted the navdata FOE this frame
+    bool img_overruled_ = false;         // ... and the points' flows sided with the navdata
     double nav_speed_ = kUnknown;        // its magnitude (m/s), NaN without one
     double nav_forward_mps_ = kUnknown;  // its forward component (level frame, m/s)
     cv::Vec3d nav_dir_{0, 0, 1};
@@ -278,6 +300,14 @@ private:
     double foe_sigma_px_ = 0;  // standard error of the FOE used
     cv::Matx33d derot_ = cv::Matx33d::eye();
     std::vector<double> ts_, xs_, ys_, hazard_[3];
+    // Per track, its derotated image velocity fitted over the last velocity_window frames
+    // (fit_windows): the velocity at the window's mean time, `lag` seconds before the newest
+    // frame, where it was then (m: undistorted; d: derotated), and the newest frame's time.
+    struct WindowFit {
+        bool ok = false;
+        double t0 = 0, lag = 0, vx = 0, vy = 0, mx = 0, my = 0, dx = 0, dy = 0;
+    };
+    std::vector<WindowFit> fits_;
     // Per track, from the FOE in the level frame (px): below the horizon, and across.
     std::vector<double> ground_dh_, ground_dx_;
     // Per track, for check_history: the rate's reference time (s) and its rate then (1/s), the

@@ -1,5 +1,7 @@
 #include "synthetic_helpers.hpp"
 
+#include "vision/flow_classifier.hpp"
+
 #include <cmath>
 
 namespace gs::vision::test {
@@ -127,7 +129,7 @@ std::vector<FrameRecord> fly(const Flight& f, ObstacleClassifier& c) {
         if (f.navdata_velocity) {
             const bool moving = f.motion != Motion::Roll && f.motion != Motion::Yaw;
             in.vx_mps = moving ? kSpeed : 0.0;
-            in.vy_mps = 0;
+            in.vy_mps = moving ? f.navdata_vy_bias_mps : 0.0;
             in.vz_mps = 0;
         }
         const FrameResult& r = c.process(in);
@@ -138,6 +140,8 @@ std::vector<FrameRecord> fly(const Flight& f, ObstacleClassifier& c) {
             rec.score[k] = r.regions[k].score;
         }
         rec.distance_m = f.distance_at(i);
+        if (const auto* flow = dynamic_cast<const FlowClassifier*>(&c))
+            rec.foe_source = static_cast<int>(flow->foe_source());
         out.push_back(rec);
     }
     return out;

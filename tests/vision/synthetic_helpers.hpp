@@ -29,6 +29,8 @@ struct FrameRecord {
     std::array<bool, 3> valid{};
     std::array<double, 3> score{};
     double distance_m = 0;  // to the wall ahead (Approach) / along the wall (SidePass)
+    // The flow classifier's FOE source for the frame (FlowClassifier::FoeSource), -1 for others.
+    int foe_source = -1;
 };
 
 CameraCalibration synthetic_calibration();  // 640x360, 60 degree HFOV, no distortion
@@ -37,9 +39,10 @@ struct Flight {
     Motion motion;
     int frames;
     double fps = 25;
-    bool navdata_velocity = true;  // give the classifier the velocity (the corridor needs it)
-    bool navdata_altitude = true;  // ... and the height above the floor (Floor only)
-    double navdata_yaw_scale = 1;  // navdata reports this share of the true yaw
+    bool navdata_velocity = true;    // give the classifier the velocity (the corridor needs it)
+    bool navdata_altitude = true;    // ... and the height above the floor (Floor only)
+    double navdata_yaw_scale = 1;    // navdata reports this share of the true yaw
+    double navdata_vy_bias_mps = 0;  // added to the navdata's sideways velocity (a biased estimate)
     std::vector<TexturedPlane> planes;
     int moving_plane = -1;  // this plane moves at plane_velocity (m/s, world axes)
     cv::Vec3d plane_velocity{0, 0, 0};
