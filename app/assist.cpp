@@ -73,8 +73,13 @@ const vision::ParamTable<AssistParams>& assist_param_table() {
             .add("probe_min_mps", &P::probe_min_mps, 0, 2, "probing: the lowest speed cap (m/s)")
             .add("probe_max_mps", &P::probe_max_mps, 0, 2, "probing: the highest speed cap (m/s)")
             .add("probe_min_gap_m", &P::probe_min_gap_m, 0, 10,
-                 "probing: never closer to the remembered obstacle than this plus the stopping "
-                 "distance (m)")
+                 "probing, once the centre has read clear with the obstacle in sight: never "
+                 "closer to it than this plus the stopping distance (m)")
+            .add(
+                "probe_blind_gap_m", &P::probe_blind_gap_m, 0, 10,
+                "probing: the gap kept until the centre reads clear with the obstacle in sight (m)")
+            .add("probe_seen_s", &P::probe_seen_s, 0, 10,
+                 "probing: clear in sight this long before the nearer gap applies (s)")
             .add("probe_rebrake_margin_mps", &P::probe_rebrake_margin_mps, 0, 3,
                  "probing: brake again above the probe speed plus this (m/s)")
             .add("confirm_s", &P::confirm_s, 0, 5,
@@ -339,7 +344,9 @@ AssistOutput Assist::step(const AssistInput& in) {
     const double probe_mps = known(remaining) ? std::clamp(remaining / p_.probe_ttc_s,
                                                            p_.probe_min_mps, p_.probe_max_mps)
                                               : p_.probe_min_mps;
-    const bool probe_room = known(remaining) && remaining - stop_m > p_.probe_min_gap_m;
+    const double probe_gap_m =
+        st_.clear_seen_s >= p_.probe_seen_s ? p_.probe_min_gap_m : p_.probe_blind_gap_m;
+    const bool probe_room = known(remaining) && remaining - stop_m > probe_gap_m;
     // A probe goes on while the centre reads unknown: slower than about half a metre per second
     // the direction of travel is too uncertain for the classifier to judge the centre, which is
     // what a probe is for. It stops on stale evidence (no decisions), and brakes on unsafe.

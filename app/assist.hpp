@@ -28,7 +28,8 @@
 //    releases the hold only when the classifier could have seen it (see `detect_ttc_s`): a
 //    stopped drone sees no expansion. So a held drone, stopped with the centre clear for
 //    `probe_wait_s`, may PROBE: creep toward it at a capped speed, never closer than
-//    `probe_min_gap_m` plus its stopping distance; seen again, it brakes; seen clear while in
+//    `probe_blind_gap_m` plus its stopping distance until the centre has read clear with the
+//    obstacle in sight (then `probe_min_gap_m`); seen again, it brakes; seen clear while in
 //    sight, it is forgotten (a false alarm no longer holds the drone for the rest of a flight).
 //  - Left / right unsafe: the roll command toward that side is zeroed, and stays zeroed until the
 //    drone has flown past where the obstacle was seen (its time to contact x speed, plus
@@ -161,6 +162,16 @@ struct AssistParams {
     double probe_min_mps = 0.3;
     double probe_max_mps = 0.6;
     double probe_min_gap_m = 0.5;
+    // ... until the centre has read clear for `probe_seen_s` while the remembered obstacle was
+    // in sight, never closer than `probe_blind_gap_m`: the remembered obstacle can lie 0.4 m
+    // nearer than placed (seed 11's ahead-pillar-0.6 was flagged 0.70 m away with a time to
+    // contact of 2.5 s for a true 1.17 s, and remembered 1.0 m ahead of a stop 0.58 m short of
+    // it), and a probe is often blind (at 0.3-0.4 m/s the centre of a near, plain surface reads
+    // unknown in most frames: too few tracked points). That probe came within 0.16 m with one
+    // gap of 0.5 m, 0.35 m with this (README). A probe the classifier sees through keeps the
+    // nearer gap: it needs the room to read clear long enough to forget a false alarm.
+    double probe_blind_gap_m = 0.75;
+    double probe_seen_s = 0.1;
     double probe_rebrake_margin_mps = 0.35;  // probing: brake again above probe speed + this
     // Confirming a centre alarm in free flight (see the rules above). 0.25 s: on the closed-loop
     // suite, most false alarms in open space last under that (one to eight frames), true ones

@@ -484,10 +484,11 @@ TEST(Assist, UnknownAndStaleEvidenceNeverBrakesAndSaysSo) {
 
 TEST(Assist, AStoppedHeldDroneWithTheCentreClearProbesSlowlyAfterAWait) {
     const AssistParams p;
-    // Braked for an obstacle remembered 0.9 m ahead (0.75 x 1.2 s x 1 m/s, the frame 50 ms old):
-    // no room to approach (the gap is 1 m), room to probe (0.4 m plus the stopping distance).
+    // Braked for an obstacle placed 1.05 m ahead (0.75 x 1.4 s x 1 m/s, the frame 50 ms old) and
+    // remembered 1.0 m ahead once stopped (hold_gap_m): no room to approach (the gap is 1 m),
+    // room to probe (0.25 m plus the stopping distance, the blind gap being 0.75 m).
     Assist b(p);
-    AssistInput in = flying_forward(1.0, unsafe(1.25));
+    AssistInput in = flying_forward(1.0, unsafe(1.45));
     ASSERT_EQ(b.step(in).action, AssistAction::Braking);
     in.regions[1] = clear();
     in.vx_mps = 0.0;
@@ -506,8 +507,8 @@ TEST(Assist, AStoppedHeldDroneWithTheCentreClearProbesSlowlyAfterAWait) {
     ASSERT_EQ(o.action, AssistAction::Probing) << o.reason;
     EXPECT_TRUE(o.intervened);
     EXPECT_FLOAT_EQ(o.command.pitch, static_cast<float>(-p.probe_pitch));  // -0.5 capped
-    EXPECT_NEAR(o.obstacle_m, 0.9, 1e-9);
-    // Faster than the probe speed (1.2 x 0.9 / 3.3 = 0.33 m/s): nose-up, not yet a brake.
+    EXPECT_NEAR(o.obstacle_m, 1.0, 1e-9);
+    // Faster than the probe speed (1.0 / 2.2 = 0.45 m/s): nose-up, not yet a brake.
     in.t_s = t += 0.03;
     in.vx_mps = 0.5;
     o = b.step(in);
@@ -581,6 +582,51 @@ RegionEvidence flow_like(double vx, double true_ttc_s) {
     if (vx < 0.2) return clear();
     if (vx < 0.3) return {RegionState::Unknown, 0.05, kUnknown};
     return true_ttc_s < 3.3 ? unsafe(1.25 * true_ttc_s) : clear();
+}
+
+TEST(Assist, ABlindProbeKeepsTheWiderGapUntilTheCentreIsSeenClear) {
+    // Two drones held 1.0 m short of a remembered obstacle probe toward it at 0.35 m/s: fast
+    // enough for the classifier, the obstacle within its time to contact. One's centre reads
+    // unknown all the way (a near, plain surface: too few points): it stops probing with
+    // probe_blind_gap_m plus its stopping distance left, for the obstacle may be nearer than
+    // placed. The other's reads clear: after probe_seen_s it may come to probe_min_gap_m, and
+    // reads clear long enough to forget the obstacle before that.
+    const AssistParams p;
+    ASSERT_GT(p.probe_blind_gap_m, p.probe_min_gap_m);
+    for (const bool seen : {false, true}) {
+        SCOPED_TRACE(seen ? "seen clear" : "blind");
+        Assist a(p);
+        AssistInput in = flying_forward(1.0, unsafe(1.45));
+        ASSERT_EQ(a.step(in).action, AssistAction::Braking);
+        in.regions[1] = clear();
+        in.vx_mps = 0.0;
+        AssistOutput o;
+        double t = 0.1;
+        for (; t < 0.1 + p.probe_wait_s + 0.1; t += 0.03) {
+            in.t_s = t;
+            o = a.step(in);
+        }
+        ASSERT_EQ(o.action, AssistAction::Probing) << o.reason;
+        ASSERT_NEAR(o.obstacle_m, 1.0, 0.01);
+        in.vx_mps = 0.35;
+        in.regions[1] = seen ? clear() : RegionEvidence{RegionState::Unknown, 0.05, kUnknown};
+        double last_probing_remaining = kUnknown;
+        for (int i = 0; i < 100 && o.action == AssistAction::Probing; ++i) {
+            in.t_s = t += 0.03;
+            o = a.step(in);
+            if (o.action == AssistAction::Probing) last_probing_remaining = o.obstacle_m;
+        }
+        const double stop = p.react_s * 0.35 + 0.35 * 0.35 / (2 * p.brake_decel_mps2);
+        if (seen) {
+            EXPECT_EQ(o.action, AssistAction::Watching) << o.reason;  // forgotten
+            EXPECT_LT(last_probing_remaining, p.probe_blind_gap_m + stop) << "came nearer";
+        } else {
+            EXPECT_EQ(o.action, AssistAction::Holding) << o.reason;
+            EXPECT_GE(o.obstacle_m, p.probe_blind_gap_m + stop - 0.011);
+            EXPECT_LT(o.obstacle_m, p.probe_blind_gap_m + stop + 0.011);
+            EXPECT_FALSE(o.command.progressive && o.command.pitch < 0) << "no forward command";
+        }
+    }
 }
 
 TEST(Assist, AFalseAlarmFromHoverIsProbedAndForgottenInsteadOfHoldingForEver) {
