@@ -395,7 +395,7 @@ void FlowClassifier::classify(const FrameInput& in) {
     plot(s_image_yaw_, nav_judged ? -em.image_rad[1] * 180.0 / CV_PI : kUnknown);
     plot(s_image_pitch_, nav_judged ? -em.image_rad[0] * 180.0 / CV_PI : kUnknown);
     UnknownReason why = UnknownReason::None;
-    fit_windows();
+    fits_current_ = false;
     const bool known = choose_foe(in, why);
     plot(s_prior_rejected_, em.prior_rotation_rejected || nav_rejected_ ? 1 : 0);
     const bool img_known = em.translation == EgoMotion::Translation::Known;
@@ -482,7 +482,9 @@ void FlowClassifier::classify(const FrameInput& in) {
     plot(s_hazards_, hazards);
 }
 
-void FlowClassifier::fit_windows() {
+const std::vector<FlowClassifier::WindowFit>& FlowClassifier::window_fits() {
+    if (fits_current_) return fits_;
+    fits_current_ = true;
     const auto& tracks = tracker_.tracks();
     fits_.assign(tracks.size(), WindowFit{});
     const auto win = static_cast<std::size_t>(p_.velocity_window);
@@ -521,16 +523,18 @@ void FlowClassifier::fit_windows() {
         w.dx = fx.intercept - fx.slope * lag;
         w.dy = fy.intercept - fy.slope * lag;
     }
+    return fits_;
 }
 
 double FlowClassifier::radial_misfit(const cv::Point2d& foe) {
     const auto& tracks = tracker_.tracks();
     const double min_d2 = p_.min_foe_distance_px * p_.min_foe_distance_px;
     const double min_v2 = p_.flow_noise_px_s * p_.flow_noise_px_s;
+    const std::vector<WindowFit>& fits = window_fits();
     scratch_.clear();
-    for (std::size_t i = 0; i < fits_.size(); ++i) {
-        const WindowFit& w = fits_[i];
-        if (!w.ok || (p_.ego_motion && tracks[i].moving_streak >= p_.moving_frames)) continue;
+    for (std::size_t i = 0; i < fits.size(); ++i) {
+        const WindowFit& w = fits[i];
+        if (!w.ok || off_motion(tracks[i])) continue;
         const double dx = w.mx - foe.x, dy = w.my - foe.y;
         const double d2 = dx * dx + dy * dy, v2 = w.vx * w.vx + w.vy * w.vy;
         if (d2 < min_d2 || v2 < min_v2) continue;
@@ -555,6 +559,8 @@ void FlowClassifier::rate_points(const FrameInput& in) {
     const auto win = static_cast<std::size_t>(p_.velocity_window);
     const auto min_len = static_cast<std::size_t>(std::max(2, p_.min_track_length));
     const bool still = foe_source_ == FoeSource::Still;
+    // Still, no point is rated by its flow: no window fits needed.
+    const std::vector<WindowFit>* fits = still ? nullptr : &window_fits();
     // Near the FOE a few pixels of error in its place swamp the rate: keep clear of it by the
     // larger of the fixed margin and foe_sigma_k standard errors of where it is.
     const double min_d = std::max(p_.min_foe_distance_px, p_.foe_sigma_k * foe_sigma_px_);
@@ -571,9 +577,9 @@ void FlowClassifier::rate_points(const FrameInput& in) {
         const auto ri = static_cast<std::size_t>(region_of(t.at_back(0).stab.x));
         // The ego-motion estimate found it off the camera's motion for a few frames: a moving
         // object, judged by its own looming (rate_moving_points) ...
-        const bool off_motion = p_.ego_motion && t.moving_streak >= p_.moving_frames;
+        const bool moving = off_motion(t);
         if (still) {
-            if (off_motion) {
+            if (moving) {
                 class_[i] = PointClass::Moving;
                 moving_idx_.push_back(i);
             } else {
@@ -582,7 +588,7 @@ void FlowClassifier::rate_points(const FrameInput& in) {
             ++rated_count_[ri];
             continue;
         }
-        const WindowFit& w = fits_[i];
+        const WindowFit& w = (*fits)[i];
         if (!w.ok) continue;
         const double t0 = w.t0, lag = w.lag, mx = w.mx, my = w.my;
         const double vx = w.vx, vy = w.vy;
@@ -630,14 +636,14 @@ void FlowClassifier::rate_points(const FrameInput& in) {
         // a slip along a repeating pattern (a tiled floor) or an occluding edge dragging it (a
         // person walking past), not the scene's.
         const bool fb_miss = p_.fb_static && nav_moving_ && fb_missed(t, n);
-        if (fb_miss && !off_motion) continue;
+        if (fb_miss && !moving) continue;
         ++rated_count_[ri];
         track_score_[i] = rate;
         const bool across =
             std::abs(tangential) > p_.max_tangential_ratio * std::abs(radial) + p_.flow_noise_px_s;
         // ... unless its flow, over the fit window, is radial from the FOE used (which may be
         // the navdata's where the images' own was off): then it is a static point after all.
-        if (off_motion && (across || radial < -p_.flow_noise_px_s)) {
+        if (moving && (across || radial < -p_.flow_noise_px_s)) {
             class_[i] = PointClass::Moving;
             moving_idx_.push_back(i);
             track_score_[i] = kUnknown;

@@ -251,7 +251,11 @@ private:
     void on_reset() override;
     void add_overlay_points() override;
     bool choose_foe(const FrameInput& in, UnknownReason& why);
-    void fit_windows();  // fits_ for this frame's tracks
+    // The ego-motion estimate found this track off the camera's motion for moving_frames: a
+    // moving object, not a static point of the scene.
+    bool off_motion(const Trajectory& t) const {
+        return p_.ego_motion && t.moving_streak >= p_.moving_frames;
+    }
     // Median share of the fitted flows across their rays from `foe` (0 radial, 1 across); NaN
     // with fewer than foe_arbitrate_min_points usable points.
     double radial_misfit(const cv::Point2d& foe);
@@ -301,13 +305,17 @@ private:
     cv::Matx33d derot_ = cv::Matx33d::eye();
     std::vector<double> ts_, xs_, ys_, hazard_[3];
     // Per track, its derotated image velocity fitted over the last velocity_window frames
-    // (fit_windows): the velocity at the window's mean time, `lag` seconds before the newest
+    // (window_fits): the velocity at the window's mean time, `lag` seconds before the newest
     // frame, where it was then (m: undistorted; d: derotated), and the newest frame's time.
     struct WindowFit {
         bool ok = false;
         double t0 = 0, lag = 0, vx = 0, vy = 0, mx = 0, my = 0, dx = 0, dy = 0;
     };
     std::vector<WindowFit> fits_;
+    bool fits_current_ = false;  // fits_ is this frame's
+    // fits_ for this frame's tracks, computed on first use in a frame (a still frame, or one
+    // with no FOE to choose between, needs none).
+    const std::vector<WindowFit>& window_fits();
     // Per track, from the FOE in the level frame (px): below the horizon, and across.
     std::vector<double> ground_dh_, ground_dx_;
     // Per track, for check_history: the rate's reference time (s) and its rate then (1/s), the
