@@ -71,6 +71,9 @@ const ParamTable<FlowParams>& FlowParams::table() {
                  "the images' FOE is never taken as better known than this")
             .add("fused_image_foe_floor_px", &P::fused_image_foe_floor_px, 0, 200,
                  "fused with the navdata's, the images' FOE counts as known no better than this")
+            .add("image_foe_bias_mps", &P::image_foe_bias_mps, 0, 2,
+                 "fused with the navdata's, the images' FOE counts as known no better than fx x "
+                 "this / speed (0 = off)")
             .add("foe_gate", &P::foe_gate, 0.5, 100,
                  "navdata FOE rejected this many standard errors from the images'")
             .add("foe_arbitrate", &P::foe_arbitrate, 0, 2,
@@ -83,6 +86,14 @@ const ParamTable<FlowParams>& FlowParams::table() {
                  "fewer points to arbitrate with: the images decide")
             .add("max_rotation_dps", &P::max_rotation_dps, 1, 2000,
                  "regions unknown while the camera turns faster than this")
+            .add("near_foe_rows", &P::near_foe_rows, 0, 1,
+                 "rate static points too near the FOE by how fast they part from their "
+                 "neighbours in the same image row")
+            .add("near_foe_row_px", &P::near_foe_row_px, 1, 100,
+                 "near the FOE: neighbours within this many pixels of the point's row")
+            .add("near_foe_growth", &P::near_foe_growth, 0, 10,
+                 "near the FOE: a pair must part at least this times as fast over the window's "
+                 "later half as over its first (0: no test)")
             .add("looming", &P::looming, 0, 1,
                  "judge points that do not move with the scene by their own looming")
             .add("loom_radius_px", &P::loom_radius_px, 5, 640,
@@ -312,7 +323,12 @@ bool FlowClassifier::choose_foe(const FrameInput& in, UnknownReason& why) {
         // the one the points' fitted flows run radially from (foe_arbitrate), else the images.
         // Agreeing, the navdata's still replaces the fused one when the points plainly say so.
         const double s_img = std::max(img_sigma, p_.fused_image_foe_floor_px);
-        const double v_img = s_img * s_img, v_nav = nav_sigma_px_ * nav_sigma_px_;
+        // The weight: also no better than the bias a rotation error gives at this speed.
+        const double s_w = p_.image_foe_bias_mps > 0 && nav_speed_ > 0
+                               ? std::max(s_img, calib_.fx * p_.image_foe_bias_mps / nav_speed_)
+                               : s_img;
+        const double v_img = s_w * s_w, v_nav = nav_sigma_px_ * nav_sigma_px_;
+        const double v_own = s_img * s_img;  // for the exclusion circle
         const cv::Point2d d = img_foe - nav_foe;
         if (d.dot(d) > p_.foe_gate * p_.foe_gate * (v_img + v_nav)) {
             // One of them is wrong: the one the points' fitted flows do not run radially from.
@@ -328,8 +344,10 @@ bool FlowClassifier::choose_foe(const FrameInput& in, UnknownReason& why) {
             const double fused_misfit = p_.foe_arbitrate >= 2 ? radial_misfit(fused) : kUnknown;
             img_overruled_ = nav_misfit < p_.foe_arbitrate_ratio * fused_misfit;
             foe_ = cv::Point2f(img_overruled_ ? nav_foe : fused);
+            // The fused place, weighted with the floor; its error, with the images' own (the
+            // floor is about where their FOE sits, not how far a point must keep from it).
             foe_sigma_px_ =
-                img_overruled_ ? nav_sigma_px_ : std::sqrt(v_img * v_nav / (v_img + v_nav));
+                img_overruled_ ? nav_sigma_px_ : std::sqrt(v_own * v_nav / (v_own + v_nav));
         }
         foe_source_ = img_overruled_ ? FoeSource::Navdata : FoeSource::Images;
     } else if (img_ok) {
@@ -556,6 +574,7 @@ void FlowClassifier::rate_points(const FrameInput& in) {
     for (auto& v : hazard_) v.clear();
     rated_count_.assign(3, 0);
     moving_idx_.clear();
+    near_idx_.clear();
     const auto win = static_cast<std::size_t>(p_.velocity_window);
     const auto min_len = static_cast<std::size_t>(std::max(2, p_.min_track_length));
     const bool still = foe_source_ == FoeSource::Still;
@@ -594,7 +613,11 @@ void FlowClassifier::rate_points(const FrameInput& in) {
         const double vx = w.vx, vy = w.vy;
         const double dx = mx - static_cast<double>(foe_.x), dy = my - static_cast<double>(foe_.y);
         const double d2 = dx * dx + dy * dy;
-        if (d2 < min_d2) continue;
+        if (d2 < min_d2) {
+            if (!moving && p_.near_foe_rows && !(p_.fb_static && nav_moving_ && fb_missed(t, n)))
+                near_idx_.push_back(i);
+            continue;
+        }
         const double dn = std::sqrt(d2);
         ground_dh_[i] = -sin_r * dx + cos_r * dy;
         ground_dx_[i] = cos_r * dx + sin_r * dy;
@@ -654,27 +677,99 @@ void FlowClassifier::rate_points(const FrameInput& in) {
             continue;
         }
         if (!(rate > 0)) continue;  // receding or still: never an obstacle
-        if (metric_) {
-            // Depth along the optical axis from the time to contact and the forward speed, then
-            // the point in the level frame: beside the corridor, floor, or overhead?
-            const double z = cam_velocity_[2] / rate_then;
-            const cv::Vec3d pc((mx - calib_.cx) / calib_.fx * z, (my - calib_.cy) / calib_.fy * z,
-                               z);
-            const cv::Vec3d pl = level * pc;
-            // Across the path: measured from the flight line (the direction of travel).
-            const cv::Vec3d dir_l = level * cam_velocity_;
-            const double dnorm = cv::norm(dir_l);
-            const double along = dnorm > 0 ? pl.dot(dir_l) / dnorm : 0.0;
-            const cv::Vec3d off = dnorm > 0 ? pl - along * dir_l * (1.0 / dnorm) : pl;
-            const bool beside = std::abs(off[1]) > p_.corridor_half_width_m;
-            const bool floor = !std::isnan(floor_down) && pl[2] > floor_down;
-            const bool overhead = pl[2] < -p_.corridor_up_m;
-            if (beside || floor || overhead) {
-                class_[i] = PointClass::Outside;
-                continue;
-            }
+        if (outside_corridor(mx, my, rate_then, level, floor_down)) {
+            class_[i] = PointClass::Outside;
+            continue;
         }
         class_[i] = PointClass::Hazard;  // counted in classify, unless its looming says not
+    }
+    if (!near_idx_.empty()) rate_near_foe(level, floor_down);
+}
+
+bool FlowClassifier::outside_corridor(double mx, double my, double rate_then,
+                                      const cv::Matx33d& level, double floor_down) const {
+    if (!metric_) return false;
+    // Depth along the optical axis from the time to contact and the forward speed, then the
+    // point in the level frame: beside the corridor, floor, or overhead?
+    const double z = cam_velocity_[2] / rate_then;
+    const cv::Vec3d pc((mx - calib_.cx) / calib_.fx * z, (my - calib_.cy) / calib_.fy * z, z);
+    const cv::Vec3d pl = level * pc;
+    // Across the path: measured from the flight line (the direction of travel).
+    const cv::Vec3d dir_l = level * cam_velocity_;
+    const double dnorm = cv::norm(dir_l);
+    const double along = dnorm > 0 ? pl.dot(dir_l) / dnorm : 0.0;
+    const cv::Vec3d off = dnorm > 0 ? pl - along * dir_l * (1.0 / dnorm) : pl;
+    const bool beside = std::abs(off[1]) > p_.corridor_half_width_m;
+    const bool floor = !std::isnan(floor_down) && pl[2] > floor_down;
+    const bool overhead = pl[2] < -p_.corridor_up_m;
+    return beside || floor || overhead;
+}
+
+void FlowClassifier::rate_near_foe(const cv::Matx33d& level, double floor_down) {
+    // See FlowParams::near_foe_rows. Candidates for neighbours: static tracks with a window fit
+    // whose motion along the row is measured (not on a row-like edge).
+    const auto& tracks = tracker_.tracks();
+    const std::vector<WindowFit>& fits = window_fits();
+    const auto win = static_cast<std::size_t>(p_.velocity_window);
+    const auto min_len = static_cast<std::size_t>(std::max(4, p_.min_track_length));
+    row_measured_.assign(tracks.size(), 0);
+    for (std::size_t b = 0; b < tracks.size(); ++b) {
+        const Trajectory& t = tracks[b];
+        if (!fits[b].ok || off_motion(t) || class_[b] == PointClass::Moving ||
+            std::min(win, t.history_size()) < min_len)
+            continue;
+        const Aperture ap = aperture(t, 1.0, 0.0);
+        row_measured_[b] = !ap.edge || std::abs(ap.cos) >= p_.aperture_min_cos ? 1 : 0;
+    }
+    const double r2max = p_.loom_radius_px * p_.loom_radius_px;
+    const double min_sx = p_.loom_min_spread_px;
+    for (std::size_t a : near_idx_) {
+        if (!row_measured_[a]) continue;
+        const Trajectory& ta = tracks[a];
+        loom_.clear();
+        near_r1_.clear();
+        near_r2_.clear();
+        for (std::size_t b = 0; b < tracks.size(); ++b) {
+            if (b == a || !row_measured_[b]) continue;
+            const Trajectory& tb = tracks[b];
+            const cv::Point2f d_now = ta.at_back(0).derot - tb.at_back(0).derot;
+            const double sx = static_cast<double>(d_now.x);
+            if (std::abs(static_cast<double>(d_now.y)) > p_.near_foe_row_px ||
+                std::abs(sx) < min_sx || sx * sx > r2max)
+                continue;
+            const std::size_t n = std::min({win, ta.history_size(), tb.history_size()});
+            if (n < min_len) continue;
+            const std::size_t mid = (n - 1) / 2;
+            const double s_then = static_cast<double>(ta.at_back(n - 1).derot.x) -
+                                  static_cast<double>(tb.at_back(n - 1).derot.x);
+            const double s_mid = static_cast<double>(ta.at_back(mid).derot.x) -
+                                 static_cast<double>(tb.at_back(mid).derot.x);
+            // The same order along the row throughout, never nearer than the noise allows.
+            if (s_then * sx <= 0 || s_mid * sx <= 0 || std::abs(s_then) < min_sx ||
+                std::abs(s_mid) < min_sx)
+                continue;
+            const double t_now = ta.at_back(0).t_s, t_mid = ta.at_back(mid).t_s,
+                         t_then = ta.at_back(n - 1).t_s;
+            if (!(t_mid > t_then) || !(t_now > t_mid)) continue;
+            loom_.push_back(std::log(sx / s_then) / (t_now - t_then));
+            near_r1_.push_back(std::log(s_mid / s_then) / (t_mid - t_then));
+            near_r2_.push_back(std::log(sx / s_mid) / (t_now - t_mid));
+        }
+        if (static_cast<int>(loom_.size()) < p_.loom_min_neighbours) continue;
+        const double rate_then = median_inplace(loom_);
+        const WindowFit& w = fits[a];
+        const auto ri = static_cast<std::size_t>(region_of(ta.at_back(0).stab.x));
+        ++rated_count_[ri];
+        const double ttc_now = rate_then > 0 ? 1.0 / rate_then - w.lag : kUnknown;
+        track_score_[a] = !(rate_then > 0) ? rate_then : ttc_now > 0.01 ? 1.0 / ttc_now : 100.0;
+        if (!(rate_then > 0)) continue;  // not nearing
+        if (p_.near_foe_growth > 0 &&
+            median_inplace(near_r2_) < p_.near_foe_growth * median_inplace(near_r1_)) {
+            class_[a] = PointClass::Inconsistent;  // parting ever slower: not a surface neared
+            continue;
+        }
+        class_[a] = outside_corridor(w.mx, w.my, rate_then, level, floor_down) ? PointClass::Outside
+                                                                               : PointClass::Hazard;
     }
 }
 

@@ -115,6 +115,13 @@ struct FlowParams : TrackerParams {
     // and the centre's false alarms rise: off by default (README, Collision assist). Without a
     // navdata velocity, or with it rejected, the images' FOE keeps its own standard error.
     double fused_image_foe_floor_px = 0;
+    // The same floor as a speed: fused with the navdata's, the images' FOE counts as known no
+    // better than fx x image_foe_bias_mps / speed (0 = off). A rotation error under what the
+    // images resolve moves their FOE by its flow over the translation's, so in proportion to
+    // 1 / speed: in seed 11's open flight at 0.6 m/s the images' FOE sat 100 px below the true
+    // one (from the ground truth) while claiming 8-30 px (README, Collision assist). Only the
+    // fusion's weights and gate use it; the exclusion circle keeps the images' own error.
+    double image_foe_bias_mps = 0.05;
     double foe_gate = 3;  // navdata FOE this many standard errors off: rejected
     // Where both the navdata and the images give an FOE, the points' own flows arbitrate: their
     // derotated velocities, fitted over velocity_window frames (the ones the rates come from),
@@ -134,6 +141,20 @@ struct FlowParams : TrackerParams {
     double foe_arbitrate_ratio = 0.5;
     int foe_arbitrate_min_points = 12;  // fewer such points: the images decide
     double max_rotation_dps = 150;      // faster rotation: regions unknown (tracking unreliable)
+    // Near the FOE (inside the circle above) a point's rate about it is not measured, yet an
+    // obstacle dead ahead stands right there (with the FOE in its true place, a pillar at 0.6
+    // m/s is inside the 3-sigma circle, 150 px, until it is 0.2 m away). Such a static point is
+    // rated by how fast it parts from its neighbours in the same image row (within
+    // near_foe_row_px, derotated): two points of one surface at one depth part at 1/TTC
+    // whatever the FOE, and a row of the floor is one depth (a column is not). A point on a
+    // row-like edge (its motion along the row not measured) is left out, and so is a pair whose
+    // parting slows over the window (the median rate over its later half below near_foe_growth
+    // times that over its first half): a surface neared at a steady speed parts ever faster,
+    // while a moving outline dragging background points (a person crossing far ahead) parts
+    // them at a steady pace. Placed in the corridor like any rated point. 0 = off.
+    bool near_foe_rows = true;
+    double near_foe_row_px = 10;
+    double near_foe_growth = 1.0;
     // Moving objects: the looming rate of points that do not follow the camera's motion, from the
     // growth of their distances to neighbours within loom_radius_px (median over at least
     // loom_min_neighbours of them).
@@ -262,6 +283,12 @@ private:
     void all_unknown(UnknownReason why);  // every region unknown for `why`, no alarm
     void rate_points(const FrameInput& in);
     void rate_moving_points();
+    // The near-FOE points (near_foe_rows), after the others are rated.
+    void rate_near_foe(const cv::Matx33d& level, double floor_down);
+    // A point rated 1/TTC (then, at the fit window's mean time) at undistorted (mx, my): placed
+    // beside the corridor, on the floor or overhead (metric_ only).
+    bool outside_corridor(double mx, double my, double rate_then, const cv::Matx33d& level,
+                          double floor_down) const;
     void check_static_looming();
     void check_history();
     double odometer_at(double t_s) const;  // distance flown forward by then (m), NaN unknown
@@ -344,6 +371,9 @@ private:
     std::size_t s_image_yaw_, s_image_pitch_;
     std::size_t s_foe_img_x_, s_foe_nav_x_, s_foe_x_, s_foe_img_y_, s_foe_nav_y_, s_foe_y_;
     std::vector<std::size_t> moving_idx_;
+    std::vector<std::size_t> near_idx_;       // this frame's static points too near the FOE
+    std::vector<std::uint8_t> row_measured_;  // per track: its motion along the row is measured
+    std::vector<double> near_r1_, near_r2_;
     std::vector<double> loom_;
     std::vector<std::size_t> check_;
 };

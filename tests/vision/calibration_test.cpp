@@ -18,8 +18,8 @@
 namespace {
 
 using namespace gs::vision;
-using gs::CameraCalibration;
 using gs::CalibrationInfo;
+using gs::CameraCalibration;
 using gs::load_calibration_document;
 using gs::save_calibration_file;
 

@@ -274,6 +274,9 @@ TEST(SyntheticFlight, APersonWalkingOffThePathHasNoStaticPointsPast) {
         EXPECT_EQ(c->set_param("loom_consistency", 0), ParamStatus::Ok);
         EXPECT_EQ(c->set_param("loom_confirm_sides", 0), ParamStatus::Ok);
         EXPECT_EQ(c->set_param("history_check", check), ParamStatus::Ok);
+        // The images' FOE weighed as it claims (its speed floor moves the FOE used toward the
+        // navdata's: then 5 frames are left to the looming checks, which take them).
+        EXPECT_EQ(c->set_param("image_foe_bias_mps", 0), ParamStatus::Ok);
         return fly(f, *c);
     };
     const auto without = flown_with(0);
@@ -343,4 +346,94 @@ TEST(SyntheticFlight, APointsArbitratedFoeSidesWithTheImagesWhenTheNavdataVeloci
     const auto old = fly(f, *images_decide);
     for (std::size_t i = 0; i < rec.size(); ++i)
         for (std::size_t k = 0; k < 3; ++k) EXPECT_EQ(rec[i].unsafe[k], old[i].unsafe[k]) << i;
+}
+
+namespace {
+// Every point inside the FOE's exclusion circle (300 px: the whole 640 x 360 view about its
+// centre), so that only the near-FOE channel can rate a point.
+std::vector<FrameRecord> fly_all_near_foe(const Flight& f, bool rows, double growth = 1.0) {
+    auto c = make_classifier("flow", synthetic_calibration());
+    EXPECT_EQ(c->set_param("min_foe_distance_px", 300), ParamStatus::Ok);
+    EXPECT_EQ(c->set_param("near_foe_rows", rows ? 1 : 0), ParamStatus::Ok);
+    EXPECT_EQ(c->set_param("near_foe_growth", growth), ParamStatus::Ok);
+    return fly(f, *c);
+}
+}  // namespace
+
+TEST(SyntheticFlight, NearTheFoeAnObstacleIsRatedByItsRowsParting) {
+    // A 1.2 m board standing on the floor dead ahead, neared at 1 m/s from 5 m: its points lie
+    // on the FOE, where no rate about it is measured. Rated by how fast they part from their
+    // row neighbours (with the growth test: an approach at a steady speed parts ever faster),
+    // it is flagged once its time to contact is under 3.3 s, none before; without that channel
+    // nothing in the view is rated and the centre is never flagged.
+    const Flight f = make_flight(Motion::FloorObstacle);
+    const auto without = fly_all_near_foe(f, false);
+    EXPECT_EQ(count_unsafe(without, Region::Centre), 0);
+    for (const double growth : {1.0, 0.0}) {
+        const auto with = fly_all_near_foe(f, true, growth);
+        int far = 0, near = 0, frames = 0;
+        for (const FrameRecord& r : with) {
+            far += r.distance_m > 3.7 && r.unsafe[1];
+            if (r.distance_m < 3.1 && r.distance_m > 2.1) {
+                ++frames;
+                near += r.unsafe[1];
+            }
+        }
+        std::printf(
+            "growth test %.0f: centre flagged in %d of %d frames 2.1-3.1 m out, %d beyond 3.7 m\n",
+            growth, near, frames, far);
+        EXPECT_EQ(far, 0);
+        EXPECT_GE(near, frames * 9 / 10);
+        // The rate is 1/TTC: at 2.5 m, 0.4/s.
+        const auto i25 = static_cast<std::size_t>((5 - 2.5) * 25);
+        EXPECT_NEAR(with[i25].score[1], 1 / 2.5, 0.1);
+    }
+}
+
+TEST(SyntheticFlight, NearTheFoeTheFloorsRowsAreTheFloor) {
+    // Flying 0.6 m over a textured floor toward a far wall: every floor row is one depth, parts
+    // at that depth's 1/TTC and is placed on the floor; nothing is flagged.
+    const auto rec = fly_all_near_foe(make_flight(Motion::Floor), true);
+    for (Region r : kRegions) EXPECT_EQ(count_unsafe(rec, r), 0) << to_string(r);
+}
+
+TEST(SyntheticFlight, NearTheFoeAPersonWalkingOffThePathRaisesNothing) {
+    const auto rec = fly_all_near_foe(make_flight(Motion::Crossing), true);
+    for (Region r : kRegions) EXPECT_EQ(count_unsafe(rec, r), 0) << to_string(r);
+}
+
+TEST(SyntheticFlight, FusedTheImagesFoeWeighsNoMoreThanTheSpeedAllows) {
+    // The navdata reports 0.08 m/s sideways that the drone does not fly: its FOE lies 44 px
+    // right of the true one, within the gate. The images' FOE, over a textured floor at 1 m/s,
+    // sits on the true one and claims a few pixels; fused at that, the FOE used is the images'.
+    // Counted as known no better than fx x image_foe_bias_mps / speed (28 px at 1 m/s: as well
+    // as the navdata's own bias), it weighs as much as the navdata's and the FOE used sits
+    // between them. Nothing is flagged either way.
+    Flight f = make_flight(Motion::Floor);
+    f.navdata_vy_bias_mps = 0.08;
+    const double fx = synthetic_calibration().fx;
+    const double nav_dx = fx * 0.08;  // the navdata FOE's offset (px)
+    double shift[2] = {0, 0};
+    for (const double bias : {0.0, 0.05}) {
+        auto c = make_classifier("flow", synthetic_calibration());
+        ASSERT_EQ(c->set_param("image_foe_bias_mps", bias), ParamStatus::Ok);
+        const auto rec = fly(f, *c);
+        double sum = 0;
+        int n = 0;
+        for (std::size_t i = 20; i < rec.size(); ++i)
+            if (rec[i].foe_source == static_cast<int>(FlowClassifier::FoeSource::Images)) {
+                sum += rec[i].foe_x - synthetic_calibration().cx;
+                ++n;
+            }
+        ASSERT_GT(n, 40) << bias;
+        shift[bias > 0 ? 1 : 0] = sum / n;
+        for (Region r : kRegions) EXPECT_EQ(count_unsafe(rec, r), 0) << bias << to_string(r);
+    }
+    std::printf(
+        "FOE used: %.1f px right of the true one without the floor, %.1f with it (the "
+        "navdata's: %.1f)\n",
+        shift[0], shift[1], nav_dx);
+    EXPECT_LT(std::abs(shift[0]), 0.25 * nav_dx);
+    EXPECT_GT(shift[1], 0.3 * nav_dx);
+    EXPECT_LT(shift[1], 0.7 * nav_dx);
 }

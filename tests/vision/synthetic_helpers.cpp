@@ -140,8 +140,10 @@ std::vector<FrameRecord> fly(const Flight& f, ObstacleClassifier& c) {
             rec.score[k] = r.regions[k].score;
         }
         rec.distance_m = f.distance_at(i);
-        if (const auto* flow = dynamic_cast<const FlowClassifier*>(&c))
+        if (const auto* flow = dynamic_cast<const FlowClassifier*>(&c)) {
             rec.foe_source = static_cast<int>(flow->foe_source());
+            rec.foe_x = static_cast<double>(flow->focus_of_expansion().x);
+        }
         out.push_back(rec);
     }
     return out;

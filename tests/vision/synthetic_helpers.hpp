@@ -31,6 +31,7 @@ struct FrameRecord {
     double distance_m = 0;  // to the wall ahead (Approach) / along the wall (SidePass)
     // The flow classifier's FOE source for the frame (FlowClassifier::FoeSource), -1 for others.
     int foe_source = -1;
+    double foe_x = 0;  // ... and the FOE it used (undistorted px; with a source)
 };
 
 CameraCalibration synthetic_calibration();  // 640x360, 60 degree HFOV, no distortion
