@@ -43,6 +43,9 @@ const vision::ParamTable<AssistParams>& assist_param_table() {
             .add("hold_gap_m", &P::hold_gap_m, 0, 10,
                  "after a brake, the remembered obstacle is never farther than this ahead of the "
                  "stop (m)")
+            .add("sight_far_bound", &P::sight_far_bound, 0, 1,
+                 "in sight is judged at the farthest place the remembered obstacle may be (the "
+                 "time to contact's, not the hold_gap_m cap)")
             .add("forget_after_clear_s", &P::forget_after_clear_s, 0, 10,
                  "the remembered obstacle is forgotten after the centre read clear this long (s) "
                  "while in sight")
@@ -278,6 +281,14 @@ AssistOutput Assist::step(const AssistInput& in) {
         const double est = known(d) ? d : p_.default_obstacle_m;
         const double remaining = known(st_.obstacle_m) ? st_.obstacle_m - st_.travelled_m : 1e9;
         st_.obstacle_m = std::min(est, remaining);
+        // The far bound: the new reading's place; without one (no time to contact), the one
+        // already remembered, else the default.
+        const double far_before =
+            known(st_.obstacle_far_m) ? st_.obstacle_far_m - st_.travelled_m : kUnknown;
+        st_.obstacle_far_m = std::max(known(d)            ? d
+                                      : known(far_before) ? far_before
+                                                          : p_.default_obstacle_m,
+                                      st_.obstacle_m);
         st_.travelled_m = 0;
         st_.heading_deg = in.yaw_deg;
         st_.clear_seen_s = 0;
@@ -309,14 +320,22 @@ AssistOutput Assist::step(const AssistInput& in) {
     }
     // The remembered obstacle's distance ahead now (unknown when there is none).
     double remaining = known(st_.obstacle_m) ? st_.obstacle_m - st_.travelled_m : kUnknown;
+    // ... and the farthest it may be (sight_far_bound): the cap after a stop placed it nearer.
+    auto far_bound = [&] {
+        return p_.sight_far_bound && known(st_.obstacle_far_m) && known(remaining)
+                   ? std::max(st_.obstacle_far_m - st_.travelled_m, remaining)
+                   : remaining;
+    };
+    double far = far_bound();
     if (st_.phase != Phase::Free) {
         const bool turned = known(st_.heading_deg) && known(in.yaw_deg) &&
                             heading_change_deg(st_.heading_deg, in.yaw_deg) >= p_.release_turn_deg;
         // "Clear" is evidence only when the classifier could have seen the remembered obstacle:
         // its time to contact at this speed under the classifier's threshold. A stopped or
         // creeping drone sees no expansion, so its "clear" says nothing about what is ahead.
-        const bool in_sight = moving_forward && in.vx_mps >= p_.evidence_min_mps &&
-                              known(remaining) && remaining < p_.detect_ttc_s * in.vx_mps;
+        // Judged where the obstacle may be farthest (sight_far_bound): nearer, the cap put it.
+        const bool in_sight = moving_forward && in.vx_mps >= p_.evidence_min_mps && known(far) &&
+                              far < p_.detect_ttc_s * in.vx_mps;
         // Unknown pauses the count (no evidence either way: at a probe's speed the classifier
         // often cannot judge the centre); only an unsafe reading starts it again.
         if (centre == RegionState::Unsafe) {
@@ -328,6 +347,7 @@ AssistOutput Assist::step(const AssistInput& in) {
         if (turned || forgotten) {
             st_.phase = Phase::Free;
             st_.obstacle_m = kUnknown;
+            st_.obstacle_far_m = kUnknown;
             remaining = kUnknown;
         }
     }
@@ -344,6 +364,7 @@ AssistOutput Assist::step(const AssistInput& in) {
     const double probe_mps = known(remaining) ? std::clamp(remaining / p_.probe_ttc_s,
                                                            p_.probe_min_mps, p_.probe_max_mps)
                                               : p_.probe_min_mps;
+    far = far_bound();
     const double probe_gap_m =
         st_.clear_seen_s >= p_.probe_seen_s ? p_.probe_min_gap_m : p_.probe_blind_gap_m;
     const bool probe_room = known(remaining) && remaining - stop_m > probe_gap_m;
@@ -422,11 +443,17 @@ AssistOutput Assist::step(const AssistInput& in) {
         } else if (cmd.progressive && double{cmd.pitch} < -p_.probe_pitch) {
             cmd.pitch = static_cast<float>(-p_.probe_pitch);
         }
-        char buf[160];
+        char buf[192];
+        // With the far bound out beyond the near one, both: the pilot sees why it holds on.
+        char where[48];
+        if (known(far) && far > remaining + 0.05)
+            std::snprintf(where, sizeof where, "%.1f-%.1f m", remaining, far);
+        else
+            std::snprintf(where, sizeof where, "%.1f m", remaining);
         std::snprintf(buf, sizeof buf,
-                      "PROBING: obstacle remembered %.1f m ahead reads clear, forward limited to "
+                      "PROBING: obstacle remembered %s ahead reads clear, forward limited to "
                       "%.2f m/s until it is seen again or forgotten",
-                      remaining, probe_mps);
+                      where, probe_mps);
         out.action = AssistAction::Probing;
         out.reason = buf;
     } else if (st_.pending) {

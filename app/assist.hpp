@@ -127,6 +127,18 @@ struct AssistParams {
     // classifier alone would let it creep into what it just braked for.
     double default_obstacle_m = 1.5;
     double hold_gap_m = 1.0;
+    // That cap makes the remembered place a near bound: the obstacle may be as far as its time
+    // to contact placed it (the far bound). With this on, "in sight" (below) is judged at the
+    // far bound: a clear reading counts, toward forgetting the obstacle and toward the probe's
+    // nearer gap, only when the classifier could have flagged the obstacle wherever it may be.
+    // Off, at the near bound: seed 11's clutter-target-1.5, held 1.0 m ahead of its stop with
+    // the target 2.6 m ahead, was forgotten by a probe reading clear at 0.4 m/s, which says
+    // nothing of 2.6 m, and flew on into it. An obstacle placed beyond what a probe can see is
+    // then held until the pilot turns away, backs off or overrides. (Letting each clear reading
+    // move the near bound out as far as it proves, so a probe creeps on and speeds up, brought
+    // two collisions in closed loop: at a probe's speed, and speeding up, the classifier flags
+    // a real obstacle far later than its threshold: README, Collision assist.)
+    bool sight_far_bound = true;
     // The remembered obstacle is forgotten after the centre has been clear this long while the
     // drone moved toward it fast enough for the classifier to see it: its time to contact under
     // `detect_ttc_s` (the flow classifier flags below 3.3 s).
@@ -242,10 +254,11 @@ private:
         double since_s = 0;
         double heading_deg = kUnknown;
         double last_t_s = kUnknown;
-        double obstacle_m = kUnknown;  // remembered obstacle ahead, from the brake's position
-        double travelled_m = 0;        // forward since then
-        double clear_seen_s = 0;       // clear while the remembered obstacle was in sight
-        double stopped_clear_s = 0;    // held, stopped and the centre clear: towards a probe
+        double obstacle_m = kUnknown;      // remembered obstacle ahead, from the brake's position
+        double obstacle_far_m = kUnknown;  // ... and how far it may be (uncapped), same origin
+        double travelled_m = 0;            // forward since then
+        double clear_seen_s = 0;           // clear while the remembered obstacle was in sight
+        double stopped_clear_s = 0;        // held, stopped and the centre clear: towards a probe
         bool probing = false;
         bool speed_trusted = true;  // false after a brake timed out with the speed still high
         AssistAction last_action = AssistAction::Watching;
