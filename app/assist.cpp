@@ -444,9 +444,10 @@ AssistOutput Assist::step(const AssistInput& in) {
             cmd.pitch = static_cast<float>(-p_.probe_pitch);
         }
         char buf[192];
-        // With the far bound out beyond the near one, both: the pilot sees why it holds on.
+        // With the far bound out beyond the near one (as shown, to 0.1 m), both: the pilot sees
+        // why it holds on.
         char where[48];
-        if (known(far) && far > remaining + 0.05)
+        if (known(far) && std::lround(far * 10) > std::lround(remaining * 10))
             std::snprintf(where, sizeof where, "%.1f-%.1f m", remaining, far);
         else
             std::snprintf(where, sizeof where, "%.1f m", remaining);

@@ -629,6 +629,34 @@ TEST(Assist, ABlindProbeKeepsTheWiderGapUntilTheCentreIsSeenClear) {
     }
 }
 
+TEST(Assist, TheProbeBannerShowsBothBoundsOnlyWhereTheyDiffer) {
+    // Braked at 1 m/s for readings that place the obstacle 2.2 m ahead (near bound: hold_gap_m
+    // ahead of the stop) or 0.9 m ahead (the two bounds one place): the banner gives the range,
+    // or one distance, never "1.0-1.0 m".
+    for (const double ttc : {3.0, 1.2}) {
+        SCOPED_TRACE(ttc);
+        Assist a;
+        AssistInput in = flying_forward(1.0, unsafe(ttc));
+        AssistOutput o = a.step(in);
+        for (double t = 0.03; o.action != AssistAction::Braking && t < 0.5; t += 0.03) {
+            in.t_s = t;
+            o = a.step(in);  // confirmed, when there is time to
+        }
+        ASSERT_EQ(o.action, AssistAction::Braking);
+        in.regions[1] = clear();
+        in.vx_mps = 0.0;
+        const double t0 = in.t_s;
+        for (double t = t0 + 0.1; t < t0 + 1.5; t += 0.03) {
+            in.t_s = t;
+            o = a.step(in);
+        }
+        ASSERT_EQ(o.action, AssistAction::Probing) << o.reason;
+        const std::string expect =
+            ttc > 2 ? "remembered 1.0-2.2 m ahead" : "remembered 0.9 m ahead";
+        EXPECT_NE(o.reason.find(expect), std::string::npos) << o.reason;
+    }
+}
+
 TEST(Assist, AFalseAlarmFromHoverIsProbedAndForgottenWhereAProbeCanSeeIt) {
     // Nothing ahead. The classifier flags the centre as the drone speeds up from hover, as on the
     // suite's open flights (runs of 1-20 AT cycles in the first metres), and reads as flow_like
