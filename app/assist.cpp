@@ -326,7 +326,6 @@ AssistOutput Assist::step(const AssistInput& in) {
                    ? std::max(st_.obstacle_far_m - st_.travelled_m, remaining)
                    : remaining;
     };
-    double far = far_bound();
     if (st_.phase != Phase::Free) {
         const bool turned = known(st_.heading_deg) && known(in.yaw_deg) &&
                             heading_change_deg(st_.heading_deg, in.yaw_deg) >= p_.release_turn_deg;
@@ -334,6 +333,7 @@ AssistOutput Assist::step(const AssistInput& in) {
         // its time to contact at this speed under the classifier's threshold. A stopped or
         // creeping drone sees no expansion, so its "clear" says nothing about what is ahead.
         // Judged where the obstacle may be farthest (sight_far_bound): nearer, the cap put it.
+        const double far = far_bound();
         const bool in_sight = moving_forward && in.vx_mps >= p_.evidence_min_mps && known(far) &&
                               far < p_.detect_ttc_s * in.vx_mps;
         // Unknown pauses the count (no evidence either way: at a probe's speed the classifier
@@ -364,7 +364,6 @@ AssistOutput Assist::step(const AssistInput& in) {
     const double probe_mps = known(remaining) ? std::clamp(remaining / p_.probe_ttc_s,
                                                            p_.probe_min_mps, p_.probe_max_mps)
                                               : p_.probe_min_mps;
-    far = far_bound();
     const double probe_gap_m =
         st_.clear_seen_s >= p_.probe_seen_s ? p_.probe_min_gap_m : p_.probe_blind_gap_m;
     const bool probe_room = known(remaining) && remaining - stop_m > probe_gap_m;
@@ -447,6 +446,7 @@ AssistOutput Assist::step(const AssistInput& in) {
         // With the far bound out beyond the near one (as shown, to 0.1 m), both: the pilot sees
         // why it holds on.
         char where[48];
+        const double far = far_bound();
         if (known(far) && std::lround(far * 10) > std::lround(remaining * 10))
             std::snprintf(where, sizeof where, "%.1f-%.1f m", remaining, far);
         else

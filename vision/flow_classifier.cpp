@@ -651,9 +651,7 @@ void FlowClassifier::rate_points(const FrameInput& in) {
             }
             past_[i] = {t0 - lag, rate_then, dx * ux + dy * uy, ux, uy, w.dx, w.dy};
         }
-        // Time to contact now is `lag` less than it was then.
-        const double ttc_now = 1.0 / rate_then - lag;
-        const double rate = !(rate_then > 0) ? rate_then : ttc_now > 0.01 ? 1.0 / ttc_now : 100.0;
+        const double rate = rate_now(rate_then, lag);
         // With track.fb_max_px set, flying forward, a point LK could not track back to where it
         // came from in a frame of the fit window is not rated as a static point: its flow may be
         // a slip along a repeating pattern (a tiled floor) or an occluding edge dragging it (a
@@ -760,8 +758,7 @@ void FlowClassifier::rate_near_foe(const cv::Matx33d& level, double floor_down) 
         const WindowFit& w = fits[a];
         const auto ri = static_cast<std::size_t>(region_of(ta.at_back(0).stab.x));
         ++rated_count_[ri];
-        const double ttc_now = rate_then > 0 ? 1.0 / rate_then - w.lag : kUnknown;
-        track_score_[a] = !(rate_then > 0) ? rate_then : ttc_now > 0.01 ? 1.0 / ttc_now : 100.0;
+        track_score_[a] = rate_now(rate_then, w.lag);
         if (!(rate_then > 0)) continue;  // not nearing
         if (p_.near_foe_growth > 0 &&
             median_inplace(near_r2_) < p_.near_foe_growth * median_inplace(near_r1_)) {

@@ -283,6 +283,13 @@ private:
     void all_unknown(UnknownReason why);  // every region unknown for `why`, no alarm
     void rate_points(const FrameInput& in);
     void rate_moving_points();
+    // A rate fitted at the window's mean time, `lag` seconds ago, brought to now: the time to
+    // contact is `lag` less than it was then (a receding or still point's rate as it was).
+    static double rate_now(double rate_then, double lag) {
+        if (!(rate_then > 0)) return rate_then;
+        const double ttc_now = 1.0 / rate_then - lag;
+        return ttc_now > 0.01 ? 1.0 / ttc_now : 100.0;
+    }
     // The near-FOE points (near_foe_rows), after the others are rated.
     void rate_near_foe(const cv::Matx33d& level, double floor_down);
     // A point rated 1/TTC (then, at the fit window's mean time) at undistorted (mx, my): placed
