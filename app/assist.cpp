@@ -55,6 +55,9 @@ const vision::ParamTable<AssistParams>& assist_param_table() {
             .add("evidence_min_mps", &P::evidence_min_mps, 0, 2,
                  "in sight also needs at least this forward speed (m/s): slower, the classifier "
                  "takes the drone for hovering and reads clear")
+            .add("evidence_window_s", &P::evidence_window_s, 0, 2,
+                 "in sight is judged at the slowest forward speed over this long (s) before the "
+                 "reading's frame (the classifier's fit window; 0: the speed now)")
             .add("rebrake_mps", &P::rebrake_mps, 0, 3,
                  "holding and faster than this toward the obstacle (m/s): brake again")
             .add("react_s", &P::react_s, 0, 2,
@@ -179,6 +182,41 @@ double Assist::placed_ahead_m(const RegionEvidence& e, double vx_mps) const {
     return p_.ttc_trust * std::max(e.ttc_s - age, 0.0) * vx_mps;
 }
 
+void Assist::keep_speed(double t_s, double vx_mps) {
+    auto& r = st_.speeds;
+    if (!known(vx_mps)) {
+        st_.speeds_n = 0;  // a gap: what came before no longer says what the classifier saw
+        return;
+    }
+    if (st_.speeds_n > 0) {
+        const auto& last = r[(st_.speeds_head + st_.speeds_n - 1) % r.size()];
+        // One sample per 10 ms at most: however often the caller steps, the ring holds over a
+        // second, more than the window plus a decision's age.
+        if (!(t_s >= last[0] + 0.01)) return;
+    }
+    if (st_.speeds_n == r.size()) {
+        st_.speeds_head = (st_.speeds_head + 1) % r.size();
+        --st_.speeds_n;
+    }
+    r[(st_.speeds_head + st_.speeds_n) % r.size()] = {t_s, vx_mps};
+    ++st_.speeds_n;
+}
+
+double Assist::window_speed(double captured_s) const {
+    const auto& r = st_.speeds;
+    if (st_.speeds_n == 0) return kUnknown;
+    const double from = captured_s - p_.evidence_window_s;
+    // The samples must reach back to the window's start (one step's slack).
+    if (r[st_.speeds_head][0] > from + 0.05) return kUnknown;
+    double slowest = kUnknown;
+    for (std::size_t k = 0; k < st_.speeds_n; ++k) {
+        const auto& s = r[(st_.speeds_head + k) % r.size()];
+        if (s[0] >= from - 1e-9 && s[0] <= captured_s + 1e-9)
+            slowest = known(slowest) ? std::min(slowest, s[1]) : s[1];
+    }
+    return slowest;
+}
+
 double Assist::stopping_m(double v_mps) const {
     return v_mps * p_.react_s + v_mps * v_mps / (2 * p_.brake_decel_mps2);
 }
@@ -254,6 +292,7 @@ AssistOutput Assist::step(const AssistInput& in) {
         st_.side_shift_m = {0, 0};
         st_.pending = false;
         st_.last_unsafe_t_s = kUnknown;
+        keep_speed(in.t_s, in.vx_mps);
         out.action = !in.enabled   ? AssistAction::Off
                      : in.override ? AssistAction::Override
                                    : AssistAction::Watching;
@@ -276,6 +315,7 @@ AssistOutput Assist::step(const AssistInput& in) {
     const double dt = known(st_.last_t_s) ? std::clamp(in.t_s - st_.last_t_s, 0.0, 0.5) : 0.0;
     st_.last_t_s = in.t_s;
     if (vx_known) st_.travelled_m += in.vx_mps * dt;
+    keep_speed(in.t_s, in.vx_mps);
     auto remember = [&](const RegionEvidence& e) {
         const double d = placed_ahead_m(e, in.vx_mps);
         const double est = known(d) ? d : p_.default_obstacle_m;
@@ -334,8 +374,15 @@ AssistOutput Assist::step(const AssistInput& in) {
         // creeping drone sees no expansion, so its "clear" says nothing about what is ahead.
         // Judged where the obstacle may be farthest (sight_far_bound): nearer, the cap put it.
         const double far = far_bound();
-        const bool in_sight = moving_forward && in.vx_mps >= p_.evidence_min_mps && known(far) &&
-                              far < p_.detect_ttc_s * in.vx_mps;
+        // Both at the speed of the frames the reading was made on (evidence_window_s), where the
+        // obstacle stood when the last of them was captured.
+        const double age = known(c.age_s) ? std::max(c.age_s, 0.0) : 0.0;
+        const double v_seen = p_.evidence_window_s > 0 ? window_speed(in.t_s - age) : in.vx_mps;
+        const double far_seen = p_.evidence_window_s > 0
+                                    ? far + (vx_known ? std::max(in.vx_mps, 0.0) : 0.0) * age
+                                    : far;
+        const bool in_sight = moving_forward && known(v_seen) && v_seen >= p_.evidence_min_mps &&
+                              known(far_seen) && far_seen < p_.detect_ttc_s * v_seen;
         // Unknown pauses the count (no evidence either way: at a probe's speed the classifier
         // often cannot judge the centre); only an unsafe reading starts it again.
         if (centre == RegionState::Unsafe) {

@@ -147,6 +147,15 @@ struct AssistParams {
     // ... and at least this fast: slower, the flow classifier takes the drone for hovering (its
     // min_speed_mps, 0.2, and the navdata's noise) and reads "clear" whatever is ahead.
     double evidence_min_mps = 0.3;
+    // Both judged at the speed the classifier saw: the slowest forward speed over this long
+    // before the reading's frame was captured. It fits each point's rate over its last frames
+    // (velocity_window, 10 frames = 0.33 s), and a reading made while the speed changed proves
+    // no more than the slowest of them: speeding up from a stop it takes the drone for hovering
+    // and reads clear whatever is ahead; slowing down in a brake its rates lag the falling speed
+    // and read long. Seed 11's ahead-pillar-0.6 read clear through its brake from 0.6 m/s with
+    // the pillar 0.6 m ahead; counted, those readings gave the probe that followed the nearer
+    // gap, and it came within 0.17 m. 0: the speed now, as before.
+    double evidence_window_s = 0.35;
     double rebrake_mps = 0.35;  // holding and faster than this toward the obstacle: brake again
     // The stopping distance allowed for when letting a held drone approach: reaction (the video
     // and decision latency) then this deceleration (full nose-up on the AR.Drone 2 gives about
@@ -182,8 +191,11 @@ struct AssistParams {
     // unknown in most frames: too few tracked points). That probe came within 0.16 m with one
     // gap of 0.5 m, 0.35 m with this (README). A probe the classifier sees through keeps the
     // nearer gap: it needs the room to read clear long enough to forget a false alarm.
+    // `probe_seen_s` 0.3 s (it was 0.1): the same flight, with the placement that now reads
+    // 2.2 s, read the pillar 0.6 m ahead clear for 0.12 s right after the alarm it braked for (a
+    // flicker, on frames flown at speed), which gave its blind probe the nearer gap: 0.17 m.
     double probe_blind_gap_m = 0.75;
-    double probe_seen_s = 0.1;
+    double probe_seen_s = 0.3;
     double probe_rebrake_margin_mps = 0.35;  // probing: brake again above probe speed + this
     // Confirming a centre alarm in free flight (see the rules above). 0.25 s: on the closed-loop
     // suite, most false alarms in open space last under that (one to eight frames), true ones
@@ -258,7 +270,10 @@ private:
         double obstacle_far_m = kUnknown;  // ... and how far it may be (uncapped), same origin
         double travelled_m = 0;            // forward since then
         double clear_seen_s = 0;           // clear while the remembered obstacle was in sight
-        double stopped_clear_s = 0;        // held, stopped and the centre clear: towards a probe
+        // The forward speed of the last steps (time, m/s), oldest first: what the classifier saw.
+        std::array<std::array<double, 2>, 128> speeds{};
+        std::size_t speeds_n = 0, speeds_head = 0;
+        double stopped_clear_s = 0;  // held, stopped and the centre clear: towards a probe
         bool probing = false;
         bool speed_trusted = true;  // false after a brake timed out with the speed still high
         AssistAction last_action = AssistAction::Watching;
@@ -285,6 +300,10 @@ private:
     // flown since its frame), or unknown (no time to contact, or too slow for one to mean a
     // distance).
     double placed_ahead_m(const RegionEvidence& e, double vx_mps) const;
+    // The slowest forward speed over the evidence window before `captured_s`, or unknown when the
+    // speeds kept do not cover it (a gap in the navdata velocity, the first steps).
+    double window_speed(double captured_s) const;
+    void keep_speed(double t_s, double vx_mps);
     // Stopping distance from this forward speed: the reaction time, then brake_decel_mps2.
     double stopping_m(double v_mps) const;
     AssistParams p_;

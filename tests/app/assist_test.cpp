@@ -105,7 +105,9 @@ TEST(Assist, CentreUnsafeWhileMovingForwardBrakesThenHoldsUntilClear) {
     }
     EXPECT_EQ(o.action, AssistAction::Holding);
     // Backed away 1.5 m, then flown toward it at 0.8 m/s with the centre clear: the classifier
-    // would have seen it (time to contact under 3.3 s) and did not: forgotten after 0.7 s.
+    // would have seen it (time to contact under 3.3 s) and did not: forgotten once it has read
+    // clear for 0.7 s on frames flown at that speed, the first 0.35 s of flight toward it
+    // (evidence_window_s, the classifier's fit window) proving nothing.
     double t = 3.1;
     for (int i = 0; i < 20; ++i) {
         in.t_s = t += 0.1;
@@ -113,7 +115,7 @@ TEST(Assist, CentreUnsafeWhileMovingForwardBrakesThenHoldsUntilClear) {
         a.step(in);
     }
     in.vx_mps = 0.8;
-    for (int i = 0; i < 6; ++i) {
+    for (int i = 0; i < 10; ++i) {
         in.t_s = t += 0.1;
         o = a.step(in);
         ASSERT_NE(o.reason, "watching") << "forgotten too early, at step " << i;
@@ -531,9 +533,11 @@ struct PilotRun {
     AssistAction last = AssistAction::Watching;
 };
 
-// `classify(t, x, vx)` gives the centre's evidence at time t for a drone at x moving at vx.
-template <class Classify>
-PilotRun fly_with_pilot_forward(Assist& a, double seconds, double obstacle_x, Classify classify) {
+// `classify(t, x, vx)` gives the centre's evidence at time t for a drone at x moving at vx;
+// `pilot(t, action)` the pilot's command, knowing what the assist last did.
+template <class Classify, class Pilot>
+PilotRun fly_with_pilot(Assist& a, double seconds, double obstacle_x, Classify classify,
+                        Pilot pilot) {
     sim::FlightModel m;
     m.set_pose(0, 0, 1.0, 0);
     sim::FlightInput hover;
@@ -549,7 +553,7 @@ PilotRun fly_with_pilot_forward(Assist& a, double seconds, double obstacle_x, Cl
         if (i % 6 == 0) {  // the AT beat, 30 ms
             AssistInput in;
             in.t_s = t;
-            in.pilot = forward(-0.4f);
+            in.pilot = pilot(t, prev);
             in.regions = {clear(), classify(t, x, vx), clear()};
             in.vx_mps = vx;
             in.vy_mps = 0;
@@ -574,6 +578,12 @@ PilotRun fly_with_pilot_forward(Assist& a, double seconds, double obstacle_x, Cl
     return r;
 }
 
+template <class Classify>
+PilotRun fly_with_pilot_forward(Assist& a, double seconds, double obstacle_x, Classify classify) {
+    return fly_with_pilot(a, seconds, obstacle_x, classify,
+                          [](double, AssistAction) { return forward(-0.4f); });
+}
+
 // The centre as the flow classifier reads it on the virtual drone: stopped (under 0.2 m/s) clear,
 // since nothing approaches; slow (under 0.3 m/s, as on the suite) unknown, the direction of travel
 // too uncertain to judge the centre; faster, unsafe when the time to contact is under 3.3 s, read
@@ -585,18 +595,22 @@ RegionEvidence flow_like(double vx, double true_ttc_s) {
 }
 
 TEST(Assist, ABlindProbeKeepsTheWiderGapUntilTheCentreIsSeenClear) {
-    // Two drones held 1.0 m short of a remembered obstacle probe toward it at 0.35 m/s: fast
-    // enough for the classifier, the obstacle within its time to contact. One's centre reads
-    // unknown all the way (a near, plain surface: too few points): it stops probing with
-    // probe_blind_gap_m plus its stopping distance left, for the obstacle may be nearer than
-    // placed. The other's reads clear: after probe_seen_s it may come to probe_min_gap_m, and
-    // reads clear long enough to forget the obstacle before that.
-    const AssistParams p;
+    // Two drones held 1.5 m short of a remembered obstacle (hold_gap_m 1.5 here) probe toward it
+    // at 0.35 m/s: fast enough for the classifier, the obstacle within its time to contact. One's
+    // centre reads unknown all the way (a near, plain surface: too few points): it stops probing
+    // with probe_blind_gap_m plus its stopping distance left, for the obstacle may be nearer
+    // than placed. The other's reads clear: once that is read on frames all flown at the probe's
+    // speed (evidence_window_s) for probe_seen_s, it may come to probe_min_gap_m, and reads clear
+    // long enough to forget the obstacle before that. (From the default 1.0 m it cannot: the
+    // window and probe_seen_s take 0.23 m at 0.35 m/s, more than the 0.14 m of room it has.)
+    AssistParams p;
+    p.hold_gap_m = 1.5;
+    p.confirm_s = 0;  // braking at once
     ASSERT_GT(p.probe_blind_gap_m, p.probe_min_gap_m);
     for (const bool seen : {false, true}) {
         SCOPED_TRACE(seen ? "seen clear" : "blind");
         Assist a(p);
-        AssistInput in = flying_forward(1.0, unsafe(1.45));
+        AssistInput in = flying_forward(1.0, unsafe(2.2));
         ASSERT_EQ(a.step(in).action, AssistAction::Braking);
         in.regions[1] = clear();
         in.vx_mps = 0.0;
@@ -607,7 +621,7 @@ TEST(Assist, ABlindProbeKeepsTheWiderGapUntilTheCentreIsSeenClear) {
             o = a.step(in);
         }
         ASSERT_EQ(o.action, AssistAction::Probing) << o.reason;
-        ASSERT_NEAR(o.obstacle_m, 1.0, 0.01);
+        ASSERT_NEAR(o.obstacle_m, 1.5, 0.01);
         in.vx_mps = 0.35;
         in.regions[1] = seen ? clear() : RegionEvidence{RegionState::Unknown, 0.05, kUnknown};
         double last_probing_remaining = kUnknown;
@@ -626,6 +640,60 @@ TEST(Assist, ABlindProbeKeepsTheWiderGapUntilTheCentreIsSeenClear) {
             EXPECT_LT(o.obstacle_m, p.probe_blind_gap_m + stop + 0.011);
             EXPECT_FALSE(o.command.progressive && o.command.pitch < 0) << "no forward command";
         }
+    }
+}
+
+TEST(Assist, AClearFlickerRightAfterTheAlarmDoesNotGiveTheProbeTheNearerGap) {
+    // Seed 11's ahead-pillar-0.6 in closed loop: braked at 0.6 m/s for a 2.2 s reading (the pillar
+    // 0.6 m ahead, remembered 0.97 m), it read clear for 0.12 s right after, on frames flown at
+    // speed before the brake, then unknown. Counted as the probe's proof of a clear way
+    // (probe_seen_s 0.1), the blind probe that followed took the nearer gap and came within
+    // 0.17 m; at 0.3 s, a flicker that short is not proof: it keeps probe_blind_gap_m.
+    for (const double seen_s : {0.1, AssistParams{}.probe_seen_s}) {
+        SCOPED_TRACE(seen_s);
+        AssistParams p;
+        p.probe_seen_s = seen_s;
+        p.confirm_s = 0;  // braking at once
+        Assist a(p);
+        AssistInput in = flying_forward(0.6, clear());
+        double t = 0;
+        for (; t < 0.5; t += 0.03) {  // a speed history for the evidence window
+            in.t_s = t;
+            ASSERT_EQ(a.step(in).action, AssistAction::Watching);
+        }
+        in.t_s = t;
+        in.regions[1] = unsafe(2.2);
+        ASSERT_EQ(a.step(in).action, AssistAction::Braking);
+        // The flicker while the brake bites, then nothing, then stopped (a stopped drone's
+        // centre reads clear: nothing approaches).
+        for (const double v : {0.55, 0.5, 0.45, 0.4, 0.3, 0.2, 0.1, 0.0}) {
+            in.t_s = t += 0.03;
+            in.vx_mps = v;
+            in.regions[1] =
+                v >= 0.4 ? clear() : RegionEvidence{RegionState::Unknown, 0.05, kUnknown};
+            a.step(in);
+        }
+        in.regions[1] = clear();
+        AssistOutput o;
+        for (const double t0 = t; t < t0 + p.probe_wait_s + 0.1; t += 0.03) {
+            in.t_s = t;
+            o = a.step(in);
+        }
+        ASSERT_EQ(o.action, AssistAction::Probing) << o.reason;
+        // A blind probe at 0.35 m/s: the centre unknown all the way.
+        in.vx_mps = 0.35;
+        in.regions[1] = {RegionState::Unknown, 0.05, kUnknown};
+        double last_remaining = kUnknown;
+        for (int i = 0; i < 100 && o.action == AssistAction::Probing; ++i) {
+            in.t_s = t += 0.03;
+            o = a.step(in);
+            if (o.action == AssistAction::Probing) last_remaining = o.obstacle_m;
+        }
+        const double stop = p.react_s * 0.35 + 0.35 * 0.35 / (2 * p.brake_decel_mps2);
+        if (seen_s < 0.12)
+            EXPECT_LT(last_remaining, p.probe_blind_gap_m + stop - 0.1) << "the rule before";
+        else
+            EXPECT_GE(last_remaining, p.probe_blind_gap_m + stop - 0.011) << "came nearer";
     }
 }
 
@@ -657,43 +725,61 @@ TEST(Assist, TheProbeBannerShowsBothBoundsOnlyWhereTheyDiffer) {
     }
 }
 
-TEST(Assist, AFalseAlarmFromHoverIsProbedAndForgottenWhereAProbeCanSeeIt) {
+TEST(Assist, AFalseAlarmFromHoverIsHeldUntilThePilotBacksOffAndFliesOnWithARunUp) {
     // Nothing ahead. The classifier flags the centre as the drone speeds up from hover, as on the
     // suite's open flights (runs of 1-20 AT cycles in the first metres), and reads as flow_like
     // does otherwise.
     struct Case {
-        int run;         // AT cycles flagged
-        double from;     // from this speed (m/s)
-        double ttc;      // reading this time to contact (s)
-        bool forgotten;  // expected: forgotten and flown on, or held
+        int run;      // AT cycles flagged
+        double from;  // from this speed (m/s)
+        double ttc;   // reading this time to contact (s)
     };
-    // 4 cycles (0.09 s) is under confirm_s: never a brake. 14 (0.39 s) is confirmed. Placed
-    // 1.2 m ahead (2.0 s at 0.8 m/s), about 1 m once stopped, the obstacle is within what a probe
-    // sees (3.3 s at 0.3-0.45 m/s): probed, seen clear, forgotten. Placed 1.9 m ahead (3.1 s at
-    // 0.8 m/s), it lies beyond that wherever a probe may go (sight_far_bound; with the near bound
-    // alone it was forgotten): held until the pilot turns away, backs off or overrides.
-    const Case cases[] = {Case{4, 0.75, 3.1, true}, Case{14, 0.8, 2.0, true},
-                          Case{14, 0.75, 3.1, false}};
+    // 4 cycles (0.09 s) is under confirm_s: never a brake. 14 (0.39 s) is confirmed: stopped, the
+    // obstacle remembered about 1 m ahead (hold_gap_m), 1.2 m or 1.9 m at most (2.0 s or 3.1 s
+    // at 0.8 m/s). A probe from a stop proves nothing within the room it has: every clear reading
+    // it gets is made on frames flown while it sped up from hover (which the classifier, as
+    // flow_like, reads clear), slower than the classifier sees 1 m at (evidence_window_s). So it
+    // creeps to probe_blind_gap_m and the drone is held, saying so, until the pilot turns away,
+    // backs off or overrides. (With those readings counted, the 2.0 s case was probed and
+    // forgotten: a probe fooled in the same way came within 0.17 m of seed 11's pillar.) A pilot
+    // who backs off 1.5 s and flies on gives the classifier the run-up it needs: forgotten.
+    const Case cases[] = {Case{4, 0.75, 3.1}, Case{14, 0.8, 2.0}, Case{14, 0.75, 3.1}};
     for (const Case c : cases) {
-        SCOPED_TRACE(testing::Message()
-                     << c.run << " cycles from " << c.from << " m/s at " << c.ttc << " s");
-        Assist a;
-        int flagged = 0;
-        const PilotRun r = fly_with_pilot_forward(a, 25.0, 1e9, [&](double, double, double vx) {
-            if ((vx > c.from || flagged > 0) && flagged < c.run) {
-                ++flagged;
-                return unsafe(c.ttc);
+        for (const bool back_off : {false, true}) {
+            SCOPED_TRACE(testing::Message() << c.run << " cycles from " << c.from << " m/s at "
+                                            << c.ttc << " s" << (back_off ? ", backing off" : ""));
+            Assist a;
+            int flagged = 0;
+            double held_since = -1, back_until = -1;
+            const PilotRun r = fly_with_pilot(
+                a, 25.0, 1e9,
+                [&](double, double, double vx) {
+                    if ((vx > c.from || flagged > 0) && flagged < c.run) {
+                        ++flagged;
+                        return unsafe(c.ttc);
+                    }
+                    return flow_like(vx, 1e9);
+                },
+                [&](double t, AssistAction last) {
+                    if (back_off && back_until < 0) {
+                        if (last != AssistAction::Holding)
+                            held_since = -1;
+                        else if (held_since < 0)
+                            held_since = t;
+                        else if (t - held_since >= 2.0)
+                            back_until = t + 3.0;
+                    }
+                    return t < back_until ? forward(0.4f) : forward(-0.4f);
+                });
+            EXPECT_EQ(r.brakes > 0, c.run > 4);
+            EXPECT_EQ(r.probed, c.run > 4);
+            if (c.run <= 4 || back_off) {
+                EXPECT_EQ(r.last, AssistAction::Watching) << "still held at the end";
+                EXPECT_GT(r.x_end_m, 10.0);  // the flight went on
+            } else {
+                EXPECT_EQ(r.last, AssistAction::Holding);
+                EXPECT_LT(r.x_end_m, 3.0);
             }
-            return flow_like(vx, 1e9);
-        });
-        EXPECT_EQ(r.brakes > 0, c.run > 4);
-        EXPECT_EQ(r.probed, c.run > 4);
-        if (c.forgotten) {
-            EXPECT_EQ(r.last, AssistAction::Watching) << "still held at the end";
-            EXPECT_GT(r.x_end_m, 10.0);  // the flight went on
-        } else {
-            EXPECT_EQ(r.last, AssistAction::Holding);
-            EXPECT_LT(r.x_end_m, 3.0);
         }
     }
 }
@@ -868,6 +954,11 @@ TEST(Assist, AnObstacleRememberedNearerThanItStandsIsForgottenOnlyOnceSeenClearW
         SCOPED_TRACE(far_bound ? "far bound" : "near bound");
         AssistParams p;
         p.sight_far_bound = far_bound;
+        // As when the rule was made: the probe's clear readings while it speeds up count, and
+        // 0.1 s of them is proof enough for the nearer gap. (With today's evidence_window_s and
+        // probe_seen_s the drone stays 2.97 m short with either bound.)
+        p.evidence_window_s = 0;
+        p.probe_seen_s = 0.1;
         Assist a(p);
         std::vector<std::pair<double, double>> speeds;  // (t, vx)
         const PilotRun r =
