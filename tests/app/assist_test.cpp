@@ -594,6 +594,27 @@ RegionEvidence flow_like(double vx, double true_ttc_s) {
     return true_ttc_s < 3.3 ? unsafe(1.25 * true_ttc_s) : clear();
 }
 
+// A probing drone flown at 0.35 m/s with the centre reading `centre`, until it stops probing (or
+// 3 s): the remaining distance of its last probing step, and its stopping distance at that speed.
+struct ProbeEnd {
+    double last_remaining_m = kUnknown;
+    double stop_m = 0;
+};
+ProbeEnd probe_at_035(Assist& a, AssistInput& in, double& t, AssistOutput& o,
+                      RegionEvidence centre) {
+    in.vx_mps = 0.35;
+    in.regions[1] = centre;
+    ProbeEnd r;
+    for (int i = 0; i < 100 && o.action == AssistAction::Probing; ++i) {
+        in.t_s = t += 0.03;
+        o = a.step(in);
+        if (o.action == AssistAction::Probing) r.last_remaining_m = o.obstacle_m;
+    }
+    const AssistParams& p = a.params();
+    r.stop_m = p.react_s * 0.35 + 0.35 * 0.35 / (2 * p.brake_decel_mps2);
+    return r;
+}
+
 TEST(Assist, ABlindProbeKeepsTheWiderGapUntilTheCentreIsSeenClear) {
     // Two drones held 1.5 m short of a remembered obstacle (hold_gap_m 1.5 here) probe toward it
     // at 0.35 m/s: fast enough for the classifier, the obstacle within its time to contact. One's
@@ -622,15 +643,9 @@ TEST(Assist, ABlindProbeKeepsTheWiderGapUntilTheCentreIsSeenClear) {
         }
         ASSERT_EQ(o.action, AssistAction::Probing) << o.reason;
         ASSERT_NEAR(o.obstacle_m, 1.5, 0.01);
-        in.vx_mps = 0.35;
-        in.regions[1] = seen ? clear() : RegionEvidence{RegionState::Unknown, 0.05, kUnknown};
-        double last_probing_remaining = kUnknown;
-        for (int i = 0; i < 100 && o.action == AssistAction::Probing; ++i) {
-            in.t_s = t += 0.03;
-            o = a.step(in);
-            if (o.action == AssistAction::Probing) last_probing_remaining = o.obstacle_m;
-        }
-        const double stop = p.react_s * 0.35 + 0.35 * 0.35 / (2 * p.brake_decel_mps2);
+        const ProbeEnd e = probe_at_035(
+            a, in, t, o, seen ? clear() : RegionEvidence{RegionState::Unknown, 0.05, kUnknown});
+        const double last_probing_remaining = e.last_remaining_m, stop = e.stop_m;
         if (seen) {
             EXPECT_EQ(o.action, AssistAction::Watching) << o.reason;  // forgotten
             EXPECT_LT(last_probing_remaining, p.probe_blind_gap_m + stop) << "came nearer";
@@ -681,15 +696,9 @@ TEST(Assist, AClearFlickerRightAfterTheAlarmDoesNotGiveTheProbeTheNearerGap) {
         }
         ASSERT_EQ(o.action, AssistAction::Probing) << o.reason;
         // A blind probe at 0.35 m/s: the centre unknown all the way.
-        in.vx_mps = 0.35;
-        in.regions[1] = {RegionState::Unknown, 0.05, kUnknown};
-        double last_remaining = kUnknown;
-        for (int i = 0; i < 100 && o.action == AssistAction::Probing; ++i) {
-            in.t_s = t += 0.03;
-            o = a.step(in);
-            if (o.action == AssistAction::Probing) last_remaining = o.obstacle_m;
-        }
-        const double stop = p.react_s * 0.35 + 0.35 * 0.35 / (2 * p.brake_decel_mps2);
+        const ProbeEnd e =
+            probe_at_035(a, in, t, o, RegionEvidence{RegionState::Unknown, 0.05, kUnknown});
+        const double last_remaining = e.last_remaining_m, stop = e.stop_m;
         if (seen_s < 0.12)
             EXPECT_LT(last_remaining, p.probe_blind_gap_m + stop - 0.1) << "the rule before";
         else
