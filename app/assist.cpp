@@ -185,34 +185,26 @@ double Assist::placed_ahead_m(const RegionEvidence& e, double vx_mps) const {
 void Assist::keep_speed(double t_s, double vx_mps) {
     auto& r = st_.speeds;
     if (!known(vx_mps)) {
-        st_.speeds_n = 0;  // a gap: what came before no longer says what the classifier saw
+        r.clear();  // a gap: what came before no longer says what the classifier saw
         return;
     }
-    if (st_.speeds_n > 0) {
-        const auto& last = r[(st_.speeds_head + st_.speeds_n - 1) % r.size()];
-        // One sample per 10 ms at most: however often the caller steps, the ring holds over a
-        // second, more than the window plus a decision's age.
-        if (!(t_s >= last[0] + 0.01)) return;
-    }
-    if (st_.speeds_n == r.size()) {
-        st_.speeds_head = (st_.speeds_head + 1) % r.size();
-        --st_.speeds_n;
-    }
-    r[(st_.speeds_head + st_.speeds_n) % r.size()] = {t_s, vx_mps};
-    ++st_.speeds_n;
+    // One sample per 10 ms at most: however often the caller steps, the ring holds over a
+    // second, more than the window plus a decision's age.
+    if (!r.empty() && !(t_s >= r.back().t_s + 0.01)) return;
+    r.push({t_s, vx_mps});
 }
 
 double Assist::window_speed(double captured_s) const {
     const auto& r = st_.speeds;
-    if (st_.speeds_n == 0) return kUnknown;
+    if (r.empty()) return kUnknown;
     const double from = captured_s - p_.evidence_window_s;
     // The samples must reach back to the window's start (one step's slack).
-    if (r[st_.speeds_head][0] > from + 0.05) return kUnknown;
+    if (r[0].t_s > from + 0.05) return kUnknown;
     double slowest = kUnknown;
-    for (std::size_t k = 0; k < st_.speeds_n; ++k) {
-        const auto& s = r[(st_.speeds_head + k) % r.size()];
-        if (s[0] >= from - 1e-9 && s[0] <= captured_s + 1e-9)
-            slowest = known(slowest) ? std::min(slowest, s[1]) : s[1];
+    for (std::size_t k = 0; k < r.size(); ++k) {
+        const auto& s = r[k];
+        if (s.t_s >= from - 1e-9 && s.t_s <= captured_s + 1e-9)
+            slowest = known(slowest) ? std::min(slowest, s.vx_mps) : s.vx_mps;
     }
     return slowest;
 }

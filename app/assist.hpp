@@ -52,6 +52,7 @@
 #include "drone/core/unknown.hpp"
 #include "vision/classifier.hpp"
 #include "vision/params.hpp"
+#include "vision/plot_series.hpp"
 
 #include <array>
 #include <cstdint>
@@ -270,9 +271,11 @@ private:
         double obstacle_far_m = kUnknown;  // ... and how far it may be (uncapped), same origin
         double travelled_m = 0;            // forward since then
         double clear_seen_s = 0;           // clear while the remembered obstacle was in sight
-        // The forward speed of the last steps (time, m/s), oldest first: what the classifier saw.
-        std::array<std::array<double, 2>, 128> speeds{};
-        std::size_t speeds_n = 0, speeds_head = 0;
+        // The forward speed of the last steps, oldest first: what the classifier saw.
+        struct Speed {
+            double t_s = 0, vx_mps = 0;
+        };
+        vision::RingBuffer<Speed> speeds{128};
         double stopped_clear_s = 0;  // held, stopped and the centre clear: towards a probe
         bool probing = false;
         bool speed_trusted = true;  // false after a brake timed out with the speed still high
