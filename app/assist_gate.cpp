@@ -8,6 +8,9 @@ std::array<RegionEvidence, 3> evidence_of(const vision::FrameResult& r, bool flo
     std::array<RegionEvidence, 3> e{};
     for (std::size_t i = 0; i < 3; ++i) {
         const vision::RegionDecision& d = r.regions[i];
+        // A still camera's region (approach_only: nothing approaching, what stands ahead not
+        // judged) is clear to the assist: it starts a probe from a hold, and the assist's
+        // evidence window never lets a reading made that slowly forget an obstacle.
         e[i].state = !d.valid   ? RegionState::Unknown
                      : d.unsafe ? RegionState::Unsafe
                                 : RegionState::Clear;

@@ -95,7 +95,8 @@ void classifier_output(const PipelineOutput& o, ui::ClassifierOutput& c, double 
     for (std::size_t i = 0; i < 3; ++i) {
         const vision::RegionDecision& d = r.regions[i];
         c.decisions.push_back({kRegionNames[i], d.valid && d.unsafe, d.score, d.threshold, d.valid,
-                               d.valid ? std::string() : vision::to_string(d.unknown)});
+                               d.valid ? std::string() : vision::to_string(d.unknown),
+                               d.valid && d.approach_only});
     }
     c.cycle_ms = r.timings.total_ms;
 
@@ -106,7 +107,8 @@ void classifier_output(const PipelineOutput& o, ui::ClassifierOutput& c, double 
         const vision::RegionDecision& d = r.regions[i];
         ov.regions.push_back({kRegionNames[i], b.rect.x, b.rect.x + b.rect.width,
                               d.valid && d.unsafe, d.score, d.threshold, d.valid,
-                              d.valid ? std::string() : vision::to_string(d.unknown)});
+                              d.valid ? std::string() : vision::to_string(d.unknown),
+                              d.valid && d.approach_only});
     }
     for (const auto& l : r.overlay.lines)
         ov.boundaries.push_back(

@@ -34,8 +34,12 @@ void mark_unknown(vision::FrameResult& r, vision::UnknownReason why) {
     for (auto& d : r.regions) {
         d.valid = false;
         d.unsafe = false;
+        d.approach_only = false;
         d.unknown = why;
     }
+    // The region bar drawn into replay videos says so too.
+    for (std::size_t i = 0; i < r.overlay.bars.size() && i < r.regions.size(); ++i)
+        r.overlay.bars[i].colour = vision::bar_colour(r.regions[i]);
 }
 
 ObstaclePipeline::ObstaclePipeline(std::string classifier, const CameraCalibration& calibration)

@@ -370,6 +370,9 @@ nlohmann::json summary_json(const dataset::Dataset& d, const ReplaySettings& s,
     // region, and why.
     j["unknown_frames"] = {
         {"left", st.unknown[0]}, {"center", st.unknown[1]}, {"right", st.unknown[2]}};
+    // Frames judged only for approaching things (the camera still: hovering); what stood ahead
+    // was not judged, so they are not "clear" either.
+    j["still_frames"] = {{"left", st.still[0]}, {"center", st.still[1]}, {"right", st.still[2]}};
     nlohmann::json reasons = nlohmann::json::object();
     const char* region_names[] = {"left", "center", "right"};
     for (std::size_t r = 0; r < 3; ++r) {

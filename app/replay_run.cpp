@@ -14,7 +14,8 @@
 namespace gs::app {
 
 std::string decisions_csv_header() {
-    return "frame,t_ms,left,center,right,left_score,center_score,right_score\n";
+    return "frame,t_ms,left,center,right,left_score,center_score,right_score,left_state,"
+           "center_state,right_state\n";
 }
 
 std::string decisions_csv_row(std::int64_t frame, TimeNs t_ns, const vision::FrameResult* res) {
@@ -24,6 +25,10 @@ std::string decisions_csv_row(std::int64_t frame, TimeNs t_ns, const vision::Fra
     for (auto reg : vision::kRegions)
         line += ',' + (res == nullptr ? std::string()
                                       : dataset::csv::format_number(res->region(reg).score));
+    for (auto reg : vision::kRegions) {
+        line += ',';
+        if (res != nullptr) line += vision::state_word(res->region(reg));
+    }
     line += '\n';
     return line;
 }
@@ -240,6 +245,7 @@ Expected<ReplayStats, std::string> replay_dataset(const dataset::Dataset& datase
             const vision::RegionDecision& d = res.regions[r];
             f[r] = d.unsafe;
             st.flagged[r] += f[r] ? 1 : 0;
+            st.still[r] += d.valid && d.approach_only && !d.unsafe ? 1 : 0;
             if (!d.valid) {
                 ++st.unknown[r];
                 const auto why = static_cast<std::size_t>(d.unknown);

@@ -20,7 +20,9 @@ namespace gs::app {
 
 // decisions.csv (the replay contract of issue #5 and `record`'s live_decisions.csv).
 std::string decisions_csv_header();
-// One row; a frame that could not be decoded (result null) has empty decision and score fields.
+// One row; a frame that could not be decoded (result null) has empty decision, score and state
+// fields. The state is vision::state_word: unsafe, still, clear or unknown (the 0 in the decision
+// column of an unknown region means "not flagged", not "clear").
 std::string decisions_csv_row(std::int64_t frame, TimeNs t_ns, const vision::FrameResult* result);
 
 struct ReplaySettings {
@@ -54,6 +56,8 @@ struct ReplayStats {
     // Frames each region had no measured decision (RegionDecision::valid false), in all and by
     // vision::UnknownReason (indexed by its value).
     std::array<std::int64_t, 3> unknown{};
+    // Judged only for approaching things (a still camera: vision::RegionDecision::approach_only).
+    std::array<std::int64_t, 3> still{};
     std::array<std::array<std::int64_t, vision::kUnknownReasonCount>, 3> unknown_by_reason{};
     double wall_s = 0, cpu_s = 0;  // whole replay, this thread
     // Per frame, milliseconds: reading (decode) and classifying.

@@ -137,6 +137,7 @@ bool write_screenshot(const std::filesystem::path& png, int w, int h, const Layo
                                     {"rect", rect_json(b.rect)},
                                     {"flagged", b.flagged},
                                     {"confirming", b.confirming},
+                                    {"still", b.still},
                                     {"known", b.known},
                                     {"reason", b.reason},
                                     {"label", b.label}});

@@ -113,17 +113,23 @@ void ClassifierWindow::draw(const GuiSnapshot& s, ViewState& v, Actions& a) {
         const bool measured = d.known && !stale;
         // Over the threshold, not yet confirmed: "confirming" (amber), as on the region bar.
         const bool confirming = ui::confirming(measured, d.flagged, d.score, d.threshold);
+        const bool still = measured && d.still && !d.flagged && !confirming;
         const std::uint32_t col = !measured    ? colors::kDim
                                   : d.flagged  ? colors::kBad
                                   : confirming ? colors::kWarn
+                                  : still      ? colors::kStill
                                                : colors::kGood;
         ImGui::TextColored(colors::v4(col), "%-7s %-7s", d.name.c_str(),
                            !measured    ? "no data"
                            : d.flagged  ? "UNSAFE"
                            : confirming ? "confirming"
+                           : still      ? "still"
                                         : "clear");
         ImGui::SameLine();
-        if (!measured)
+        if (still) {
+            ImGui::TextColored(colors::v4(colors::kDim), "nothing approaching");
+            if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", kStillMeaning);
+        } else if (!measured)
             ImGui::TextColored(colors::v4(colors::kDim), "%s",
                                stale ? "video stale" : d.unknown_reason.c_str());
         else if (known(d.score))

@@ -164,6 +164,9 @@ struct RegionBar {
     // No measured decision this frame: drawn grey "no data", with the reason as a tooltip.
     bool known = true;
     std::string unknown_reason;
+    // Known, but judged only for things moving toward the camera (it is still: hovering): drawn
+    // steel blue "still", never green "clear", since an obstacle standing ahead is not seen.
+    bool still = false;
 };
 struct OverlayPolyline {
     std::vector<Point2f> points;
@@ -193,6 +196,7 @@ struct RegionDecision {
     double score = kUnknown, threshold = kUnknown;
     bool known = true;           // measured this frame
     std::string unknown_reason;  // why not ("too few tracked points", "video stale" ...)
+    bool still = false;          // measured for approaching things only (RegionBar::still)
 };
 
 // Generic tunable parameter, so the window needs no knowledge of a classifier's internals.

@@ -154,15 +154,20 @@ void VideoWindow::draw(const GuiSnapshot& s, ViewState& v, Actions& a, TextureSo
             // frames. Neither clear nor unsafe: amber "confirming", never a green bar with a score
             // above its threshold.
             const bool confirming = ui::confirming(known_now, r.flagged, r.score, r.threshold);
+            // Still (hovering): nothing approaches, but what stands ahead is not judged. Steel
+            // blue "still", never green "clear".
+            const bool still = known_now && r.still && !r.flagged && !confirming;
             const std::uint32_t col = !known_now   ? IM_COL32(110, 114, 122, 225)
                                       : r.flagged  ? IM_COL32(225, 45, 40, 235)
                                       : confirming ? IM_COL32(225, 150, 30, 235)
+                                      : still      ? IM_COL32(60, 115, 175, 225)
                                                    : IM_COL32(40, 185, 80, 215);
             dl->AddRectFilled(b0, b1, col, 2.0f);
             // The longest label that fits: "left UNSAFE 0.45 / 0.30", "left 0.45/0.30", "0.45".
             const char* word = !known_now   ? "no data"
                                : r.flagged  ? "UNSAFE"
                                : confirming ? "confirming"
+                               : still      ? "still"
                                             : "clear";
             const std::string sc = format_score(r.score, r.threshold);
             const std::string th = format_score(r.threshold, r.threshold);
@@ -171,6 +176,10 @@ void VideoWindow::draw(const GuiSnapshot& s, ViewState& v, Actions& a, TextureSo
                 options[0] = r.name + " no data";
                 options[1] = "no data";
                 options[2] = "?";
+            } else if (still) {
+                // A score of 0 against a threshold says nothing here: the word is the reading.
+                options[0] = r.name + " still";
+                options[1] = "still";
             } else if (known(r.score)) {
                 options[0] = r.name + " " + word + "  " + sc + " / " + th;
                 options[1] = r.name + " " + sc + "/" + th;
@@ -190,10 +199,12 @@ void VideoWindow::draw(const GuiSnapshot& s, ViewState& v, Actions& a, TextureSo
                     break;
                 }
             }
-            if (!reason.empty() && ImGui::IsMouseHoveringRect(b0, b1) &&
+            if ((!reason.empty() || still) && ImGui::IsMouseHoveringRect(b0, b1) &&
                 ImGui::IsWindowHovered(ImGuiHoveredFlags_AllowWhenBlockedByPopup)) {
-                ImGui::SetTooltip("%s: no data - %s", r.name.c_str(), reason.c_str());
-                v.layout.tooltip = r.name + ": no data - " + reason;
+                const std::string tip = still ? r.name + ": still - " + kStillMeaning
+                                              : r.name + ": no data - " + reason;
+                ImGui::SetTooltip("%s", tip.c_str());
+                v.layout.tooltip = tip;
             }
             LayoutReport::Bar bar;
             bar.name = r.name;
@@ -201,6 +212,7 @@ void VideoWindow::draw(const GuiSnapshot& s, ViewState& v, Actions& a, TextureSo
             bar.flagged = known_now && r.flagged;
             bar.known = known_now;
             bar.confirming = confirming;
+            bar.still = still;
             bar.reason = reason;
             bar.label = shown;
             v.layout.region_bars.push_back(std::move(bar));

@@ -52,6 +52,7 @@ struct LayoutReport {
         bool flagged = false;
         bool known = true;        // false: grey "no data"
         bool confirming = false;  // amber: over the threshold, not yet confirmed unsafe
+        bool still = false;       // steel blue: nothing approaching, what stands ahead not judged
         std::string reason;       // why unknown (its tooltip)
         std::string label;        // the text drawn in the bar ("" if none fitted)
     };

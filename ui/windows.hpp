@@ -32,6 +32,8 @@ inline constexpr std::uint32_t kBad = IM_COL32(235, 65, 55, 255);
 inline constexpr std::uint32_t kInfo = IM_COL32(110, 170, 240, 255);
 inline constexpr std::uint32_t kDim = IM_COL32(150, 155, 162, 255);
 inline constexpr std::uint32_t kText = IM_COL32(225, 228, 232, 255);
+// A still camera's region (RegionBar::still): measured, but not for what stands ahead.
+inline constexpr std::uint32_t kStill = IM_COL32(70, 130, 190, 255);
 ImVec4 v4(std::uint32_t c);
 }  // namespace colors
 
@@ -40,6 +42,10 @@ ImVec4 v4(std::uint32_t c);
 inline bool confirming(bool known_now, bool flagged, double score, double threshold) {
     return known_now && !flagged && known(score) && known(threshold) && score > threshold;
 }
+// What a "still" region means, for its tooltip and the classifier window.
+inline constexpr const char* kStillMeaning =
+    "camera still: nothing is approaching, but an obstacle standing ahead is not seen until the "
+    "drone moves";
 
 struct Hud {
     // Draws the head-up display over [p0, p1] (the video image area), records the battery gauge.

@@ -172,6 +172,7 @@ const FrameResult& TrackingClassifier::process(const FrameInput& in) {
             if (d.unsafe && !was_unsafe[static_cast<std::size_t>(r)]) {
                 d.unsafe = false;
                 d.valid = false;
+                d.approach_only = false;
                 d.unknown = UnknownReason::DamagedFrame;
             }
         }
@@ -260,6 +261,18 @@ void TrackingClassifier::fill_traces() {
     }
 }
 
+Rgb bar_colour(const RegionDecision& d) {
+    if (!d.valid) return kGrey;
+    if (d.unsafe) return kRed;
+    return d.approach_only ? kSteel : kGreen;
+}
+
+const char* state_word(const RegionDecision& d) {
+    if (!d.valid) return "unknown";
+    if (d.unsafe) return "unsafe";
+    return d.approach_only ? "still" : "clear";
+}
+
 void TrackingClassifier::build_overlay() {
     Overlay& o = result_.overlay;
     o.clear();
@@ -271,8 +284,7 @@ void TrackingClassifier::build_overlay() {
     const float xs[4] = {0.f, mid - band, mid + band, w};
     for (int r = 0; r < 3; ++r) {
         const RegionDecision& d = result_.regions[static_cast<std::size_t>(r)];
-        o.bars.push_back(
-            {cv::Rect2f(xs[r], 0, xs[r + 1] - xs[r], kBarH), d.unsafe ? kRed : kGreen, true});
+        o.bars.push_back({cv::Rect2f(xs[r], 0, xs[r + 1] - xs[r], kBarH), bar_colour(d), true});
     }
     // Region boundaries are vertical in the stabilised image; bent and tilted in the raw one.
     constexpr int kSegments = 12;

@@ -69,7 +69,18 @@ struct RegionDecision {
     double score = kUnknown;                           // unsafe when score > threshold (and valid)
     double threshold = kUnknown;
     int support = 0;  // trajectories / points behind the score
+    // Valid, but judged only for things moving toward the camera: the camera is still (hovering,
+    // or every static point too far to move in the images), so nothing static expands and an
+    // obstacle standing ahead is not seen. Not "clear": "still" ("nothing approaching; what
+    // stands ahead is not judged"). Only "flow" knows when its camera is still; false otherwise.
+    bool approach_only = false;
 };
+
+// The region bar's colour: red unsafe, steel blue still (approach_only), green clear, grey
+// unknown (no measured decision: never green).
+Rgb bar_colour(const RegionDecision& d);
+// The same four states in a word: "unsafe", "still", "clear", "unknown".
+const char* state_word(const RegionDecision& d);
 
 struct StageTimings {
     double grey_ms = 0, pyramid_ms = 0, lk_ms = 0, geometry_ms = 0, detect_ms = 0;

@@ -397,6 +397,7 @@ void FlowClassifier::all_unknown(UnknownReason why) {
         d.threshold = r == Region::Centre ? p_.centre_inv_ttc_threshold : p_.side_inv_ttc_threshold;
         d.score = kUnknown;
         d.valid = false;
+        d.approach_only = false;
         d.unknown = why;
         d.support = 0;
         confirm(r, false);  // and not unsafe
@@ -494,6 +495,7 @@ void FlowClassifier::classify(const FrameInput& in) {
         }
         d.score = score;
         d.valid = !std::isnan(score);
+        d.approach_only = d.valid && foe_source_ == FoeSource::Still;
         d.unknown = d.valid ? UnknownReason::None : UnknownReason::TooFewPoints;
         confirm(r, raw);
     }

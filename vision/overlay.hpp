@@ -12,12 +12,14 @@ namespace gs::vision {
 
 struct Rgb {
     std::uint8_t r = 0, g = 0, b = 0;
+    bool operator==(const Rgb&) const = default;
 };
 inline constexpr Rgb kGreen{0, 200, 0};
 inline constexpr Rgb kRed{230, 0, 0};
 inline constexpr Rgb kYellow{240, 220, 0};
 inline constexpr Rgb kWhite{255, 255, 255};
 inline constexpr Rgb kGrey{150, 150, 150};
+inline constexpr Rgb kSteel{70, 130, 190};  // a still camera's region: neither clear nor unsafe
 
 // OpenCV's channel order.
 inline cv::Scalar to_bgr(Rgb c) {

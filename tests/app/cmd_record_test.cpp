@@ -211,8 +211,9 @@ TEST_F(RecordCommand, LiveDecisionsAreReproducedFromTheDataset) {
     auto live = gs::dataset::csv::Table::parse(gs::test::read_text(dir() / "live_decisions.csv"),
                                                "live_decisions.csv");
     ASSERT_TRUE(live) << gs::to_string(live.error());
-    const std::vector<std::string> cols = {"frame", "t_ms",       "left",         "center",
-                                           "right", "left_score", "center_score", "right_score"};
+    const std::vector<std::string> cols = {
+        "frame",        "t_ms",        "left",       "center",       "right",      "left_score",
+        "center_score", "right_score", "left_state", "center_state", "right_state"};
     ASSERT_EQ(live->header(), cols);
     ASSERT_EQ(live->rows(), static_cast<std::size_t>(d->frame_count()));
 

@@ -65,6 +65,7 @@ std::vector<Window> read_windows() {
 struct Decisions {
     std::vector<std::array<int, 3>> flags;
     std::vector<std::array<bool, 3>> known;  // a score was written (the region was not unknown)
+    std::vector<std::array<bool, 3>> still;  // state "still": only approaching things judged
 };
 
 // The clip imported (once per test program) and replayed with the default classifier.
@@ -84,6 +85,7 @@ const Decisions& replayed(const std::string& clip) {
     if (!t) return d;
     const char* flag_cols[3] = {"left", "center", "right"};
     const char* score_cols[3] = {"left_score", "center_score", "right_score"};
+    const char* state_cols[3] = {"left_state", "center_state", "right_state"};
     const auto frame_col = t->column("frame");
     EXPECT_TRUE(frame_col.has_value());
     for (std::size_t r = 0; r < t->rows(); ++r) {
@@ -91,12 +93,15 @@ const Decisions& replayed(const std::string& clip) {
         if (d.flags.size() <= f) {
             d.flags.resize(f + 1, {-1, -1, -1});
             d.known.resize(f + 1, {false, false, false});
+            d.still.resize(f + 1, {false, false, false});
         }
         for (int k = 0; k < 3; ++k) {
             const auto fc = t->column(flag_cols[k]);
             const auto sc = t->column(score_cols[k]);
-            EXPECT_TRUE(fc && sc);
-            if (!fc || !sc) continue;
+            const auto stc = t->column(state_cols[k]);
+            EXPECT_TRUE(fc && sc && stc);
+            if (!fc || !sc || !stc) continue;
+            d.still[f][static_cast<std::size_t>(k)] = t->field(r, *stc) == "still";
             d.flags[f][static_cast<std::size_t>(k)] =
                 static_cast<int>(int_or(t->integer(r, *fc), -1));
             d.known[f][static_cast<std::size_t>(k)] = !t->field(r, *sc).empty();
@@ -202,23 +207,34 @@ TEST_F(RealClips, ApproachesAreFlaggedOnTheirSideAndQuietWindowsAreNot) {
 }
 
 // The hand clip's camera stands on a table: in its quiet windows the classifier knows it is
-// still (a person moving behind the desk, fingers on its edge), so its regions read clear with
-// evidence, not unknown. Before ego.still_k, 97 % of the last window's frames were unknown: the
-// few moving points kept the estimator on a translation whose FOE could not be placed.
+// still (a person moving behind the desk, fingers on its edge), so its regions are judged for
+// approaching things, not unknown. Before ego.still_k, 97 % of the last window's frames were
+// unknown: the few moving points kept the estimator on a translation whose FOE could not be
+// placed. Judged, but "still", not "clear": a still camera cannot see an obstacle that stands
+// ahead (nothing static expands), and the bar must not claim the way ahead is free.
 TEST_F(RealClips, AStillCameraIsJudgedNotUnknown) {
-    int frames = 0, known = 0;
+    int frames = 0, known = 0, still = 0;
     for (const Window& w : read_windows()) {
         if (w.kind != "quiet" || w.clip != "ardrone2_front_static_hand_gestures.avi") continue;
         const Decisions& d = replayed(w.clip);
         ASSERT_GT(d.known.size(), static_cast<std::size_t>(w.last)) << w.clip;
         for (std::int64_t f = w.first; f <= w.last; ++f) {
             const auto& k = d.known[static_cast<std::size_t>(f)];
+            const auto& st = d.still[static_cast<std::size_t>(f)];
             ++frames;
             known += k[0] && k[1] && k[2];
+            still += st[0] && st[1] && st[2];
         }
     }
     ASSERT_GT(frames, 1500);
     EXPECT_GE(known, frames * 9 / 10) << known << " of " << frames << " quiet frames judged";
+    EXPECT_GE(still, frames * 9 / 10) << still << " of " << frames << " quiet frames read still";
+    // The office clip is filmed by a flying drone: no frame of it reads still.
+    const Decisions& flying = replayed("ardrone2_front_office_person_remux.mp4");
+    ASSERT_GT(flying.still.size(), 50u);
+    int still_flying = 0;
+    for (const auto& st : flying.still) still_flying += st[0] + st[1] + st[2];
+    EXPECT_EQ(still_flying, 0);
 }
 
 }  // namespace

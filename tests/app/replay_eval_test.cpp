@@ -109,8 +109,9 @@ TEST(ReplayCli, ShippedFlightGivesOneDecisionRowPerFrameAndASummary) {
     ASSERT_TRUE(ds) << to_string(ds.error());
     ASSERT_EQ(ds->frame_count(), kFlightFrames);
     const dataset::csv::Table d = read_csv(out / "decisions.csv");
-    const std::vector<std::string> header = {"frame", "t_ms",       "left",         "center",
-                                             "right", "left_score", "center_score", "right_score"};
+    const std::vector<std::string> header = {
+        "frame",        "t_ms",        "left",       "center",       "right",      "left_score",
+        "center_score", "right_score", "left_state", "center_state", "right_state"};
     ASSERT_EQ(d.header(), header);
     ASSERT_EQ(d.rows(), static_cast<std::size_t>(kFlightFrames));
     int left = 0, right = 0;

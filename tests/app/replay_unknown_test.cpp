@@ -80,17 +80,31 @@ TEST(ReplayUnknown, AGapMakesTheNextFrameUnknownCountedInTheSummaryNotInDecision
     // decisions.csv: the same header, one row per frame, decisions 0 or 1 only.
     const auto rows = unknown_test_csv_rows(out / "decisions.csv");
     ASSERT_EQ(rows.size(), 154u);
-    const std::vector<std::string> header = {"frame", "t_ms",       "left",         "center",
-                                             "right", "left_score", "center_score", "right_score"};
+    const std::vector<std::string> header = {
+        "frame",        "t_ms",        "left",       "center",       "right",      "left_score",
+        "center_score", "right_score", "left_state", "center_state", "right_state"};
     EXPECT_EQ(rows[0], header);
     for (std::size_t i = 1; i < rows.size(); ++i) {
-        ASSERT_EQ(rows[i].size(), 8u) << i;
+        ASSERT_EQ(rows[i].size(), 11u) << i;
         for (int c = 2; c < 5; ++c) EXPECT_TRUE(rows[i][c] == "0" || rows[i][c] == "1") << i;
+        // The state says what the 0 means: clear, still (only approaching things judged) or
+        // unknown; a 1 is always unsafe.
+        for (int c = 8; c < 11; ++c) {
+            const std::string& st = rows[i][c];
+            EXPECT_TRUE(rows[i][c - 6] == "1" ? st == "unsafe"
+                                              : st == "clear" || st == "still" || st == "unknown")
+                << i << ": " << rows[i][c - 6] << " " << st;
+            // Unknown exactly where no score was written.
+            EXPECT_EQ(st == "unknown", rows[i][c - 3].empty()) << i << ": " << st;
+        }
     }
-    // The gap frame is not unsafe anywhere.
+    // The gap frame is not unsafe anywhere: it is unknown.
     EXPECT_EQ(rows[81][2], "0");
     EXPECT_EQ(rows[81][3], "0");
     EXPECT_EQ(rows[81][4], "0");
+    EXPECT_EQ(rows[81][8], "unknown");
+    EXPECT_EQ(rows[81][9], "unknown");
+    EXPECT_EQ(rows[81][10], "unknown");
 
     // The shipped flight has no gap: nothing counted as missing.
     const fs::path out2 = base / "out_clean";

@@ -67,6 +67,46 @@ TEST_F(CockpitIndicators, UnknownRegionIsGreyNoDataWithTheReasonAsTooltip) {
         << gui.view().layout.tooltip;
 }
 
+// A still camera (hovering) sees nothing static approach, whatever stands ahead: its regions are
+// steel blue "still", never green "clear", the tooltip says what is and is not judged, and an
+// approaching thing still turns the bar red.
+TEST_F(CockpitIndicators, AStillCameraRegionIsStillNotClearWithItsMeaningAsTooltip) {
+    Gui gui;
+    GuiSnapshot s = sim_flying();
+    RegionBar& centre = s.classifier.overlay.regions[1];
+    centre.known = true;
+    centre.flagged = false;
+    centre.score = 0;
+    centre.threshold = 0.30;
+    centre.still = true;
+    s.classifier.decisions[1].known = true;
+    s.classifier.decisions[1].flagged = false;
+    s.classifier.decisions[1].still = true;
+    frame(gui, s);
+    const auto& bars = gui.view().layout.region_bars;
+    ASSERT_EQ(bars.size(), 3u);
+    EXPECT_TRUE(bars[1].known);
+    EXPECT_TRUE(bars[1].still);
+    EXPECT_FALSE(bars[1].flagged);
+    EXPECT_NE(bars[1].label.find("still"), std::string::npos) << bars[1].label;
+    EXPECT_EQ(bars[1].label.find("clear"), std::string::npos) << bars[1].label;
+    EXPECT_FALSE(bars[2].still) << "only the region marked still";
+    const Rect r = bars[1].rect;
+    ImGui::GetIO().MousePos = {0.5f * (r.x0 + r.x1), 0.5f * (r.y0 + r.y1)};
+    frame(gui, s);
+    frame(gui, s);
+    ImGui::GetIO().MousePos = {-FLT_MAX, -FLT_MAX};
+    EXPECT_NE(gui.view().layout.tooltip.find("not seen until the drone moves"), std::string::npos)
+        << gui.view().layout.tooltip;
+    // A hand coming at the still camera: unsafe, red, not "still".
+    centre.flagged = true;
+    centre.score = 0.6;
+    frame(gui, s);
+    EXPECT_TRUE(gui.view().layout.region_bars[1].flagged);
+    EXPECT_FALSE(gui.view().layout.region_bars[1].still);
+    EXPECT_NE(gui.view().layout.region_bars[1].label.find("UNSAFE"), std::string::npos);
+}
+
 // Point 5: a score over its threshold that the classifier has not confirmed yet (it waits a few
 // frames) is neither clear nor unsafe: an amber "confirming" bar, never green.
 TEST_F(CockpitIndicators, AScoreOverItsThresholdNotYetConfirmedIsNeverClear) {

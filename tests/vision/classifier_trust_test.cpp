@@ -96,3 +96,73 @@ TEST(ClassifierTrust, AConcealedFrameKeepsAnAlarmButCannotRaiseOne) {
     const FrameResult& kept = c->process(damaged2);
     EXPECT_TRUE(kept.regions[1].valid && kept.regions[1].unsafe);
 }
+
+// Hovering, a camera sees nothing static expand whatever stands ahead: `flow` knows its camera is
+// still and says so. The regions are judged (for things moving toward it) but marked
+// approach_only, drawn steel blue, never the green of "the way ahead is free". Flying toward the
+// same wall, the regions are judged in full: no frame reads still, and the wall is flagged.
+TEST(ClassifierTrust, AHoveringCameraReadsStillNotClear) {
+    const Flight f = make_flight(Motion::Approach);
+    auto c = make_classifier("flow", synthetic_calibration());
+    cv::Mat img;
+    int still = 0, valid = 0;
+    const int hover = 40;
+    for (int i = 0; i < hover; ++i) {
+        FrameInput in = frame_of(f, 0, time_of(f, i), img);  // the first pose, held
+        in.vx_mps = 0;
+        const FrameResult& r = c->process(in);
+        if (i < 15) continue;  // warming up
+        for (std::size_t k = 0; k < 3; ++k) {
+            const RegionDecision& d = r.regions[k];
+            valid += d.valid;
+            EXPECT_FALSE(d.unsafe) << i << " " << k;
+            if (!d.valid) continue;
+            still += d.approach_only;
+            EXPECT_TRUE(d.approach_only) << i << " " << k;
+            EXPECT_EQ(bar_colour(d), kSteel) << i << " " << k;
+            EXPECT_STREQ(state_word(d), "still") << i << " " << k;
+        }
+    }
+    EXPECT_GE(valid, 3 * (hover - 15) * 9 / 10) << "a hovering camera is judged";
+    EXPECT_EQ(still, valid);
+
+    c->reset();
+    int flagged = 0, still_flying = 0;
+    for (int i = 0; i < f.frames; ++i) {
+        const FrameResult& r = c->process(frame_of(f, i, time_of(f, i), img));
+        for (std::size_t k = 0; k < 3; ++k) {
+            const RegionDecision& d = r.regions[k];
+            still_flying += d.approach_only;
+            EXPECT_STREQ(state_word(d), !d.valid   ? "unknown"
+                                        : d.unsafe ? "unsafe"
+                                                   : "clear")
+                << i << " " << k;
+            EXPECT_EQ(bar_colour(d), !d.valid ? kGrey : d.unsafe ? kRed : kGreen) << i << " " << k;
+        }
+        flagged += r.regions[1].valid && r.regions[1].unsafe;
+    }
+    EXPECT_EQ(still_flying, 0);
+    EXPECT_GT(flagged, 0);
+}
+
+// The thesis method has no notion of a still camera: it never marks a region still, and its bar
+// is grey while it has no decision (it was drawn green then).
+TEST(ClassifierTrust, TheThesisMethodNeverReadsStillAndItsUnknownBarIsGrey) {
+    const Flight f = make_flight(Motion::Approach);
+    auto c = make_classifier("thesis", synthetic_calibration());
+    cv::Mat img;
+    int unknown = 0;
+    for (int i = 0; i < f.frames; ++i) {
+        const FrameResult& r = c->process(frame_of(f, i, time_of(f, i), img));
+        ASSERT_EQ(r.overlay.bars.size(), 3u);
+        for (std::size_t k = 0; k < 3; ++k) {
+            const RegionDecision& d = r.regions[k];
+            EXPECT_FALSE(d.approach_only) << i << " " << k;
+            unknown += !d.valid;
+            if (!d.valid) {
+                EXPECT_EQ(r.overlay.bars[k].colour, kGrey) << i << " " << k;
+            }
+        }
+    }
+    EXPECT_GT(unknown, 0) << "the thesis method warms up with no decision";
+}
