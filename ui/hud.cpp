@@ -74,8 +74,8 @@ void line(ImDrawList* dl, ImVec2 a, ImVec2 b, std::uint32_t col, float th) {
     dl->AddLine(a, b, col, th);
 }
 
-// Boxed read-out: "LABEL value unit", left- or right-anchored.
-void readout(ImDrawList* dl, ImVec2 anchor, bool right, const char* label, const char* value,
+// Boxed read-out: "LABEL value unit", left- or right-anchored. Returns where it was drawn.
+Rect readout(ImDrawList* dl, ImVec2 anchor, bool right, const char* label, const char* value,
              std::uint32_t col) {
     const float fs = ImGui::GetFontSize();
     const ImVec2 ls = text_size(label, fs * 0.85f), vs = text_size(value, fs * 1.25f);
@@ -86,6 +86,11 @@ void readout(ImDrawList* dl, ImVec2 anchor, bool right, const char* label, const
     dl->AddRect(b0, b1, IM_COL32(255, 255, 255, 60), 3.0f);
     text(dl, {b0.x + 7, b0.y + 2}, colors::kDim, label, fs * 0.85f);
     text(dl, {b0.x + 7, b0.y + 3 + ls.y}, col, value, fs * 1.25f);
+    return {b0.x, b0.y, b1.x, b1.y};
+}
+
+bool overlaps(const Rect& a, const Rect& b) {
+    return a.x0 < b.x1 && b.x0 < a.x1 && a.y0 < b.y1 && b.y0 < a.y1;
 }
 
 const char* compass(double deg) {
@@ -208,17 +213,22 @@ void Hud::draw(ImDrawList* dl, ImVec2 p0, ImVec2 p1, const GuiSnapshot& s, ViewS
         std::snprintf(buf, sizeof buf, "%.2f m/s", gs);
     else
         std::snprintf(buf, sizeof buf, "--- m/s");
-    readout(dl, {p0.x + W * 0.06f, side_y}, false, "GROUND SPEED", buf, value_col);
+    std::array<Rect, 3> readouts{};  // kept clear of the assist banner below
+    readouts[0] = readout(dl, {p0.x + W * 0.06f, side_y}, false, "GROUND SPEED", buf, value_col);
     if (nav && known(n.vz_mps))
         std::snprintf(buf, sizeof buf, "%+.2f m/s", n.vz_mps);
     else
         std::snprintf(buf, sizeof buf, "--- m/s");
-    readout(dl, {p0.x + W * 0.06f, side_y + fs * 3.4f}, false, "VERTICAL SPEED", buf, value_col);
+    readouts[1] = readout(dl, {p0.x + W * 0.06f, side_y + fs * 3.4f}, false, "VERTICAL SPEED", buf,
+                          value_col);
     if (nav && known(n.altitude_m))
         std::snprintf(buf, sizeof buf, "%.2f m", n.altitude_m);
     else
         std::snprintf(buf, sizeof buf, "--- m");
-    readout(dl, {p1.x - W * 0.06f, side_y}, true, "ALTITUDE", buf, value_col);
+    readouts[2] = readout(dl, {p1.x - W * 0.06f, side_y}, true, "ALTITUDE", buf, value_col);
+    v.layout.labels.push_back({"hud.ground_speed", readouts[0]});
+    v.layout.labels.push_back({"hud.vertical_speed", readouts[1]});
+    v.layout.labels.push_back({"hud.altitude", readouts[2]});
 
     // ---- Bottom strip: battery, control state, link, video --------------------------------
     const float strip_h = fs * 1.9f;
@@ -350,19 +360,43 @@ void Hud::draw(ImDrawList* dl, ImVec2 p0, ImVec2 p1, const GuiSnapshot& s, ViewS
                                   : as.unknown || as.confirming || as.override_held ? colors::kWarn
                                   : !as.enabled                                     ? colors::kWarn
                                                                                     : colors::kGood;
-        const float size = say ? fs * 1.35f : fs * 0.9f;
+        float size = say ? fs * 1.35f : fs * 0.9f;
         // Wider than the picture (a long PROBING line on a small window): broken at spaces into
         // lines that fit, each centred, never cut off at the picture's edges. At spaces only:
         // ImGui's own word wrap also breaks after a '.', which would split "0.41 m/s".
-        const float max_w = std::max(fs * 4.0f, W - 40.0f);
+        // When so wrapped it reaches down to the speed and altitude read-outs (a small window),
+        // it is wrapped again into the column between them: the pilot reads both.
         std::array<BannerLine, kMaxBannerLines> wrapped;
-        const std::size_t n_lines = wrap_at_spaces(msg, size, max_w, wrapped);
+        std::size_t n_lines = 0;
         float tw = 0, th = 0;
-        for (std::size_t i = 0; i < n_lines; ++i) {
-            tw = std::max(tw, wrapped[i].w);
-            th += wrapped[i].h;
+        const auto wrap = [&](float max_w) {
+            n_lines = wrap_at_spaces(msg, size, max_w, wrapped);
+            tw = th = 0;
+            for (std::size_t i = 0; i < n_lines; ++i) {
+                tw = std::max(tw, wrapped[i].w);
+                th += wrapped[i].h;
+            }
+        };
+        const auto box = [&] {
+            return Rect{c.x - tw * 0.5f - 8, wy, c.x + tw * 0.5f + 8, wy + th + 4};
+        };
+        wrap(std::max(fs * 4.0f, W - 40.0f));
+        bool covers = false;
+        for (const Rect& r : readouts) covers = covers || overlaps(box(), r);
+        if (covers) {
+            // The column, and the banner in it: in the larger type if it fits there whole, else
+            // in the body type (a small picture).
+            const float column = 2.0f * std::min(c.x - std::max(readouts[0].x1, readouts[1].x1),
+                                                 readouts[2].x0 - c.x);
+            const float max_w = std::max(fs * 4.0f, column - 24.0f);
+            wrap(max_w);
+            if (tw > max_w || n_lines == kMaxBannerLines || box().y1 > p1.y) {
+                size = std::min(size, fs);
+                wrap(max_w);
+            }
         }
-        const ImVec2 b0{c.x - tw * 0.5f - 8, wy}, b1{c.x + tw * 0.5f + 8, wy + th + 4};
+        const Rect bx = box();
+        const ImVec2 b0{bx.x0, bx.y0}, b1{bx.x1, bx.y1};
         dl->AddRectFilled(b0, b1, IM_COL32(0, 0, 0, say ? 170 : 110), 3.0f);
         if (say) dl->AddRect(b0, b1, col, 3.0f, 0, 2.0f);
         float ly = b0.y + 2;

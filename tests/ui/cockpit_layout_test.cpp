@@ -288,6 +288,48 @@ TEST_F(CockpitLayout, ReadableAt1280x720) {
     EXPECT_GT(l.flight_path.area.h(), 50.0f);
 }
 
+// The assist's banner never lies over the HUD's speed and altitude read-outs: at 1280x720 the
+// HOLDING line, wrapped to the picture's width, came down over "GROUND SPEED" (seen in a window
+// driven under Xvfb). Wrapped into the column between them instead, at every size.
+TEST_F(CockpitLayout, TheAssistBannerNeverCoversTheSpeedOrAltitude) {
+    const std::string holding =
+        "HOLDING: stopped short of the obstacle, forward held at zero (turn away, back off or "
+        "override)";
+    const std::string probing =
+        "PROBING: obstacle remembered 0.9 m ahead reads clear, forward limited to 0.41 m/s until "
+        "it is seen again or forgotten";
+    for (const Size size : {Size{800, 600}, Size{1024, 600}, Size{1280, 720}, Size{1920, 1080}}) {
+        for (const std::string& line : {holding, probing}) {
+            restart(size);
+            Gui gui;
+            GuiSnapshot s;
+            make_demo_snapshot(s, 1);
+            s.assist.available = true;
+            s.assist.enabled = true;
+            s.assist.acting = true;
+            s.assist.line = line;
+            for (int f = 0; f < 3; ++f) frame(gui, s);
+            const LayoutReport& l = gui.view().layout;
+            const Rect* banner = nullptr;
+            std::vector<std::pair<std::string, Rect>> readouts;
+            for (const auto& [n, r] : l.labels) {
+                if (n == "hud.assist") banner = &r;
+                if (n == "hud.ground_speed" || n == "hud.vertical_speed" || n == "hud.altitude")
+                    readouts.emplace_back(n, r);
+            }
+            ASSERT_NE(banner, nullptr) << size.w;
+            ASSERT_EQ(readouts.size(), 3u) << size.w;
+            EXPECT_EQ(l.assist.hud, line);
+            for (const auto& [n, r] : readouts) {
+                const bool apart = banner->x1 <= r.x0 || r.x1 <= banner->x0 || banner->y1 <= r.y0 ||
+                                   r.y1 <= banner->y0;
+                EXPECT_TRUE(apart) << n << " at " << size.w << "x" << size.h << ": banner "
+                                   << str(*banner) << " over " << str(r);
+            }
+        }
+    }
+}
+
 TEST(ScoreFormat, TwoSignificantDigitsOfTheThresholdNoExponent) {
     EXPECT_EQ(format_score(4.95e-06, 0.3), "0.00");
     EXPECT_EQ(format_score(0.1234, 0.3), "0.12");
