@@ -17,10 +17,12 @@ extern "C" {
 }
 
 #include <algorithm>
+#include <cstdlib>
 #include <filesystem>
 #include <functional>
 #include <map>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace gs::test {
@@ -97,6 +99,20 @@ bool reddish(const cv::Vec3b& bgr) {
 bool greenish(const cv::Vec3b& bgr) {
     return bgr[1] > 130 && bgr[2] < 90 && bgr[0] < 90;
 }
+bool greyish(const cv::Vec3b& bgr) {
+    return std::abs(bgr[0] - bgr[1]) < 25 && std::abs(bgr[1] - bgr[2]) < 25 && bgr[1] > 100;
+}
+bool bluish(const cv::Vec3b& bgr) {  // the steel blue of a still camera's region
+    return bgr[0] > 150 && bgr[2] < 110 && bgr[0] > bgr[1] + 30;
+}
+// The bar's colour for a decisions.csv state: unsafe red, clear green, still steel blue, unknown
+// grey (never green).
+bool bar_matches(const cv::Vec3b& bgr, std::string_view state) {
+    return state == "unsafe"  ? reddish(bgr)
+           : state == "clear" ? greenish(bgr)
+           : state == "still" ? bluish(bgr)
+                              : greyish(bgr);
+}
 
 TEST(ReplayCli, ShippedFlightGivesOneDecisionRowPerFrameAndASummary) {
     const fs::path out = scratch("thesis");
@@ -171,23 +187,25 @@ TEST(ReplayCli, VideoShowsTheRegionBarAndPlotsAreWritten) {
     EXPECT_NEAR(fps, 30.0, 0.01);
     EXPECT_EQ(frames[0].cols, 640);
     EXPECT_EQ(frames[0].rows, 360);
-    // The bar across the top follows decisions.csv: red where the region was unsafe.
+    // The bar across the top follows decisions.csv: red where the region was unsafe, green
+    // where clear, grey where unknown (the first frames, warming up), never green without a
+    // decision.
     const dataset::csv::Table d = read_csv(out / "decisions.csv");
-    int checked_red = 0, checked_green = 0;
+    const auto left_state = d.column("left_state"), right_state = d.column("right_state");
+    ASSERT_TRUE(left_state && right_state);
+    std::map<std::string, int> seen;
     for (std::size_t i = 0; i < d.rows(); ++i) {
         const cv::Vec3b left_bar = frames[i].at<cv::Vec3b>(5, 60);
         const cv::Vec3b right_bar = frames[i].at<cv::Vec3b>(5, 580);
-        if (d.field(i, 2) == "1") {
-            EXPECT_TRUE(reddish(left_bar)) << "frame " << i << " " << left_bar;
-            ++checked_red;
-        } else {
-            EXPECT_TRUE(greenish(left_bar)) << "frame " << i << " " << left_bar;
-            ++checked_green;
-        }
-        EXPECT_TRUE(greenish(right_bar)) << "frame " << i;
+        const std::string_view ls = d.field(i, *left_state), rs = d.field(i, *right_state);
+        EXPECT_EQ(ls == "unsafe", d.field(i, 2) == "1") << "frame " << i;
+        EXPECT_TRUE(bar_matches(left_bar, ls)) << "frame " << i << " " << ls << " " << left_bar;
+        EXPECT_TRUE(bar_matches(right_bar, rs)) << "frame " << i << " " << rs << " " << right_bar;
+        ++seen[std::string(ls)];
     }
-    EXPECT_GT(checked_red, 5);
-    EXPECT_GT(checked_green, 5);
+    EXPECT_GT(seen["unsafe"], 5);
+    EXPECT_GT(seen["clear"], 5);
+    EXPECT_GT(seen["unknown"], 0);
     // The default classifier (flow) plots the centre's expansion rates; the thesis' scale plot
     // exists too, with no data for flow.
     for (const char* p : {"left_score.png", "center_score.png", "right_score.png",
