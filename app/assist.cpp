@@ -491,7 +491,7 @@ AssistOutput Assist::step(const AssistInput& in) {
         else
             std::snprintf(where, sizeof where, "%.1f m", remaining);
         std::snprintf(buf, sizeof buf,
-                      "PROBING: obstacle remembered %s ahead reads clear, forward limited to "
+                      "PROBING: obstacle remembered %s ahead, not seen now: forward limited to "
                       "%.2f m/s until it is seen again or forgotten",
                       where, probe_mps);
         out.action = AssistAction::Probing;

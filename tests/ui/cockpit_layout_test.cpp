@@ -236,7 +236,8 @@ TEST_F(CockpitLayout, ReadableAt1280x720) {
     gui.view().settings.add_recent("/data/flight_1");
     // The assist's longest line, probing toward a remembered obstacle.
     const std::string probing =
-        "PROBING: obstacle remembered 0.9 m ahead reads clear, forward limited to 0.41 m/s until "
+        "PROBING: obstacle remembered 0.9 m ahead, not seen now: forward limited to 0.41 m/s "
+        "until "
         "it is seen again or forgotten";
     s.assist.available = true;
     s.assist.enabled = true;
@@ -296,7 +297,8 @@ TEST_F(CockpitLayout, TheAssistBannerNeverCoversTheSpeedOrAltitude) {
         "HOLDING: stopped short of the obstacle, forward held at zero (turn away, back off or "
         "override)";
     const std::string probing =
-        "PROBING: obstacle remembered 0.9 m ahead reads clear, forward limited to 0.41 m/s until "
+        "PROBING: obstacle remembered 0.9 m ahead, not seen now: forward limited to 0.41 m/s "
+        "until "
         "it is seen again or forgotten";
     for (const Size size : {Size{800, 600}, Size{1024, 600}, Size{1280, 720}, Size{1920, 1080}}) {
         for (const std::string& line : {holding, probing}) {
