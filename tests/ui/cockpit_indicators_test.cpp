@@ -32,6 +32,24 @@ protected:
             if (n == name) return true;
         return false;
     }
+    // The centre measured (known, not flagged) at `score` against 0.30, on its bar and in the
+    // Classifier window's list alike; `still`: judged for approaching things only.
+    static void measure_centre(GuiSnapshot& s, double score, bool still = false) {
+        RegionBar& centre = s.classifier.overlay.regions[1];
+        RegionDecision& d = s.classifier.decisions[1];
+        centre.known = d.known = true;
+        centre.flagged = d.flagged = false;
+        centre.score = d.score = score;
+        centre.threshold = d.threshold = 0.30;
+        centre.still = d.still = still;
+    }
+    // Hovers the mouse over `r` for two frames, then takes it away: the tooltip is in the layout.
+    void hover(Gui& gui, const GuiSnapshot& s, const Rect& r) {
+        ImGui::GetIO().MousePos = {0.5f * (r.x0 + r.x1), 0.5f * (r.y0 + r.y1)};
+        frame(gui, s);
+        frame(gui, s);
+        ImGui::GetIO().MousePos = {-FLT_MAX, -FLT_MAX};
+    }
     static std::string disabled_why(const Gui& gui, const std::string& id) {
         for (const auto& [n, why] : gui.view().layout.disabled)
             if (n == id) return why;
@@ -58,11 +76,7 @@ TEST_F(CockpitIndicators, UnknownRegionIsGreyNoDataWithTheReasonAsTooltip) {
     EXPECT_TRUE(bars[0].known);
     EXPECT_TRUE(bars[0].flagged);  // the demo's left obstacle
     // Hovering the grey bar says why.
-    const Rect r = bars[1].rect;
-    ImGui::GetIO().MousePos = {0.5f * (r.x0 + r.x1), 0.5f * (r.y0 + r.y1)};
-    frame(gui, s);
-    frame(gui, s);
-    ImGui::GetIO().MousePos = {-FLT_MAX, -FLT_MAX};
+    hover(gui, s, bars[1].rect);
     EXPECT_NE(gui.view().layout.tooltip.find("too few tracked points"), std::string::npos)
         << gui.view().layout.tooltip;
 }
@@ -73,15 +87,7 @@ TEST_F(CockpitIndicators, UnknownRegionIsGreyNoDataWithTheReasonAsTooltip) {
 TEST_F(CockpitIndicators, AStillCameraRegionIsStillNotClearWithItsMeaningAsTooltip) {
     Gui gui;
     GuiSnapshot s = sim_flying();
-    RegionBar& centre = s.classifier.overlay.regions[1];
-    centre.known = true;
-    centre.flagged = false;
-    centre.score = 0;
-    centre.threshold = 0.30;
-    centre.still = true;
-    s.classifier.decisions[1].known = true;
-    s.classifier.decisions[1].flagged = false;
-    s.classifier.decisions[1].still = true;
+    measure_centre(s, 0, true);
     frame(gui, s);
     const auto& bars = gui.view().layout.region_bars;
     ASSERT_EQ(bars.size(), 3u);
@@ -91,14 +97,11 @@ TEST_F(CockpitIndicators, AStillCameraRegionIsStillNotClearWithItsMeaningAsToolt
     EXPECT_NE(bars[1].label.find("still"), std::string::npos) << bars[1].label;
     EXPECT_EQ(bars[1].label.find("clear"), std::string::npos) << bars[1].label;
     EXPECT_FALSE(bars[2].still) << "only the region marked still";
-    const Rect r = bars[1].rect;
-    ImGui::GetIO().MousePos = {0.5f * (r.x0 + r.x1), 0.5f * (r.y0 + r.y1)};
-    frame(gui, s);
-    frame(gui, s);
-    ImGui::GetIO().MousePos = {-FLT_MAX, -FLT_MAX};
+    hover(gui, s, bars[1].rect);
     EXPECT_NE(gui.view().layout.tooltip.find("not seen until the drone moves"), std::string::npos)
         << gui.view().layout.tooltip;
     // A hand coming at the still camera: unsafe, red, not "still".
+    RegionBar& centre = s.classifier.overlay.regions[1];
     centre.flagged = true;
     centre.score = 0.6;
     frame(gui, s);
@@ -112,15 +115,8 @@ TEST_F(CockpitIndicators, AStillCameraRegionIsStillNotClearWithItsMeaningAsToolt
 TEST_F(CockpitIndicators, AScoreOverItsThresholdNotYetConfirmedIsNeverClear) {
     Gui gui;
     GuiSnapshot s = sim_flying();
+    measure_centre(s, 0.47);
     RegionBar& centre = s.classifier.overlay.regions[1];
-    centre.known = true;
-    centre.flagged = false;
-    centre.score = 0.47;
-    centre.threshold = 0.30;
-    s.classifier.decisions[1].known = true;
-    s.classifier.decisions[1].flagged = false;
-    s.classifier.decisions[1].score = 0.47;
-    s.classifier.decisions[1].threshold = 0.30;
     frame(gui, s);
     const auto& bars = gui.view().layout.region_bars;
     ASSERT_EQ(bars.size(), 3u);

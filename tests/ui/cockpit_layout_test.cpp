@@ -18,6 +18,10 @@ struct Size {
     float w, h;
 };
 constexpr Size kSizes[] = {{1280, 720}, {1600, 900}, {1920, 1080}};
+// The assist's longest line, probing toward a remembered obstacle.
+constexpr const char* kProbingLine =
+    "PROBING: obstacle remembered 0.9 m ahead, not seen now: forward limited to 0.41 m/s until it "
+    "is seen again or forgotten";
 
 class CockpitLayout : public ImGuiFixture {
 protected:
@@ -60,6 +64,19 @@ protected:
         for (const auto& [n, r] : gui.view().layout.windows)
             if (n == name) return r;
         return {};
+    }
+    // The assist on and acting, saying `line`.
+    static void assist_acting(GuiSnapshot& s, const std::string& line) {
+        s.assist.available = true;
+        s.assist.enabled = true;
+        s.assist.acting = true;
+        s.assist.line = line;
+    }
+    // The text item `name` of the layout's overlap list, nullptr when it was not drawn.
+    static const Rect* label(const LayoutReport& l, const std::string& name) {
+        for (const auto& [n, r] : l.labels)
+            if (n == name) return &r;
+        return nullptr;
     }
     static bool drawn(const Gui& gui, const std::string& name) {
         for (const auto& [n, r] : gui.view().layout.windows)
@@ -207,9 +224,7 @@ TEST_F(CockpitLayout, TheStatusBarNeverRunsUnderTheFlightButtons) {
         s.recording.path = "/home/pilot/ardrone-gs/flights/2026-12-04_21-50-07";
         for (int f = 0; f < 3; ++f) frame(gui, s);
         const LayoutReport& l = gui.view().layout;
-        const Rect* left = nullptr;
-        for (const auto& [n, r] : l.labels)
-            if (n == "status.left") left = &r;
+        const Rect* left = label(l, "status.left");
         ASSERT_NE(left, nullptr) << size.w;
         int buttons = 0;
         for (const auto& [n, r] : l.buttons) {
@@ -234,21 +249,12 @@ TEST_F(CockpitLayout, ReadableAt1280x720) {
     s.replay.frame_count = 300;
     s.replay.fps = 15;
     gui.view().settings.add_recent("/data/flight_1");
-    // The assist's longest line, probing toward a remembered obstacle.
-    const std::string probing =
-        "PROBING: obstacle remembered 0.9 m ahead, not seen now: forward limited to 0.41 m/s "
-        "until "
-        "it is seen again or forgotten";
-    s.assist.available = true;
-    s.assist.enabled = true;
-    s.assist.acting = true;
-    s.assist.line = probing;
+    const std::string probing = kProbingLine;
+    assist_acting(s, probing);
     for (int f = 0; f < 3; ++f) frame(gui, s);
     const LayoutReport& l = gui.view().layout;
     // The HUD's assist banner is wider than the picture at this size: it wraps inside it, whole.
-    const Rect* banner = nullptr;
-    for (const auto& [n, r] : l.labels)
-        if (n == "hud.assist") banner = &r;
+    const Rect* banner = label(l, "hud.assist");
     ASSERT_NE(banner, nullptr);
     EXPECT_EQ(l.assist.hud, probing);
     EXPECT_GE(banner->x0, l.video_image.x0) << str(*banner) << " in " << str(l.video_image);
@@ -256,21 +262,13 @@ TEST_F(CockpitLayout, ReadableAt1280x720) {
     // The key help fits its window.
     EXPECT_FALSE(l.keys_clipped);
     // The camera label never lies over the overlay checkboxes.
-    const Rect* info = nullptr;
-    const Rect* toggles = nullptr;
-    for (const auto& [n, r] : l.labels) {
-        if (n == "video.info") info = &r;
-        if (n == "video.toggles_end") toggles = &r;
-    }
+    const Rect* info = label(l, "video.info");
+    const Rect* toggles = label(l, "video.toggles_end");
     ASSERT_TRUE(info && toggles);
     EXPECT_TRUE(info->x0 >= toggles->x0 || info->y0 >= toggles->y1) << str(*info);
     // The HUD's bottom strip draws its fields whole, inside the picture (no "VIDEO 39.3 fp").
-    const Rect* strip = nullptr;
-    const Rect* strip_end = nullptr;
-    for (const auto& [n, r] : l.labels) {
-        if (n == "hud.strip") strip = &r;
-        if (n == "hud.strip_end") strip_end = &r;
-    }
+    const Rect* strip = label(l, "hud.strip");
+    const Rect* strip_end = label(l, "hud.strip_end");
     ASSERT_TRUE(strip && strip_end);
     EXPECT_LE(strip_end->x1, strip->x1) << str(*strip_end) << " in " << str(*strip);
     // The last checkbox (Undistort) ends inside the Video window: the toggles wrap, never clip.
@@ -296,33 +294,23 @@ TEST_F(CockpitLayout, TheAssistBannerNeverCoversTheSpeedOrAltitude) {
     const std::string holding =
         "HOLDING: stopped short of the obstacle, forward held at zero (turn away, back off or "
         "override)";
-    const std::string probing =
-        "PROBING: obstacle remembered 0.9 m ahead, not seen now: forward limited to 0.41 m/s "
-        "until "
-        "it is seen again or forgotten";
+    const std::string probing = kProbingLine;
     for (const Size size : {Size{800, 600}, Size{1024, 600}, Size{1280, 720}, Size{1920, 1080}}) {
         for (const std::string& line : {holding, probing}) {
             restart(size);
             Gui gui;
             GuiSnapshot s;
             make_demo_snapshot(s, 1);
-            s.assist.available = true;
-            s.assist.enabled = true;
-            s.assist.acting = true;
-            s.assist.line = line;
+            assist_acting(s, line);
             for (int f = 0; f < 3; ++f) frame(gui, s);
             const LayoutReport& l = gui.view().layout;
-            const Rect* banner = nullptr;
-            std::vector<std::pair<std::string, Rect>> readouts;
-            for (const auto& [n, r] : l.labels) {
-                if (n == "hud.assist") banner = &r;
-                if (n == "hud.ground_speed" || n == "hud.vertical_speed" || n == "hud.altitude")
-                    readouts.emplace_back(n, r);
-            }
+            const Rect* banner = label(l, "hud.assist");
             ASSERT_NE(banner, nullptr) << size.w;
-            ASSERT_EQ(readouts.size(), 3u) << size.w;
             EXPECT_EQ(l.assist.hud, line);
-            for (const auto& [n, r] : readouts) {
+            for (const char* n : {"hud.ground_speed", "hud.vertical_speed", "hud.altitude"}) {
+                const Rect* readout = label(l, n);
+                ASSERT_NE(readout, nullptr) << n << " at " << size.w;
+                const Rect& r = *readout;
                 const bool apart = banner->x1 <= r.x0 || r.x1 <= banner->x0 || banner->y1 <= r.y0 ||
                                    r.y1 <= banner->y0;
                 EXPECT_TRUE(apart) << n << " at " << size.w << "x" << size.h << ": banner "
