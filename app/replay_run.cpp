@@ -245,7 +245,7 @@ Expected<ReplayStats, std::string> replay_dataset(const dataset::Dataset& datase
             const vision::RegionDecision& d = res.regions[r];
             f[r] = d.unsafe;
             st.flagged[r] += f[r] ? 1 : 0;
-            st.still[r] += d.valid && d.approach_only && !d.unsafe ? 1 : 0;
+            st.still[r] += vision::decision_state(d) == vision::DecisionState::Still ? 1 : 0;
             if (!d.valid) {
                 ++st.unknown[r];
                 const auto why = static_cast<std::size_t>(d.unknown);

@@ -111,20 +111,13 @@ void ClassifierWindow::draw(const GuiSnapshot& s, ViewState& v, Actions& a) {
     for (const auto& d : c.decisions) {
         const bool stale = s.video.stale;
         const bool measured = d.known && !stale;
-        // Over the threshold, not yet confirmed: "confirming" (amber), as on the region bar.
-        const bool confirming = ui::confirming(measured, d.flagged, d.score, d.threshold);
-        const bool still = measured && d.still && !d.flagged && !confirming;
-        const std::uint32_t col = !measured    ? colors::kDim
-                                  : d.flagged  ? colors::kBad
-                                  : confirming ? colors::kWarn
-                                  : still      ? colors::kStill
-                                               : colors::kGood;
-        ImGui::TextColored(colors::v4(col), "%-7s %-7s", d.name.c_str(),
-                           !measured    ? "no data"
-                           : d.flagged  ? "UNSAFE"
-                           : confirming ? "confirming"
-                           : still      ? "still"
-                                        : "clear");
+        // The region bar's states ("confirming" amber, "still" steel blue), in text colours.
+        const RegionShown state = region_shown(measured, d.flagged, d.still, d.score, d.threshold);
+        const bool still = state == RegionShown::Still;
+        static constexpr std::uint32_t kTextColours[] = {colors::kDim, colors::kBad, colors::kWarn,
+                                                         colors::kStill, colors::kGood};
+        ImGui::TextColored(colors::v4(kTextColours[static_cast<std::size_t>(state)]), "%-7s %-7s",
+                           d.name.c_str(), shown_word(state));
         ImGui::SameLine();
         if (still) {
             ImGui::TextColored(colors::v4(colors::kDim), "nothing approaching");

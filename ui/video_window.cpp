@@ -152,23 +152,19 @@ void VideoWindow::draw(const GuiSnapshot& s, ViewState& v, Actions& a, TextureSo
                                                 : std::string();
             // Over the threshold but not (yet) flagged: the classifier waits for its confirmation
             // frames. Neither clear nor unsafe: amber "confirming", never a green bar with a score
-            // above its threshold.
-            const bool confirming = ui::confirming(known_now, r.flagged, r.score, r.threshold);
-            // Still (hovering): nothing approaches, but what stands ahead is not judged. Steel
-            // blue "still", never green "clear".
-            const bool still = known_now && r.still && !r.flagged && !confirming;
-            const std::uint32_t col = !known_now   ? IM_COL32(110, 114, 122, 225)
-                                      : r.flagged  ? IM_COL32(225, 45, 40, 235)
-                                      : confirming ? IM_COL32(225, 150, 30, 235)
-                                      : still      ? IM_COL32(60, 115, 175, 225)
-                                                   : IM_COL32(40, 185, 80, 215);
-            dl->AddRectFilled(b0, b1, col, 2.0f);
+            // above its threshold. Still (hovering): nothing approaches, but what stands ahead is
+            // not judged. Steel blue "still", never green "clear".
+            const RegionShown state =
+                region_shown(known_now, r.flagged, r.still, r.score, r.threshold);
+            const bool confirming = state == RegionShown::Confirming;
+            const bool still = state == RegionShown::Still;
+            static constexpr std::uint32_t kBarColours[] = {
+                IM_COL32(110, 114, 122, 225), IM_COL32(225, 45, 40, 235),
+                IM_COL32(225, 150, 30, 235), IM_COL32(60, 115, 175, 225),
+                IM_COL32(40, 185, 80, 215)};
+            dl->AddRectFilled(b0, b1, kBarColours[static_cast<std::size_t>(state)], 2.0f);
             // The longest label that fits: "left UNSAFE 0.45 / 0.30", "left 0.45/0.30", "0.45".
-            const char* word = !known_now   ? "no data"
-                               : r.flagged  ? "UNSAFE"
-                               : confirming ? "confirming"
-                               : still      ? "still"
-                                            : "clear";
+            const char* word = shown_word(state);
             const std::string sc = format_score(r.score, r.threshold);
             const std::string th = format_score(r.threshold, r.threshold);
             std::string options[4];

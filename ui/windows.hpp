@@ -42,6 +42,21 @@ ImVec4 v4(std::uint32_t c);
 inline bool confirming(bool known_now, bool flagged, double score, double threshold) {
     return known_now && !flagged && known(score) && known(threshold) && score > threshold;
 }
+// What a region's bar and its line in the Classifier window show, in the order that decides it:
+// no data (unknown or stale: grey, never green), UNSAFE, confirming (amber), still (steel blue:
+// nothing approaching, what stands ahead not judged), clear.
+enum class RegionShown : std::uint8_t { NoData, Unsafe, Confirming, Still, Clear };
+inline RegionShown region_shown(bool known_now, bool flagged, bool still, double score,
+                                double threshold) {
+    if (!known_now) return RegionShown::NoData;
+    if (flagged) return RegionShown::Unsafe;
+    if (confirming(known_now, flagged, score, threshold)) return RegionShown::Confirming;
+    return still ? RegionShown::Still : RegionShown::Clear;
+}
+inline const char* shown_word(RegionShown s) {
+    static constexpr const char* kWords[] = {"no data", "UNSAFE", "confirming", "still", "clear"};
+    return kWords[static_cast<std::size_t>(s)];
+}
 // What a "still" region means, for its tooltip and the classifier window.
 inline constexpr const char* kStillMeaning =
     "camera still: nothing is approaching, but an obstacle standing ahead is not seen until the "

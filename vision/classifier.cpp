@@ -261,16 +261,20 @@ void TrackingClassifier::fill_traces() {
     }
 }
 
+DecisionState decision_state(const RegionDecision& d) {
+    if (!d.valid) return DecisionState::Unknown;
+    if (d.unsafe) return DecisionState::Unsafe;
+    return d.approach_only ? DecisionState::Still : DecisionState::Clear;
+}
+
 Rgb bar_colour(const RegionDecision& d) {
-    if (!d.valid) return kGrey;
-    if (d.unsafe) return kRed;
-    return d.approach_only ? kSteel : kGreen;
+    static constexpr Rgb kColours[] = {kGrey, kRed, kSteel, kGreen};
+    return kColours[static_cast<std::size_t>(decision_state(d))];
 }
 
 const char* state_word(const RegionDecision& d) {
-    if (!d.valid) return "unknown";
-    if (d.unsafe) return "unsafe";
-    return d.approach_only ? "still" : "clear";
+    static constexpr const char* kWords[] = {"unknown", "unsafe", "still", "clear"};
+    return kWords[static_cast<std::size_t>(decision_state(d))];
 }
 
 void TrackingClassifier::build_overlay() {

@@ -76,10 +76,14 @@ struct RegionDecision {
     bool approach_only = false;
 };
 
-// The region bar's colour: red unsafe, steel blue still (approach_only), green clear, grey
-// unknown (no measured decision: never green).
+// What a decision says, in the order that decides it: no measured decision is unknown whatever
+// else is set; unsafe before still (an approaching thing seen by a still camera); still before
+// clear.
+enum class DecisionState : std::uint8_t { Unknown, Unsafe, Still, Clear };
+DecisionState decision_state(const RegionDecision& d);
+// The region bar's colour: grey unknown (never green), red unsafe, steel blue still, green clear.
 Rgb bar_colour(const RegionDecision& d);
-// The same four states in a word: "unsafe", "still", "clear", "unknown".
+// The same four states in a word: "unknown", "unsafe", "still", "clear".
 const char* state_word(const RegionDecision& d);
 
 struct StageTimings {
