@@ -96,6 +96,12 @@ const ParamTable<FlowParams>& FlowParams::table() {
                  "later half as over its first (0: no test)")
             .add("looming", &P::looming, 0, 1,
                  "judge points that do not move with the scene by their own looming")
+            .add("corridor_foe_k", &P::corridor_foe_k, 0, 5,
+                 "a static point is beside the corridor only with the FOE this many standard "
+                 "errors nearer it (0: the FOE as placed)")
+            .add("moving_corridor", &P::moving_corridor, 0, 1,
+                 "a moving point counts only when its bearing's drift brings it into the flight "
+                 "corridor by the time it arrives (needs a speed)")
             .add("loom_radius_px", &P::loom_radius_px, 5, 640,
                  "looming: neighbours within this distance")
             .add("loom_min_neighbours", &P::loom_min_neighbours, 1, 100,
@@ -155,6 +161,9 @@ const ParamTable<FlowParams>& FlowParams::table() {
                  "forget accepted centre rates older than this")
             .add("confirm_frames", &P::confirm_frames, 1, 30,
                  "a decision must hold this many frames")
+            .add("side_confirm_frames", &P::side_confirm_frames, 0, 30,
+                 "in flight (the FOE from the motion) a side region's raw decision must hold "
+                 "this many frames (0: confirm_frames)")
             .add("colour_max", &P::colour_max, 0.01, 20, "overlay: red at this rate (1/s)");
         describe_tracker_params(tab);  // after the classifier's own: what users tune first
         return tab;
@@ -196,6 +205,7 @@ void FlowClassifier::on_reset() {
     foe_source_ = FoeSource::None;
     nav_moving_ = false;
     nav_slow_ = false;
+    nav_starting_ = false;
     odometer_.clear();
     streak_ = {};
     rejections_ = 0;
@@ -205,7 +215,17 @@ void FlowClassifier::on_reset() {
 void FlowClassifier::confirm(Region r, bool raw) {
     const auto i = static_cast<std::size_t>(r);
     streak_[i] = raw ? streak_[i] + 1 : 0;
-    result_.regions[i].unsafe = streak_[i] >= p_.confirm_frames;
+    // In flight (the FOE from the camera's motion) a side region needs side_confirm_frames: a
+    // side alarm only holds back the roll toward that side, and a few frames more there take out
+    // most brief alarms on things passing by. The centre keeps confirm_frames: its alarm brakes,
+    // and a thin obstacle ahead at a low speed holds its raw alarm for few frames in a row. A
+    // still camera, judging only what approaches it (a hand reaching for the lens, in view for a
+    // few frames), also keeps confirm_frames.
+    const bool flying = foe_source_ == FoeSource::Images || foe_source_ == FoeSource::Navdata;
+    const int need = flying && r != Region::Centre && p_.side_confirm_frames > 0
+                         ? p_.side_confirm_frames
+                         : p_.confirm_frames;
+    result_.regions[i].unsafe = streak_[i] >= need;
 }
 
 void FlowClassifier::prepare(const FrameInput& in, EgoPrior& prior) {
@@ -213,6 +233,7 @@ void FlowClassifier::prepare(const FrameInput& in, EgoPrior& prior) {
     const bool have_v = p_.use_velocity_for_foe && !std::isnan(in.vx_mps) && !std::isnan(in.vy_mps);
     nav_moving_ = false;
     nav_slow_ = false;
+    nav_starting_ = false;
     nav_speed_ = kUnknown;
     nav_forward_mps_ = kUnknown;
     // The distance flown forward, for check_history: the trapezoid between this sample and the
@@ -257,7 +278,14 @@ void FlowClassifier::prepare(const FrameInput& in, EgoPrior& prior) {
     const double speed = cv::norm(c);
     nav_speed_ = speed;
     nav_forward_mps_ = v[0];
-    nav_slow_ = speed < p_.min_speed_mps;
+    // Hovering only when every sample of the window is slow: a drone pitching into its first
+    // metres has a slow mean but moves (and a still camera's view of it would take the static
+    // scene's expansion for approaching things).
+    double fastest = 0;
+    for (std::size_t k = 0; k < n; ++k)
+        fastest = std::max(fastest, cv::norm(level_velocity_[level_velocity_.size() - 1 - k]));
+    nav_slow_ = speed < p_.min_speed_mps && fastest < p_.min_speed_mps;
+    nav_starting_ = speed < p_.min_speed_mps && !nav_slow_;
     // Hovering, the direction of travel is noise; backward or sideways, nothing ahead approaches.
     if (!(speed >= p_.min_speed_mps && c[2] > 0.2 * speed)) return;
     nav_moving_ = true;
@@ -358,7 +386,8 @@ bool FlowClassifier::choose_foe(const FrameInput& in, UnknownReason& why) {
         foe_ = cv::Point2f(nav_foe);
         foe_sigma_px_ = nav_sigma_px_;
         foe_source_ = FoeSource::Navdata;
-    } else if ((p_.ego_motion && em.valid && em.translation == EgoMotion::Translation::None) ||
+    } else if ((p_.ego_motion && em.valid && em.translation == EgoMotion::Translation::None &&
+                !nav_starting_) ||
                nav_slow_) {
         // Nothing static moves in the images (still, or everything too far to matter), or the
         // navdata says the drone hovers: no static point is approaching.
@@ -461,7 +490,7 @@ void FlowClassifier::classify(const FrameInput& in) {
     if (p_.looming) {
         check_history();
         check_static_looming();
-        rate_moving_points();
+        rate_moving_points(in);
     }
     for (std::size_t i = 0; i < class_.size(); ++i)
         if (class_[i] == PointClass::Hazard)
@@ -693,13 +722,28 @@ bool FlowClassifier::outside_corridor(double mx, double my, double rate_then,
     // point in the level frame: beside the corridor, floor, or overhead?
     const double z = cam_velocity_[2] / rate_then;
     const cv::Vec3d pc((mx - calib_.cx) / calib_.fx * z, (my - calib_.cy) / calib_.fy * z, z);
+    // Its offset from the flight line grows with the square of its distance from the FOE (the
+    // depth goes as that distance over the radial flow): with the FOE corridor_foe_k of its
+    // standard errors nearer, is it still beside?
+    double across = 1;
+    if (p_.corridor_foe_k > 0) {
+        const double dn =
+            std::hypot(mx - static_cast<double>(foe_.x), my - static_cast<double>(foe_.y));
+        const double s = dn > 0 ? std::max(0.0, dn - p_.corridor_foe_k * foe_sigma_px_) / dn : 1.0;
+        across = s * s;
+    }
+    return outside_corridor(pc, level, floor_down, across);
+}
+
+bool FlowClassifier::outside_corridor(const cv::Vec3d& pc, const cv::Matx33d& level,
+                                      double floor_down, double across) const {
     const cv::Vec3d pl = level * pc;
     // Across the path: measured from the flight line (the direction of travel).
     const cv::Vec3d dir_l = level * cam_velocity_;
     const double dnorm = cv::norm(dir_l);
     const double along = dnorm > 0 ? pl.dot(dir_l) / dnorm : 0.0;
     const cv::Vec3d off = dnorm > 0 ? pl - along * dir_l * (1.0 / dnorm) : pl;
-    const bool beside = std::abs(off[1]) > p_.corridor_half_width_m;
+    const bool beside = std::abs(off[1]) * across > p_.corridor_half_width_m;
     const bool floor = !std::isnan(floor_down) && pl[2] > floor_down;
     const bool overhead = pl[2] < -p_.corridor_up_m;
     return beside || floor || overhead;
@@ -1009,14 +1053,35 @@ FlowClassifier::Aperture FlowClassifier::aperture(const Trajectory& t, double rx
     return ap;
 }
 
-void FlowClassifier::rate_moving_points() {
+void FlowClassifier::rate_moving_points(const FrameInput& in) {
     // A moving object approaching grows in the image: the distances between its points grow at
     // 1/TTC (for a roughly fronto-parallel patch), whatever the camera does. Median over
     // neighbours on the same object (moving points nearby), so one slipping point cannot decide.
+    // Growing is not enough to hit: an object on a collision course keeps its bearing (its
+    // derotated image position), one that will pass drifts across the image. Relative to the
+    // camera a point at depth Z nearing at Z / TTC with derotated image velocity v (rad/s) is
+    // v Z TTC off the camera when it reaches the camera's plane. Its depth is not measured; taken
+    // as speed x TTC (an object crossing the path, or standing), it is too short for one coming
+    // toward the drone, which then reads nearer the path than it will pass (so still counts),
+    // and too long only for one receding ahead, slower than the drone and so late to matter.
+    const bool test_path = p_.moving_corridor && metric_;
+    const std::vector<WindowFit>* fits = test_path ? &window_fits() : nullptr;
+    const cv::Matx33d level = level_from_camera(in.attitude.roll_deg, in.attitude.pitch_deg);
+    const double floor_down = in.altitude_m - p_.floor_clearance_m;  // NaN: no floor test
     for (std::size_t a : moving_idx_) {
         const double rate = looming_rate(a, true, 0, 0, p_.loom_radius_px);
         if (std::isnan(rate)) continue;
         track_score_[a] = rate;
+        if (rate > 0 && fits != nullptr && (*fits)[a].ok) {
+            const WindowFit& w = (*fits)[a];
+            const double ttc = 1.0 / rate;
+            const double z = cam_velocity_[2] * ttc;
+            const cv::Vec3d miss(w.vx / calib_.fx * z * ttc, w.vy / calib_.fy * z * ttc, 0.0);
+            if (outside_corridor(miss, level, floor_down)) {
+                class_[a] = PointClass::Outside;
+                continue;
+            }
+        }
         if (rate > 0) {
             const auto ri =
                 static_cast<std::size_t>(region_of(tracker_.tracks()[a].at_back(0).stab.x));

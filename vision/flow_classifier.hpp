@@ -70,8 +70,13 @@ struct FlowParams : TrackerParams {
     bool corridor = true;
     double min_speed_mps = 0.2;          // slower: the depth is too uncertain to place points
     double corridor_half_width_m = 0.6;  // drone half-width (0.26 m with the hull) + margin
-    double floor_clearance_m = 0.3;      // lower than this above the floor: the floor
-    double corridor_up_m = 1.0;          // higher than this above the camera: overhead
+    // A point's offset from the flight line grows with the square of its distance from the FOE,
+    // and the FOE is known to foe_sigma_px (a navdata velocity biased by a few cm/s moves it 20
+    // px at 1.3 m/s): a static point is beside the corridor only when it is with the FOE this
+    // many standard errors nearer it (0: the FOE as placed). Measured: README, Realism suite.
+    double corridor_foe_k = 1;
+    double floor_clearance_m = 0.3;  // lower than this above the floor: the floor
+    double corridor_up_m = 1.0;      // higher than this above the camera: overhead
     // The floor from the flow itself (0 = off): flying parallel to the floor, a floor point's
     // rate grows in proportion to its distance below the horizon through the FOE (rate = V dh /
     // (f h)), and anything else seen at that row is nearer than the floor there, so rates
@@ -159,6 +164,9 @@ struct FlowParams : TrackerParams {
     // growth of their distances to neighbours within loom_radius_px (median over at least
     // loom_min_neighbours of them).
     bool looming = true;
+    // A moving point counts only when its bearing's drift brings it into the flight corridor by
+    // the time it arrives (rate_moving_points; needs a speed, else every approaching one counts).
+    bool moving_corridor = true;
     double loom_radius_px = 90;
     int loom_min_neighbours = 3;
     double loom_min_spread_px = 8;
@@ -217,6 +225,7 @@ struct FlowParams : TrackerParams {
     int centre_window = 7;          // homography rate = median of the last n accepted rates
     double centre_max_age_s = 1.0;  // accepted rates older than this are forgotten
     int confirm_frames = 2;         // raw decision must hold this many frames
+    int side_confirm_frames = 4;    // ... a side region's in flight (0: confirm_frames; confirm())
     double colour_max = 1.0;        // overlay: red at this rate (1/s)
 
     static const ParamTable<FlowParams>& table();
@@ -282,7 +291,7 @@ private:
     double radial_misfit(const cv::Point2d& foe);
     void all_unknown(UnknownReason why);  // every region unknown for `why`, no alarm
     void rate_points(const FrameInput& in);
-    void rate_moving_points();
+    void rate_moving_points(const FrameInput& in);
     // A rate fitted at the window's mean time, `lag` seconds ago, brought to now: the time to
     // contact is `lag` less than it was then (a receding or still point's rate as it was).
     static double rate_now(double rate_then, double lag) {
@@ -296,6 +305,10 @@ private:
     // beside the corridor, on the floor or overhead (metric_ only).
     bool outside_corridor(double mx, double my, double rate_then, const cv::Matx33d& level,
                           double floor_down) const;
+    // The same for a point pc (m, camera frame): beside the flight line, floor or overhead.
+    // `across` scales its offset from the flight line before the test.
+    bool outside_corridor(const cv::Vec3d& pc, const cv::Matx33d& level, double floor_down,
+                          double across = 1) const;
     void check_static_looming();
     void check_history();
     double odometer_at(double t_s) const;  // distance flown forward by then (m), NaN unknown
@@ -327,11 +340,12 @@ private:
     RingBuffer<cv::Vec3d> level_velocity_{Trajectory::kHistory};  // navdata (forward, right, down)
     RingBuffer<DirectionSample> image_dirs_{Trajectory::kHistory};
     bool metric_ = false;
-    bool nav_moving_ = false;            // the navdata velocity is known, forward and fast enough
-    bool nav_slow_ = false;              // the navdata velocity is known and below min_speed_mps
-    bool nav_rejected_ = false;          // the images contradicted the navdata FOE this frame
-    bool img_overruled_ = false;         // ... and the points' flows sided with the navdata
-    double nav_speed_ = kUnknown;        // its magnitude (m/s), NaN without one
+    bool nav_moving_ = false;      // the navdata velocity is known, forward and fast enough
+    bool nav_slow_ = false;        // the navdata velocity is known and below min_speed_mps
+    bool nav_starting_ = false;    // ... its window's mean below min_speed_mps, a sample above it
+    bool nav_rejected_ = false;    // the images contradicted the navdata FOE this frame
+    bool img_overruled_ = false;   // ... and the points' flows sided with the navdata
+    double nav_speed_ = kUnknown;  // its magnitude (m/s), NaN without one
     double nav_forward_mps_ = kUnknown;  // its forward component (level frame, m/s)
     cv::Vec3d nav_dir_{0, 0, 1};
     double nav_sigma_px_ = 0;  // standard error of its FOE

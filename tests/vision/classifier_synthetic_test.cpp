@@ -296,8 +296,11 @@ TEST(SyntheticFlight, TheWalkersFirstCentreFramesGoWithTheArbitratedFoeOrTheFuse
     // from the fused one), or the images' FOE counted as known no better than 40 px in the
     // fusion (fused_image_foe_floor_px, opt-in; with the navdata velocity trusted to 0.03 m/s).
     const Flight f = make_flight(Motion::Crossing);
+    // (Those frames' points are also judged moving and drift off the path: moving_corridor alone
+    // takes them too, so it is off here, to show what the FOE's choice does.)
     auto images_decide = make_classifier("flow", synthetic_calibration());
     ASSERT_EQ(images_decide->set_param("foe_arbitrate", 0), ParamStatus::Ok);
+    ASSERT_EQ(images_decide->set_param("moving_corridor", 0), ParamStatus::Ok);
     const int centre_images = count_unsafe(fly(f, *images_decide), Region::Centre);
     auto fused = make_classifier("flow", synthetic_calibration());
     ASSERT_EQ(fused->set_param("foe_arbitrate", 0), ParamStatus::Ok);
@@ -341,8 +344,11 @@ TEST(SyntheticFlight, APointsArbitratedFoeSidesWithTheImagesWhenTheNavdataVeloci
     EXPECT_LT(last_navdata, 10);
     for (Region r : kRegions) EXPECT_EQ(count_unsafe(rec, r), 0) << to_string(r);
 
+    // (Those frames' points are also judged moving and drift off the path: moving_corridor alone
+    // takes them too, so it is off here, to show what the FOE's choice does.)
     auto images_decide = make_classifier("flow", synthetic_calibration());
     ASSERT_EQ(images_decide->set_param("foe_arbitrate", 0), ParamStatus::Ok);
+    ASSERT_EQ(images_decide->set_param("moving_corridor", 0), ParamStatus::Ok);
     const auto old = fly(f, *images_decide);
     for (std::size_t i = 0; i < rec.size(); ++i)
         for (std::size_t k = 0; k < 3; ++k) EXPECT_EQ(rec[i].unsafe[k], old[i].unsafe[k]) << i;
@@ -436,4 +442,94 @@ TEST(SyntheticFlight, FusedTheImagesFoeWeighsNoMoreThanTheSpeedAllows) {
     EXPECT_LT(std::abs(shift[0]), 0.25 * nav_dx);
     EXPECT_GT(shift[1], 0.3 * nav_dx);
     EXPECT_LT(shift[1], 0.7 * nav_dx);
+}
+
+namespace {
+// The Crossing flight with its walker replaced: a 0.5 x 1.75 m board starting at `at` (m, camera
+// axes at the start: right, down, ahead) walking at `v` (m/s), for `frames` frames (25 a second,
+// the camera flying ahead at 1 m/s).
+Flight walker_flight(cv::Vec3d at, cv::Vec3d v, int frames) {
+    Flight f = make_flight(Motion::Crossing);
+    f.planes[1] = make_plane(at, {1, 0, 0}, {0, 1, 0}, 0.5, 1.75, 0.01, 41);
+    f.plane_velocity = v;
+    f.frames = frames;
+    return f;
+}
+
+std::vector<FrameRecord> fly_walker(const Flight& f, bool moving_corridor) {
+    auto c = make_classifier("flow", synthetic_calibration());
+    EXPECT_EQ(c->set_param("moving_corridor", moving_corridor ? 1 : 0), ParamStatus::Ok);
+    return fly(f, *c);
+}
+}  // namespace
+
+TEST(SyntheticFlight, AMovingObjectThatWillPassBesideTheDroneIsNotFlagged) {
+    // A board 3 m ahead, 0.4 m right of the flight line, walking right at 0.4 m/s: it nears at 1
+    // m/s (its points spread at 0.33-0.6/s, over the 0.3/s threshold) but drifts across the
+    // view (0.1-0.3 rad/s) and is 1.6 m to the right when the drone gets there. Judged by its
+    // looming alone, the right is flagged; with the bearing's drift taken to its arrival
+    // (moving_corridor), at most one frame is (its points read once as a static surface's).
+    const Flight f = walker_flight({0.4, 0, 3}, {0.4, 0, 0}, 40);
+    const auto looming_only = fly_walker(f, false);
+    const auto with_path = fly_walker(f, true);
+    std::printf("right frames flagged: %d by its looming alone, %d with its path\n",
+                count_unsafe(looming_only, Region::Right), count_unsafe(with_path, Region::Right));
+    EXPECT_GE(count_unsafe(looming_only, Region::Right), 10)
+        << "the flight no longer shows what the option is for";
+    EXPECT_LE(count_unsafe(with_path, Region::Right), 1);
+    EXPECT_EQ(count_unsafe(with_path, Region::Left), 0);
+    EXPECT_EQ(count_unsafe(with_path, Region::Centre), 0);
+}
+
+TEST(SyntheticFlight, AMovingObjectOnACollisionCourseIsStillFlagged) {
+    // Two boards that do meet the drone, each flagged as much with the path test as without:
+    //  - one 6 m ahead and 1 m left walking right at 1/6 m/s: it keeps its bearing (the mark of a
+    //    collision course) and reaches the flight line as the drone reaches it;
+    //  - one 9 m ahead, 0.2 m right, walking toward the drone at 1 m/s (closing at 2 m/s): its
+    //    depth taken as the drone's speed x its time to contact is half the true one, which
+    //    places it nearer the flight line than it is (the test errs toward flagging).
+    const struct {
+        const char* name;
+        Flight f;
+    } cases[] = {{"constant bearing", walker_flight({-1.0, 0, 6}, {1.0 / 6, 0, 0}, 140)},
+                 {"head on", walker_flight({0.2, 0, 9}, {0, 0, -1}, 100)}};
+    for (const auto& k : cases) {
+        const auto looming_only = fly_walker(k.f, false);
+        const auto with_path = fly_walker(k.f, true);
+        int flagged = 0;
+        for (Region r : kRegions) {
+            EXPECT_EQ(count_unsafe(with_path, r), count_unsafe(looming_only, r))
+                << k.name << " " << to_string(r);
+            flagged += count_unsafe(with_path, r);
+        }
+        std::printf("%s: %d region-frames flagged\n", k.name, flagged);
+        EXPECT_GE(flagged, 20) << k.name;
+    }
+}
+
+TEST(SyntheticFlight, ABiasedVelocityDoesNotPushAWallAtTheCorridorsEdgeOutOfIt) {
+    // The navdata reports 0.08 m/s to the left that the drone does not fly: its FOE sits 44 px
+    // left of the true one, and SidePass's wall, 0.6 m to the right (the corridor's edge), reads
+    // farther right than it is (its offset goes as the square of its distance from the FOE).
+    // Placed with the FOE as it is, it is never flagged; with the FOE one standard error nearer
+    // (corridor_foe_k, the default; the navdata's FOE is trusted to 0.05 m/s, 28 px here) it is.
+    // A wall 1.5 m to the right (WidePass) stays outside with the bias either way.
+    const auto right_flags = [](Motion m, double bias, double k) {
+        Flight f = make_flight(m);
+        f.navdata_vy_bias_mps = bias;
+        auto c = make_classifier("flow", synthetic_calibration());
+        EXPECT_EQ(c->set_param("corridor_foe_k", k), ParamStatus::Ok);
+        const auto rec = fly(f, *c);
+        EXPECT_EQ(count_unsafe(rec, Region::Left), 0);
+        EXPECT_EQ(count_unsafe(rec, Region::Centre), 0);
+        return count_unsafe(rec, Region::Right);
+    };
+    const int as_placed = right_flags(Motion::SidePass, -0.08, 0);
+    const int widened = right_flags(Motion::SidePass, -0.08, 1);
+    std::printf("right frames flagged: %d with the FOE as placed, %d one error nearer\n", as_placed,
+                widened);
+    EXPECT_EQ(as_placed, 0) << "the flight no longer shows what the option is for";
+    EXPECT_GE(widened, 3);
+    for (const double bias : {-0.08, 0.08})
+        EXPECT_EQ(right_flags(Motion::WidePass, bias, 1), 0) << bias;
 }

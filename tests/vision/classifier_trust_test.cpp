@@ -145,6 +145,38 @@ TEST(ClassifierTrust, AHoveringCameraReadsStillNotClear) {
     EXPECT_GT(flagged, 0);
 }
 
+// A drone pitching into its first metres: the navdata's speed, averaged over the fit window,
+// stays under the hover threshold (0.2 m/s) for several frames after the newest sample has
+// passed it. A still camera judges only what approaches it, so the static scene's growing
+// expansion read as things approaching (open flights of the realism suite flagged a side in their
+// first 0.3 s this way); from the first fast sample on, no region reads still.
+TEST(ClassifierTrust, ADroneSpeedingUpFromAHoverIsNotStill) {
+    const Flight f = make_flight(Motion::Approach);
+    auto c = make_classifier("flow", synthetic_calibration());
+    cv::Mat img;
+    const int hover = 30;
+    int still_hovering = 0;
+    for (int i = 0; i < hover + 12; ++i) {
+        FrameInput in = frame_of(f, 0, time_of(f, i), img);  // the images cannot tell yet
+        const int k = i - hover;                             // frames since it set off
+        in.vx_mps = k < 0 ? 0.0 : 0.1 * (k + 1);             // 1 m/s^2 at 25 frames/s: 0.1 a frame
+        const FrameResult& r = c->process(in);
+        for (std::size_t q = 0; q < 3; ++q) {
+            const RegionDecision& d = r.regions[q];
+            if (k < 0) {
+                still_hovering += i >= 15 && d.approach_only;
+                continue;
+            }
+            EXPECT_FALSE(d.unsafe) << k << " " << q;
+            // 0.1 m/s: still hovering as far as anyone can tell; from 0.2 m/s, not still.
+            if (k >= 1) {
+                EXPECT_FALSE(d.approach_only) << k << " " << q;
+            }
+        }
+    }
+    EXPECT_GE(still_hovering, 3 * (hover - 15) * 9 / 10) << "the hover before reads still";
+}
+
 // The thesis method has no notion of a still camera: it never marks a region still, and its bar
 // is grey while it has no decision (it was drawn green then).
 TEST(ClassifierTrust, TheThesisMethodNeverReadsStillAndItsUnknownBarIsGrey) {
