@@ -161,6 +161,9 @@ const ParamTable<FlowParams>& FlowParams::table() {
                  "forget accepted centre rates older than this")
             .add("confirm_frames", &P::confirm_frames, 1, 30,
                  "a decision must hold this many frames")
+            .add("loom_confirm_young", &P::loom_confirm_young, 0, 1,
+                 "flying forward, a point too young for the history check counts in the centre "
+                 "too only when its neighbours bear it out")
             .add("side_confirm_frames", &P::side_confirm_frames, 0, 30,
                  "in flight (the FOE from the motion) a side region's raw decision must hold "
                  "this many frames (0: confirm_frames)")
@@ -1015,8 +1018,13 @@ void FlowClassifier::check_static_looming() {
         if (class_[i] != PointClass::Hazard) continue;
         const double r = track_score_[i];
         double loom = looming_rate(i, false, 0.5 * r, 2.0 * r, p_.loom_radius_px);
+        const Trajectory& ti = tracks[i];
+        // Too young for check_history to see its past: its neighbours must bear it out there too.
+        const bool young =
+            p_.loom_confirm_young &&
+            ti.at_back(0).t_s - ti.at_back(ti.history_size() - 1).t_s < p_.history_min_s;
         const bool confirm =
-            confirm_sides && region_of(tracks[i].at_back(0).stab.x) != Region::Centre;
+            confirm_sides && (young || region_of(ti.at_back(0).stab.x) != Region::Centre);
         // A near surface's points lie far apart: look farther for those that must confirm.
         if (std::isnan(loom) && confirm)
             loom = looming_rate(i, false, 0.5 * r, 2.0 * r, p_.confirm_radius_px);

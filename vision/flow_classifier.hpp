@@ -225,8 +225,9 @@ struct FlowParams : TrackerParams {
     int centre_window = 7;          // homography rate = median of the last n accepted rates
     double centre_max_age_s = 1.0;  // accepted rates older than this are forgotten
     int confirm_frames = 2;         // raw decision must hold this many frames
-    int side_confirm_frames = 4;    // ... a side region's in flight (0: confirm_frames; confirm())
-    double colour_max = 1.0;        // overlay: red at this rate (1/s)
+    bool loom_confirm_young = true;
+    int side_confirm_frames = 4;  // ... a side region's in flight (0: confirm_frames; confirm())
+    double colour_max = 1.0;      // overlay: red at this rate (1/s)
 
     static const ParamTable<FlowParams>& table();
 };
