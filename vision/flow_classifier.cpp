@@ -471,7 +471,11 @@ void FlowClassifier::classify(const FrameInput& in) {
         plot(s_moving_, 0);
         return;
     }
-    rate_points(in);
+    // Where the points are relative to the level camera, and how far down the floor is: the
+    // corridor tests of the static and the moving points share them.
+    const cv::Matx33d level = level_from_camera(in.attitude.roll_deg, in.attitude.pitch_deg);
+    const double floor_down = in.altitude_m - p_.floor_clearance_m;  // NaN: no floor test
+    rate_points(level, floor_down);
     if (p_.ground_fit_margin > 0 && (p_.ground_fit_always || std::isnan(in.altitude_m)))
         reject_ground();
     // Most of the scene cannot be moving: when more than max_moving_share of the points rated
@@ -493,7 +497,7 @@ void FlowClassifier::classify(const FrameInput& in) {
     if (p_.looming) {
         check_history();
         check_static_looming();
-        rate_moving_points(in);
+        rate_moving_points(level, floor_down);
     }
     for (std::size_t i = 0; i < class_.size(); ++i)
         if (class_[i] == PointClass::Hazard)
@@ -599,7 +603,7 @@ double FlowClassifier::radial_misfit(const cv::Point2d& foe) {
     return median_inplace(scratch_);
 }
 
-void FlowClassifier::rate_points(const FrameInput& in) {
+void FlowClassifier::rate_points(const cv::Matx33d& level, double floor_down) {
     const auto& tracks = tracker_.tracks();
     class_.assign(tracks.size(), PointClass::Unrated);
     ground_dh_.assign(tracks.size(), kUnknown);
@@ -621,8 +625,6 @@ void FlowClassifier::rate_points(const FrameInput& in) {
     // The horizon through the FOE, level with the roll the tracker uses (the floor fit).
     const double roll = tracker_.roll_deg() * CV_PI / 180.0;
     const double cos_r = std::cos(roll), sin_r = std::sin(roll);
-    const cv::Matx33d level = level_from_camera(in.attitude.roll_deg, in.attitude.pitch_deg);
-    const double floor_down = in.altitude_m - p_.floor_clearance_m;  // NaN: no floor test
     for (std::size_t i = 0; i < tracks.size(); ++i) {
         const Trajectory& t = tracks[i];
         const std::size_t n = std::min(win, t.history_size());
@@ -1061,7 +1063,7 @@ FlowClassifier::Aperture FlowClassifier::aperture(const Trajectory& t, double rx
     return ap;
 }
 
-void FlowClassifier::rate_moving_points(const FrameInput& in) {
+void FlowClassifier::rate_moving_points(const cv::Matx33d& level, double floor_down) {
     // A moving object approaching grows in the image: the distances between its points grow at
     // 1/TTC (for a roughly fronto-parallel patch), whatever the camera does. Median over
     // neighbours on the same object (moving points nearby), so one slipping point cannot decide.
@@ -1074,8 +1076,6 @@ void FlowClassifier::rate_moving_points(const FrameInput& in) {
     // and too long only for one receding ahead, slower than the drone and so late to matter.
     const bool test_path = p_.moving_corridor && metric_;
     const std::vector<WindowFit>* fits = test_path ? &window_fits() : nullptr;
-    const cv::Matx33d level = level_from_camera(in.attitude.roll_deg, in.attitude.pitch_deg);
-    const double floor_down = in.altitude_m - p_.floor_clearance_m;  // NaN: no floor test
     for (std::size_t a : moving_idx_) {
         const double rate = looming_rate(a, true, 0, 0, p_.loom_radius_px);
         if (std::isnan(rate)) continue;

@@ -181,6 +181,9 @@ struct FlowParams : TrackerParams {
     // Flying forward (navdata), a side point counts only when its neighbours bear it out
     // (check_static_looming); elsewhere, or without them, it counts unconfirmed.
     bool loom_confirm_sides = true;
+    // Flying forward, a centre point too young for the history check (history_min_s) must be
+    // borne out by its neighbours too: nothing else tells a slipping young track from a near one.
+    bool loom_confirm_young = true;
     // A static point's past is set by its rate: its depth then was its depth now plus the
     // distance flown since, so dt ago it sat 1 + rate * dt_eff times nearer the FOE (dt_eff: the
     // distance flown over the current speed; dt itself without a navdata speed). Each kept past
@@ -225,9 +228,8 @@ struct FlowParams : TrackerParams {
     int centre_window = 7;          // homography rate = median of the last n accepted rates
     double centre_max_age_s = 1.0;  // accepted rates older than this are forgotten
     int confirm_frames = 2;         // raw decision must hold this many frames
-    bool loom_confirm_young = true;
-    int side_confirm_frames = 4;  // ... a side region's in flight (0: confirm_frames; confirm())
-    double colour_max = 1.0;      // overlay: red at this rate (1/s)
+    int side_confirm_frames = 4;    // ... a side region's in flight (0: confirm_frames; confirm())
+    double colour_max = 1.0;        // overlay: red at this rate (1/s)
 
     static const ParamTable<FlowParams>& table();
 };
@@ -291,8 +293,8 @@ private:
     // with fewer than foe_arbitrate_min_points usable points.
     double radial_misfit(const cv::Point2d& foe);
     void all_unknown(UnknownReason why);  // every region unknown for `why`, no alarm
-    void rate_points(const FrameInput& in);
-    void rate_moving_points(const FrameInput& in);
+    void rate_points(const cv::Matx33d& level, double floor_down);
+    void rate_moving_points(const cv::Matx33d& level, double floor_down);
     // A rate fitted at the window's mean time, `lag` seconds ago, brought to now: the time to
     // contact is `lag` less than it was then (a receding or still point's rate as it was).
     static double rate_now(double rate_then, double lag) {
