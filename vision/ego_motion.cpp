@@ -568,12 +568,52 @@ const EgoMotion& EgoMotionEstimator::estimate(const CameraCalibration& calib,
 void NavdataRateError::reset(const RateErrorParams& p) {
     p_ = p;
     const double sb = p_.bias_sigma_dps * kRadPerDeg;
-    for (Axis& a : axes_) a = {{0, 0}, cv::Matx22d(sb * sb, 0, 0, p_.scale_sigma * p_.scale_sigma)};
+    for (Axis& a : axes_)
+        a = {{0, 0}, cv::Matx22d(sb * sb, 0, 0, p_.scale_sigma * p_.scale_sigma), kUnknown};
+    hist_n_ = 0;
+    mismatch_ = {};
+    lag_s_ = 0;
+}
+
+void NavdataRateError::measure_lag(const cv::Vec3d& image_rad, const cv::Vec3d& nav_rot,
+                                   double dt) {
+    std::rotate(nav_hist_.begin(), nav_hist_.begin() + 1, nav_hist_.end());
+    std::rotate(img_hist_.begin(), img_hist_.begin() + 1, img_hist_.end());
+    nav_hist_.back() = nav_rot;
+    img_hist_.back() = nav_rot + image_rad;
+    if (++hist_n_ < 4) return;
+    hist_n_ = 4;
+    // The images' rotation two frames back against the navdata's from one frame before it to
+    // two after: a navdata late by L frames matches best L frames on.
+    const double a = std::exp(-dt / p_.lag_tau_s);
+    const cv::Vec3d& img = img_hist_[1];
+    for (std::size_t s = 0; s < 4; ++s) {
+        const cv::Vec3d d = img - nav_hist_[s];
+        mismatch_[s] = a * mismatch_[s] + d.dot(d);
+    }
+    // The best shift, refined by a parabola through its neighbours; none unless it beats no
+    // shift (index 1) clearly: noise alone raises every shift's mismatch alike.
+    const auto best = static_cast<std::size_t>(
+        std::min_element(mismatch_.begin(), mismatch_.end()) - mismatch_.begin());
+    double shift = static_cast<double>(best) - 1.0;
+    if (best > 0 && best < 3) {
+        const double l = mismatch_[best - 1], m = mismatch_[best], r = mismatch_[best + 1];
+        const double curv = l - 2 * m + r;
+        if (curv > 0) shift += std::clamp(0.5 * (l - r) / curv, -0.5, 0.5);
+    }
+    // A best match at the edge of the shifts tried (the navdata two frames late, or a frame
+    // early) is no lag a link has: the images misread a manoeuvre. A lag found is the link's,
+    // not the frame's: kept until another shift clearly matches better (or none does best).
+    if (best == 0 || best == 3) return;
+    if (mismatch_[best] < (1 - p_.lag_min_gain) * mismatch_[1] || best == 1)
+        lag_s_ = std::max(shift, 0.0) * dt;
 }
 
 cv::Vec3d NavdataRateError::update(const cv::Vec3d& image_rad, const cv::Vec3d& image_var,
                                    const cv::Vec3d& nav_rot, double dt) {
     if (!(dt > 0)) return {0, 0, 0};
+    measure_lag(image_rad, nav_rot, dt);
+    const double lag = std::min(p_.latency_sigma_s, p_.lag_k * lag_s_);
     const double a = std::exp(-dt / p_.bias_tau_s);
     const double sb = p_.bias_sigma_dps * kRadPerDeg;
     const double qs = p_.scale_walk * p_.scale_walk * dt;
@@ -586,14 +626,20 @@ cv::Vec3d NavdataRateError::update(const cv::Vec3d& image_rad, const cv::Vec3d& 
         e.p(0, 1) *= a;
         e.p(1, 0) *= a;
         e.p(1, 1) += qs;
-        // Update with this frame's measured rate error, z = b + s w.
-        const cv::Vec2d h(1, nav_rot[k] / dt);
+        // Update with this frame's measured rate error, z = b + s w + a passing latency error
+        // (its variance from the change of the navdata rate since the last update).
+        const double rate = nav_rot[k] / dt;
+        const double lat = std::isnan(e.last_rate) ? 0.0 : lag * (rate - e.last_rate) / dt;
+        e.last_rate = rate;
+        const double q = lat * lat;
+        const cv::Vec2d h(1, rate);
         const cv::Vec2d ph = e.p * h;
-        const double s = h.dot(ph) + image_var[k] / (dt * dt);
+        const double s = h.dot(ph) + image_var[k] / (dt * dt) + q;
         const cv::Vec2d gain = ph * (1 / s);
-        e.x += gain * (image_rad[k] / dt - h.dot(e.x));
+        const double innovation = image_rad[k] / dt - h.dot(e.x);
+        e.x += gain * innovation;
         e.p -= gain * ph.t();
-        corr[k] = h.dot(e.x) * dt;
+        corr[k] = (h.dot(e.x) + q / s * innovation) * dt;
     }
     return corr;
 }

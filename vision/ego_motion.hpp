@@ -162,6 +162,18 @@ struct RateErrorParams {
     double bias_tau_s = 10;
     double scale_sigma = 0.03;  // a MEMS gyro's (TrackerParams::ego_scale_sigma)
     double scale_walk = 0.01;
+    // The navdata's lag behind the frame's capture is not known (a real link's differs from a
+    // simulator's), and no slow error models it: a sample late by L is off by L times the
+    // change of rate, a fast error while the drone manoeuvres. The lag is measured: the shift
+    // (in frames, -1 to 2) at which the navdata's rotations best match the images' over the
+    // last lag_tau_s, once that shift beats none by lag_min_gain of the mismatch. Each frame
+    // the lag found, times lag_k and at most latency_sigma_s, is then allowed for as a passing
+    // error of that size times the navdata's change of rate, which this frame's images measure
+    // (latency_sigma_s 0: not allowed for).
+    double latency_sigma_s = 0.05;
+    double lag_tau_s = 5;
+    double lag_min_gain = 0.1;
+    double lag_k = 1.5;
     bool operator==(const RateErrorParams&) const = default;
 };
 
@@ -180,14 +192,25 @@ public:
                      const cv::Vec3d& nav_rot, double dt);
     double bias_rad_s(int axis) const { return axes_[static_cast<std::size_t>(axis)].x[0]; }
     double scale(int axis) const { return axes_[static_cast<std::size_t>(axis)].x[1]; }
+    // The navdata's lag behind the images found so far (s; 0 until one is found).
+    double lag_s() const { return lag_s_; }
 
 private:
     struct Axis {
         cv::Vec2d x{0, 0};
         cv::Matx22d p = cv::Matx22d::zeros();
+        double last_rate = kUnknown;  // the navdata rate of the last update (rad/s)
     };
+    void measure_lag(const cv::Vec3d& image_rad, const cv::Vec3d& nav_rot, double dt);
     RateErrorParams p_;
     std::array<Axis, 3> axes_{};
+    // The last four frames' navdata rotations and the images' (navdata + image_rad), newest
+    // last, and the decaying mismatch of the images' with the navdata's shifted by -1..2 frames.
+    std::array<cv::Vec3d, 4> nav_hist_{};
+    std::array<cv::Vec3d, 4> img_hist_{};
+    int hist_n_ = 0;
+    std::array<double, 4> mismatch_{};
+    double lag_s_ = 0;
 };
 
 }  // namespace gs::vision

@@ -129,7 +129,8 @@ void TrajectoryTracker::set_params(const TrackerParams& p) {
 }
 
 RateErrorParams TrajectoryTracker::rate_error_params() const {
-    return {p_.ego_bias_sigma_dps, p_.ego_bias_tau_s, p_.ego_scale_sigma, p_.ego_scale_walk};
+    return {p_.ego_bias_sigma_dps, p_.ego_bias_tau_s, p_.ego_scale_sigma, p_.ego_scale_walk,
+            p_.ego_latency_sigma_s};
 }
 
 EgoMotionParams TrajectoryTracker::ego_params() const {

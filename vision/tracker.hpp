@@ -48,6 +48,7 @@ struct TrackerParams {
     // the realism suite's take-offs and put the floor 0.3-0.4 m too high; README, Realism suite).
     double ego_bias_sigma_dps = 0.5;
     double ego_bias_tau_s = 10;
+    double ego_latency_sigma_s = 0.05;  // RateErrorParams::latency_sigma_s (0: no lag allowed for)
     double ego_scale_sigma = 0.03;
     double ego_scale_walk = 0.01;
     // Without navdata roll, roll-stabilise with the roll the images measure (their rotation about
@@ -133,6 +134,9 @@ void describe_tracker_params(ParamTable<P>& t) {
              "ego-motion: the navdata rotation rate's bias, standard deviation (deg/s)")
         .add("ego.bias_tau_s", &P::ego_bias_tau_s, 0.1, 1000,
              "ego-motion: ... and its correlation time (s)")
+        .add("ego.latency_sigma_s", &P::ego_latency_sigma_s, 0, 1,
+             "ego-motion: the most navdata lag behind the frames (measured against the images) "
+             "allowed for at a change of rotation rate (s; 0: none)")
         .add("ego.scale_sigma", &P::ego_scale_sigma, 0, 2,
              "ego-motion: the navdata rotation's scale error, initial standard deviation")
         .add("ego.scale_walk", &P::ego_scale_walk, 0, 1,
