@@ -709,6 +709,54 @@ TEST(ReplayCli, AYoungCentrePointNeedsItsNeighboursWhileFlying) {
         << "quiet because judged, not unknown";
 }
 
+TEST(ReplayCli, ATakeOffUnderLateNavdataReadsNoLooming) {
+    // Realism seed 2026's open_path1_01 as the suite renders it: nothing in the path; the drone
+    // pitches 8 degrees nose-down in its first third of a second and back up a little as it
+    // reaches speed, and its navdata is 30 ms late. Derotated with that late attitude, each
+    // change of the pitch rate leaves a vertical flow the floor ahead reads as expansion: every
+    // region's rate rose over the classifier's 0.3/s threshold around frame 14, and the centre
+    // flagged at frame 15. (Replayed with the attitude one frame earlier, it read nothing.) The
+    // images measure that error on the frame it happens, and the navdata's rotations match the
+    // images' best a frame on: with that lag found and allowed for at each change of rate
+    // (ego.latency_sigma_s, the most allowed), the centre reads under the threshold, the sides
+    // lower and never for the four frames a side alarm needs in flight, every region judged.
+    const RealismFlight f("late_navdata", "open_path1_01", "--bitrate 1000");
+    ASSERT_EQ(f.generated.exit_code, 0) << f.generated.out;
+    struct TakeOff {
+        std::array<double, 3> peak{0, 0, 0};
+        std::array<int, 3> judged{0, 0, 0};
+        int flagged = 0;
+    };
+    const auto take_off = [&](const std::string& tag, const std::string& set) {
+        const dataset::csv::Table t = f.replay(tag, set);
+        TakeOff o;
+        for (std::size_t i = 0; i < std::min<std::size_t>(40, t.rows()); ++i)
+            for (std::size_t r = 0; r < 3; ++r) {
+                o.flagged += t.field(i, 2 + r) == "1" ? 1 : 0;
+                const std::string v(t.field(i, 5 + r));
+                if (v.empty()) continue;
+                ++o.judged[r];
+                o.peak[r] = std::max(o.peak[r], std::stod(v));
+            }
+        return o;
+    };
+    const TakeOff off = take_off("lag_off", "--set ego.latency_sigma_s=0");
+    const TakeOff on = take_off("default", "");
+    std::printf(
+        "take-off peak rates (left, centre, right): %.2f %.2f %.2f without, %.2f %.2f %.2f "
+        "with the lag allowed for; region-frames flagged %d -> %d\n",
+        off.peak[0], off.peak[1], off.peak[2], on.peak[0], on.peak[1], on.peak[2], off.flagged,
+        on.flagged);
+    EXPECT_GE(off.flagged, 1) << "the flight no longer shows the take-off alarm";
+    EXPECT_GE(off.peak[1], 0.3);
+    EXPECT_EQ(on.flagged, 0);
+    EXPECT_LT(on.peak[1], 0.3);
+    EXPECT_LE(on.peak[0] + on.peak[1] + on.peak[2],
+              0.9 * (off.peak[0] + off.peak[1] + off.peak[2]));
+    for (std::size_t r = 0; r < 3; ++r)
+        EXPECT_GE(on.judged[r], 25) << r << ": quiet because judged, not unknown";
+}
+
 TEST(ReplayCli, TakeOffWhenMostPointsMoveAgainstTheCameraIsUnknownNotAnAlarm) {
     // The first metres of a realism open-space flight (seed 2026, open_path2_10): the drone
     // pitches forward and speeds up while the late navdata still reads under 0.2 m/s, so the
