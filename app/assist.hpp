@@ -195,7 +195,14 @@ struct AssistParams {
     // `probe_seen_s` 0.3 s (it was 0.1): the same flight, with the placement that now reads
     // 2.2 s, read the pillar 0.6 m ahead clear for 0.12 s right after the alarm it braked for (a
     // flicker, on frames flown at speed), which gave its blind probe the nearer gap: 0.17 m.
-    double probe_blind_gap_m = 0.75;
+    // 1.0 m, as hold_gap_m (it was 0.75): a stop that cap placed the obstacle for says only that
+    // it is no farther, so a blind probe does not go into that metre. From the cap it had 0.25 m
+    // of room, too little to read clear in sight and forget (the evidence window and
+    // probe_seen_s take 0.23 m at 0.35 m/s), so it only crept: seed 11's ahead-pillar-1.0,
+    // braked for a 2.2 s reading of a pillar 1.04 m ahead (the rates read low) and held 1.0 m
+    // short of where it truly stood 0.73 m, crept to 0.26 m of it (0.44 m now). A probe still goes
+    // on toward an obstacle remembered farther (no cap: a placement beyond it).
+    double probe_blind_gap_m = 1.0;
     double probe_seen_s = 0.3;
     double probe_rebrake_margin_mps = 0.35;  // probing: brake again above probe speed + this
     // Confirming a centre alarm in free flight (see the rules above). 0.25 s: on the closed-loop

@@ -485,7 +485,10 @@ TEST(Assist, UnknownAndStaleEvidenceNeverBrakesAndSaysSo) {
 }
 
 TEST(Assist, AStoppedHeldDroneWithTheCentreClearProbesSlowlyAfterAWait) {
-    const AssistParams p;
+    // The probe's mechanics, with a blind gap under the stop's cap (0.75 m; the default is the
+    // cap itself, under which nothing is probed: AStopTheCapPlacedIsNotProbedBlind).
+    AssistParams p;
+    p.probe_blind_gap_m = 0.75;
     // Braked for an obstacle placed 1.05 m ahead (0.75 x 1.4 s x 1 m/s, the frame 50 ms old) and
     // remembered 1.0 m ahead once stopped (hold_gap_m): no room to approach (the gap is 1 m),
     // room to probe (0.25 m plus the stopping distance, the blind gap being 0.75 m).
@@ -626,6 +629,7 @@ TEST(Assist, ABlindProbeKeepsTheWiderGapUntilTheCentreIsSeenClear) {
     // window and probe_seen_s take 0.23 m at 0.35 m/s, more than the 0.14 m of room it has.)
     AssistParams p;
     p.hold_gap_m = 1.5;
+    p.probe_blind_gap_m = 0.75;  // the two gaps' rule, as it was made (the default is the cap)
     p.confirm_s = 0;  // braking at once
     ASSERT_GT(p.probe_blind_gap_m, p.probe_min_gap_m);
     for (const bool seen : {false, true}) {
@@ -668,6 +672,7 @@ TEST(Assist, AClearFlickerRightAfterTheAlarmDoesNotGiveTheProbeTheNearerGap) {
         SCOPED_TRACE(seen_s);
         AssistParams p;
         p.probe_seen_s = seen_s;
+        p.probe_blind_gap_m = 0.75;  // as then: a blind probe from the cap (now not probed)
         p.confirm_s = 0;  // braking at once
         Assist a(p);
         AssistInput in = flying_forward(0.6, clear());
@@ -706,13 +711,61 @@ TEST(Assist, AClearFlickerRightAfterTheAlarmDoesNotGiveTheProbeTheNearerGap) {
     }
 }
 
+TEST(Assist, AStopTheCapPlacedIsNotProbedBlind) {
+    // Seed 11's ahead-pillar-1.0 in closed loop: braked at 1.0 m/s for a reading of 2.2 s on a
+    // frame 0.13 s old (placed 1.55 m ahead; the pillar truly stood 1.04 m ahead, its rates
+    // read low), stopped 0.31 m on, remembered hold_gap_m (1.0 m) ahead where it stood 0.73 m.
+    // The centre then reads clear (a stopped drone sees nothing approach), later unknown. With
+    // the blind gap under the cap (0.75 m, the rule before) the drone probed into that metre and
+    // came within 0.26 m of the pillar; with the default it is held, and says where the obstacle
+    // is remembered.
+    for (const double blind_gap : {0.75, AssistParams{}.probe_blind_gap_m}) {
+        SCOPED_TRACE(blind_gap);
+        AssistParams p;
+        p.probe_blind_gap_m = blind_gap;
+        p.confirm_s = 0;  // braking at once
+        Assist a(p);
+        AssistInput in = flying_forward(1.0, {RegionState::Unsafe, 0.13, 2.2});
+        ASSERT_EQ(a.step(in).action, AssistAction::Braking);
+        // The brake: 0.31 m flown while the speed falls to 0.
+        double t = 0;
+        for (const double v : {0.9, 0.75, 0.6, 0.45, 0.3, 0.2, 0.1, 0.0}) {
+            in.t_s = t += 0.06;
+            in.vx_mps = v;
+            in.regions[1] = RegionEvidence{RegionState::Unknown, 0.13, kUnknown};
+            a.step(in);
+        }
+        bool probed = false, forward_sent = false;
+        AssistOutput o;
+        for (const double t0 = t; t < t0 + 6.0; t += 0.03) {
+            in.t_s = t;
+            in.regions[1] = t < t0 + 3.0 ? clear() : RegionEvidence{RegionState::Unknown, 0.1,
+                                                                    kUnknown};
+            o = a.step(in);
+            probed = probed || o.action == AssistAction::Probing;
+            forward_sent = forward_sent || (o.command.progressive && o.command.pitch < 0);
+        }
+        EXPECT_NEAR(o.obstacle_m, 1.0, 0.01) << "capped at hold_gap_m ahead of the stop";
+        if (blind_gap < p.hold_gap_m) {
+            EXPECT_TRUE(probed) << "the rule before";
+        } else {
+            EXPECT_FALSE(probed);
+            EXPECT_FALSE(forward_sent) << "no forward command while held";
+            EXPECT_EQ(o.action, AssistAction::Holding) << o.reason;
+            EXPECT_TRUE(o.intervened);
+        }
+    }
+}
+
 TEST(Assist, TheProbeBannerShowsBothBoundsOnlyWhereTheyDiffer) {
     // Braked at 1 m/s for readings that place the obstacle 2.2 m ahead (near bound: hold_gap_m
     // ahead of the stop) or 0.9 m ahead (the two bounds one place): the banner gives the range,
-    // or one distance, never "1.0-1.0 m".
+    // or one distance, never "1.0-1.0 m". (A blind gap under the cap, so that a probe starts.)
+    AssistParams p;
+    p.probe_blind_gap_m = 0.75;
     for (const double ttc : {3.0, 1.2}) {
         SCOPED_TRACE(ttc);
-        Assist a;
+        Assist a(p);
         AssistInput in = flying_forward(1.0, unsafe(ttc));
         AssistOutput o = a.step(in);
         for (double t = 0.03; o.action != AssistAction::Braking && t < 0.5; t += 0.03) {
@@ -748,8 +801,8 @@ TEST(Assist, AFalseAlarmFromHoverIsHeldUntilThePilotBacksOffAndFliesOnWithARunUp
     // at 0.8 m/s). A probe from a stop proves nothing within the room it has: every clear reading
     // it gets is made on frames flown while it sped up from hover (which the classifier, as
     // flow_like, reads clear), slower than the classifier sees 1 m at (evidence_window_s). So it
-    // creeps to probe_blind_gap_m and the drone is held, saying so, until the pilot turns away,
-    // backs off or overrides. (With those readings counted, the 2.0 s case was probed and
+    // is not probed (the blind gap is the cap: AStopTheCapPlacedIsNotProbedBlind) and the drone
+    // is held, saying so, until the pilot turns away, backs off or overrides. (With those readings counted, the 2.0 s case was probed and
     // forgotten: a probe fooled in the same way came within 0.17 m of seed 11's pillar.) A pilot
     // who backs off 1.5 s and flies on gives the classifier the run-up it needs: forgotten.
     const Case cases[] = {Case{4, 0.75, 3.1}, Case{14, 0.8, 2.0}, Case{14, 0.75, 3.1}};
@@ -781,7 +834,7 @@ TEST(Assist, AFalseAlarmFromHoverIsHeldUntilThePilotBacksOffAndFliesOnWithARunUp
                     return t < back_until ? forward(0.4f) : forward(-0.4f);
                 });
             EXPECT_EQ(r.brakes > 0, c.run > 4);
-            EXPECT_EQ(r.probed, c.run > 4);
+            EXPECT_FALSE(r.probed);
             if (c.run <= 4 || back_off) {
                 EXPECT_EQ(r.last, AssistAction::Watching) << "still held at the end";
                 EXPECT_GT(r.x_end_m, 10.0);  // the flight went on
@@ -968,6 +1021,7 @@ TEST(Assist, AnObstacleRememberedNearerThanItStandsIsForgottenOnlyOnceSeenClearW
         // probe_seen_s the drone stays 2.97 m short with either bound.)
         p.evidence_window_s = 0;
         p.probe_seen_s = 0.1;
+        p.probe_blind_gap_m = 0.75;  // (today's gap is the cap: not probed from it at all)
         Assist a(p);
         std::vector<std::pair<double, double>> speeds;  // (t, vx)
         const PilotRun r =
