@@ -102,6 +102,8 @@ const vision::ParamTable<AssistParams>& assist_param_table() {
                  "unconfirmed brakes at once")
             .add("ttc_trust", &P::ttc_trust, 0, 1,
                  "the remembered distance is this fraction of time to contact x speed")
+            .add("side_blocks_unknown_centre", &P::side_blocks_unknown_centre, 0, 1,
+                 "a side unsafe while the centre reads unknown counts as a centre alarm")
             .add("side_nudge", &P::side_nudge, 0, 1,
                  "a side unsafe: the roll away from it, fraction of the maximum tilt (0: none)")
             .add("side_away_mps", &P::side_away_mps, 0, 3,
@@ -264,6 +266,38 @@ bool Assist::confirm_centre(const AssistInput& in, RegionState centre, double dt
 }
 
 AssistOutput Assist::step(const AssistInput& in) {
+    // A side unsafe beside a centre with no evidence is taken as the centre's alarm
+    // (side_blocks_unknown_centre): the nearer such side's reading stands in for the centre's.
+    int beside = -1;
+    if (p_.side_blocks_unknown_centre && in.enabled && !in.override && in.flying &&
+        effective(in.regions[1]) == RegionState::Unknown) {
+        for (const int i : {0, 2}) {
+            if (effective(in.regions[static_cast<std::size_t>(i)]) != RegionState::Unsafe) continue;
+            const double ttc = in.regions[static_cast<std::size_t>(i)].ttc_s;
+            const double best =
+                beside < 0 ? kUnknown : in.regions[static_cast<std::size_t>(beside)].ttc_s;
+            if (beside < 0 || (known(ttc) && (!known(best) || ttc < best))) beside = i;
+        }
+    }
+    if (beside < 0) return step_as_given(in);
+    AssistInput taken = in;
+    taken.regions[1] = in.regions[static_cast<std::size_t>(beside)];
+    AssistOutput out = step_as_given(taken);
+    // Say what it was: the centre itself read unknown.
+    out.centre = RegionState::Unknown;
+    const std::string side = beside == 0 ? "left" : "right";
+    for (const auto& [from, to] :
+         {std::pair<std::string, std::string>{"obstacle ahead",
+                                              "obstacle " + side + ", nothing seen ahead"},
+          std::pair<std::string, std::string>{"centre alarm",
+                                              side + " alarm, nothing seen ahead"}}) {
+        const auto at = out.reason.find(from);
+        if (at != std::string::npos) out.reason.replace(at, from.size(), to);
+    }
+    return out;
+}
+
+AssistOutput Assist::step_as_given(const AssistInput& in) {
     AssistOutput out;
     out.command = in.pilot;
     using Phase = State::Phase;

@@ -31,6 +31,10 @@
 //    `probe_blind_gap_m` plus its stopping distance until the centre has read clear with the
 //    obstacle in sight (then `probe_min_gap_m`); seen again, it brakes; seen clear while in
 //    sight, it is forgotten (a false alarm no longer holds the drone for the rest of a flight).
+//  - A side unsafe while the centre reads unknown is a centre alarm, at the side's time to
+//    contact (`side_blocks_unknown_centre`): the side's unsafe points lie in the flight corridor,
+//    and nothing says the obstacle stops short of a centre with no evidence (a plain surface).
+//    The banner says so ("BRAKING: obstacle left, nothing seen ahead, contact in 2.2 s").
 //  - Left / right unsafe: the roll command toward that side is zeroed, and stays zeroed until the
 //    drone has flown past where the obstacle was seen (its time to contact x speed, plus
 //    `side_pass_margin_m`): the side of a pass goes out of the camera's view before the drone is
@@ -44,7 +48,7 @@
 //    toward a side that does not read clear (unknown or stale: no evidence that the way is
 //    free), nor farther than `side_shift_max_m` sideways for one obstacle.
 //  - Never limited: yaw, climb and descent, backing away (nose-up pitch), roll away from a side.
-//  - Unknown or stale regions (no evidence) never brake; the output says so.
+//  - Unknown or stale regions (no evidence) never brake by themselves; the output says so.
 //  - Emergency and landing are not commands the assist sees: they go straight to the link. The
 //    override (a held key) passes the pilot's command through unchanged; so does the assist
 //    switched off.
@@ -234,6 +238,14 @@ struct AssistParams {
     double side_shift_max_m = 0.5;
     double default_side_m = 1.5;
     double side_pass_margin_m = 0.8;
+    // A side unsafe while the centre reads unknown counts as a centre alarm (confirmed, braked
+    // for and held as one, at the side's time to contact). The side's points that rate unsafe lie
+    // in the flight corridor, and with no evidence for the centre (a plain surface gives it too
+    // few tracked points) nothing says the obstacle stops short of it: seed 2027's
+    // clutter-target-0.6-10 flew at a plain grey pillar whose centre read unknown for 2 s while
+    // its left edge read unsafe (contact in 1.9-2.5 s); steered right but not braked, it passed
+    // 0.08 m from it. A centre read clear (evidence of a free way) keeps the side rules alone.
+    bool side_blocks_unknown_centre = true;
 };
 
 // Every AssistParams member by name, with its range and meaning: `eval-assist --assist-set
@@ -305,6 +317,7 @@ private:
     };
     // Whether a centre alarm in free flight brakes now (see the rules above).
     bool confirm_centre(const AssistInput& in, RegionState centre, double dt);
+    AssistOutput step_as_given(const AssistInput& in);
     RegionState effective(const RegionEvidence& e) const;
     // Where a reading's time to contact places its obstacle ahead (x ttc_trust, less what was
     // flown since its frame), or unknown (no time to contact, or too slow for one to mean a
