@@ -282,9 +282,18 @@ AssistOutput Assist::step(const AssistInput& in) {
     if (beside < 0) return step_as_given(in);
     AssistInput taken = in;
     taken.regions[1] = in.regions[static_cast<std::size_t>(beside)];
+    const bool first = st_.first;
+    const AssistAction last_action = st_.last_action;
+    const vision::Region last_region = st_.last_region;
     AssistOutput out = step_as_given(taken);
-    // Say what it was: the centre itself read unknown.
+    // Say what it was: the centre itself read unknown, and the region acted for (the record's
+    // and the log's) is the side.
     out.centre = RegionState::Unknown;
+    if (out.region == vision::Region::Centre) {
+        out.region = beside == 0 ? vision::Region::Left : vision::Region::Right;
+        out.changed = first || out.action != last_action || out.region != last_region;
+        st_.last_region = out.region;
+    }
     const std::string side = beside == 0 ? "left" : "right";
     for (const auto& [from, to] :
          {std::pair<std::string, std::string>{"obstacle ahead",

@@ -745,14 +745,22 @@ TEST(Assist, ASideAlarmBesideAnUnknownCentreIsTakenAsTheCentres) {
         }
         EXPECT_EQ(o.reason, "BRAKING: obstacle left, nothing seen ahead, contact in 2.2 s");
         EXPECT_EQ(o.centre, RegionState::Unknown) << "the centre as read";
+        EXPECT_EQ(o.region, vision::Region::Left) << "the region it acted for, as recorded";
+        EXPECT_TRUE(o.changed);
         EXPECT_GT(o.command.pitch, 0.0f);
-        // Stopped, the side gone, the centre still unknown: held, forward at zero.
+        // Stopped, the side gone, the centre still unknown: held, forward at zero, and logged
+        // as the centre's hold once the side no longer reads unsafe.
         in.regions[0] = clear();
         in.vx_mps = 0;
+        bool logged_centre_hold = false;
         for (double t = 1.0; t < 3.0; t += 0.03) {
             in.t_s = t;
             o = a.step(in);
+            logged_centre_hold =
+                logged_centre_hold || (o.changed && o.action == AssistAction::Holding &&
+                                       o.region == vision::Region::Centre);
         }
+        EXPECT_TRUE(logged_centre_hold);
         EXPECT_EQ(o.action, AssistAction::Holding) << o.reason;
         EXPECT_FALSE(o.command.progressive && o.command.pitch < 0);
     }
