@@ -289,7 +289,11 @@ AssistOutput Assist::step(const AssistInput& in) {
     // Say what it was: the centre itself read unknown, and the region acted for (the record's
     // and the log's) is the side.
     out.centre = RegionState::Unknown;
-    if (out.region == vision::Region::Centre) {
+    const bool centre_action =
+        out.action == AssistAction::Braking || out.action == AssistAction::Holding ||
+        out.action == AssistAction::Confirming || out.action == AssistAction::Probing ||
+        out.action == AssistAction::Approaching;
+    if (centre_action && out.region == vision::Region::Centre) {
         out.region = beside == 0 ? vision::Region::Left : vision::Region::Right;
         out.changed = first || out.action != last_action || out.region != last_region;
         st_.last_region = out.region;

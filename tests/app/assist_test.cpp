@@ -743,6 +743,17 @@ TEST(Assist, ASideAlarmBesideAnUnknownCentreIsTakenAsTheCentres) {
             EXPECT_NE(o.action, AssistAction::Holding) << o.reason;
             continue;
         }
+        {
+            // Hovering (not moving, the pilot not pushing forward), the same readings are no
+            // action of the assist's, and are not logged as the side's.
+            Assist h(p);
+            AssistInput hover = in;
+            hover.vx_mps = 0;
+            hover.pilot = FlightCommand{};
+            const AssistOutput w = h.step(hover);
+            EXPECT_EQ(w.action, AssistAction::Watching) << w.reason;
+            EXPECT_EQ(w.region, vision::Region::Centre);
+        }
         EXPECT_EQ(o.reason, "BRAKING: obstacle left, nothing seen ahead, contact in 2.2 s");
         EXPECT_EQ(o.centre, RegionState::Unknown) << "the centre as read";
         EXPECT_EQ(o.region, vision::Region::Left) << "the region it acted for, as recorded";
