@@ -279,39 +279,25 @@ AssistOutput Assist::step(const AssistInput& in) {
             if (beside < 0 || (known(ttc) && (!known(best) || ttc < best))) beside = i;
         }
     }
-    if (beside < 0) return step_as_given(in);
+    if (beside < 0) return step_as_given(in, vision::Region::Centre);
     AssistInput taken = in;
     taken.regions[1] = in.regions[static_cast<std::size_t>(beside)];
-    const bool first = st_.first;
-    const AssistAction last_action = st_.last_action;
-    const vision::Region last_region = st_.last_region;
-    AssistOutput out = step_as_given(taken);
-    // Say what it was: the centre itself read unknown, and the region acted for (the record's
-    // and the log's) is the side.
-    out.centre = RegionState::Unknown;
-    const bool centre_action =
-        out.action == AssistAction::Braking || out.action == AssistAction::Holding ||
-        out.action == AssistAction::Confirming || out.action == AssistAction::Probing ||
-        out.action == AssistAction::Approaching;
-    if (centre_action && out.region == vision::Region::Centre) {
-        out.region = beside == 0 ? vision::Region::Left : vision::Region::Right;
-        out.changed = first || out.action != last_action || out.region != last_region;
-        st_.last_region = out.region;
-    }
-    const std::string side = beside == 0 ? "left" : "right";
-    for (const auto& [from, to] :
-         {std::pair<std::string, std::string>{"obstacle ahead",
-                                              "obstacle " + side + ", nothing seen ahead"},
-          std::pair<std::string, std::string>{"centre alarm",
-                                              side + " alarm, nothing seen ahead"}}) {
-        const auto at = out.reason.find(from);
-        if (at != std::string::npos) out.reason.replace(at, from.size(), to);
-    }
+    AssistOutput out =
+        step_as_given(taken, beside == 0 ? vision::Region::Left : vision::Region::Right);
+    out.centre = RegionState::Unknown;  // the centre itself read unknown
     return out;
 }
 
-AssistOutput Assist::step_as_given(const AssistInput& in) {
+AssistOutput Assist::step_as_given(const AssistInput& in, vision::Region acted_for) {
     AssistOutput out;
+    // What the centre's actions are for: the centre's own alarm, or a side's standing in for a
+    // centre that reads unknown (then the record, the log and the banner name that side).
+    const bool stand_in = acted_for != vision::Region::Centre;
+    const std::string side_name = acted_for == vision::Region::Left ? "left" : "right";
+    const std::string obstacle =
+        stand_in ? "obstacle " + side_name + ", nothing seen ahead" : "obstacle ahead";
+    const std::string alarm_text =
+        stand_in ? side_name + " alarm, nothing seen ahead" : "centre alarm";
     out.command = in.pilot;
     using Phase = State::Phase;
     auto finish = [&](AssistOutput& o) -> AssistOutput {
@@ -509,10 +495,9 @@ AssistOutput Assist::step_as_given(const AssistInput& in) {
         out.action = AssistAction::Braking;
         // A time to contact only from an unsafe reading: a clear centre's (9 s on a replay's
         // dry run, whose drone never slows) is not the obstacle's.
-        out.reason = centre == RegionState::Unsafe
-                         ? "BRAKING: obstacle ahead" + contact_text(c)
-                         : std::string("BRAKING: obstacle ahead (centre now ") + to_string(centre) +
-                               "), until stopped";
+        out.reason = centre == RegionState::Unsafe ? "BRAKING: " + obstacle + contact_text(c)
+                                                   : "BRAKING: " + obstacle + " (centre now " +
+                                                         to_string(centre) + "), until stopped";
     } else if (st_.phase == Phase::Holding && room_ahead) {
         char buf[96];
         std::snprintf(buf, sizeof buf, "APPROACHING: obstacle remembered %.1f m ahead", remaining);
@@ -546,7 +531,7 @@ AssistOutput Assist::step_as_given(const AssistInput& in) {
     } else if (st_.pending) {
         out.action = AssistAction::Confirming;
         out.reason =
-            "CONFIRMING: centre alarm" +
+            "CONFIRMING: " + alarm_text +
             (centre == RegionState::Unsafe ? contact_text(c)
                                            : std::string(" (now ") + to_string(centre) + ")") +
             ", braking if it holds";
@@ -564,7 +549,7 @@ AssistOutput Assist::step_as_given(const AssistInput& in) {
         }
         out.action = AssistAction::Holding;
         out.reason = centre == RegionState::Unsafe
-                         ? "HOLDING: obstacle ahead, forward held at zero" + contact_text(c)
+                         ? "HOLDING: " + obstacle + ", forward held at zero" + contact_text(c)
                      : centre == RegionState::Clear
                          ? std::string(
                                "HOLDING: stopped short of the obstacle, forward held at "
@@ -573,6 +558,7 @@ AssistOutput Assist::step_as_given(const AssistInput& in) {
                                " since the brake (no evidence), forward held at zero until it "
                                "is seen clear";
     }
+    if (out.action != AssistAction::Watching) out.region = acted_for;
 
     // Sides: remember where an unsafe side's obstacle is (ahead by its time to contact x speed)
     // and keep the roll toward it at zero until the drone is past it; push away while it is seen.

@@ -317,7 +317,9 @@ private:
     };
     // Whether a centre alarm in free flight brakes now (see the rules above).
     bool confirm_centre(const AssistInput& in, RegionState centre, double dt);
-    AssistOutput step_as_given(const AssistInput& in);
+    // One step with the regions as given; `acted_for` is the region the centre's actions are for
+    // (Centre, or the side whose alarm stands in for an unknown centre).
+    AssistOutput step_as_given(const AssistInput& in, vision::Region acted_for);
     RegionState effective(const RegionEvidence& e) const;
     // Where a reading's time to contact places its obstacle ahead (x ttc_trust, less what was
     // flown since its frame), or unknown (no time to contact, or too slow for one to mean a
