@@ -777,6 +777,52 @@ TEST(Assist, ASideAlarmBesideAnUnknownCentreIsTakenAsTheCentres) {
     }
 }
 
+TEST(Assist, ASideAlarmStandingInForTheCentreIsNamedInEveryPhase) {
+    // At 1.5 m/s a right side unsafe at 3 s to contact, the centre and the left unknown (nothing
+    // to steer into, so the side rules do nothing): 3.4 m ahead (x 0.75), time to confirm
+    // first; confirmed, braked; stopped with the side still unsafe, held. Every phase names the
+    // side and says nothing was seen ahead, and is recorded as the right's; a change of phase
+    // is a change (logged), the same phase again is not.
+    Assist a;
+    const RegionEvidence unknown{RegionState::Unknown, 0.05, kUnknown};
+    AssistInput in = flying_forward(1.5, unknown);
+    in.regions[0] = unknown;
+    in.regions[2] = unsafe(3.0);
+    AssistOutput o = a.step(in);
+    EXPECT_EQ(o.action, AssistAction::Confirming) << o.reason;
+    EXPECT_EQ(o.reason,
+              "CONFIRMING: right alarm, nothing seen ahead, contact in 3.0 s, braking "
+              "if it holds");
+    EXPECT_EQ(o.region, vision::Region::Right);
+    EXPECT_EQ(o.centre, RegionState::Unknown);
+    EXPECT_TRUE(o.changed);
+    in.t_s = 0.03;
+    o = a.step(in);
+    EXPECT_EQ(o.action, AssistAction::Confirming) << o.reason;
+    EXPECT_FALSE(o.changed) << "the same phase, the same region";
+    double t = 0.03;
+    while (o.action == AssistAction::Confirming && t < 1.0) {
+        in.t_s = t += 0.03;
+        o = a.step(in);
+    }
+    ASSERT_EQ(o.action, AssistAction::Braking) << o.reason;
+    EXPECT_EQ(o.reason, "BRAKING: obstacle right, nothing seen ahead, contact in 3.0 s");
+    EXPECT_EQ(o.region, vision::Region::Right);
+    EXPECT_TRUE(o.changed);
+    // Stopped; the side still unsafe (now 2.0 s), the centre unknown: held.
+    in.regions[2] = unsafe(2.0);
+    in.vx_mps = 0;
+    for (int i = 0; i < 5; ++i) {
+        in.t_s = t += 0.03;
+        o = a.step(in);
+    }
+    EXPECT_EQ(o.action, AssistAction::Holding) << o.reason;
+    EXPECT_EQ(
+        o.reason,
+        "HOLDING: obstacle right, nothing seen ahead, forward held at zero, contact in 2.0 s");
+    EXPECT_EQ(o.region, vision::Region::Right);
+}
+
 TEST(Assist, AStopTheCapPlacedIsNotProbedBlind) {
     // Seed 11's ahead-pillar-1.0 in closed loop: braked at 1.0 m/s for a reading of 2.2 s on a
     // frame 0.13 s old (placed 1.55 m ahead; the pillar truly stood 1.04 m ahead, its rates
