@@ -535,6 +535,7 @@ AssistOutput Assist::step_as_given(const AssistInput& in, vision::Region acted_f
             (centre == RegionState::Unsafe ? contact_text(c)
                                            : std::string(" (now ") + to_string(centre) + ")") +
             ", braking if it holds";
+        out.pending = out.reason;
     } else if (st_.phase == Phase::Holding) {
         if (!vx_known && !pilot_backing) {
             cmd = FlightCommand{};  // no velocity to hold against: the drone's own hover

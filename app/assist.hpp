@@ -271,6 +271,10 @@ struct AssistOutput {
     // the assist cannot brake for what it cannot see, and says so.
     bool unknown_ahead = false;
     double obstacle_m = kUnknown;  // the remembered obstacle ahead, metres (holding, probing)
+    // A centre alarm being confirmed ("CONFIRMING: centre alarm, contact in 2.8 s, braking if it
+    // holds"), whatever `action` is: steering away from a side obstacle takes the action and
+    // its line, and the pilot must still see that a brake may come. Empty when none is pending.
+    std::string pending;
 };
 
 class Assist {

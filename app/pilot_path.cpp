@@ -133,6 +133,11 @@ AssistStatus PilotPath::status() const {
             }
             break;
     }
+    // A brake pending behind a side's steering or limit: both, the side's first (it acts now).
+    if (!o.pending.empty() && o.action != AssistAction::Confirming) {
+        s.confirming = true;
+        line += "; " + o.pending;
+    }
     s.line = (dry_ ? "DRY RUN (replay, nothing sent): " : "") + line;
     return s;
 }

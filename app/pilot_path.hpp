@@ -41,7 +41,8 @@ struct AssistStatus {
     bool dry_run = false;     // a replay: shown, nothing sent
     bool acting = false;      // braking, holding or limiting a side now
     bool unknown = false;     // the pilot flies forward into an unknown or stale centre
-    bool confirming = false;  // a centre alarm being confirmed: not acting yet, about to
+    bool confirming = false;  // a centre alarm being confirmed: not acting yet, about to (also
+                              // while a side is steered away from: `line` then says both)
     std::string action;       // "BRAKING", "HOLDING", "LEFT BLOCKED", "WATCHING", "OFF" ...
     std::string line;         // "BRAKING: obstacle ahead, contact in 1.8 s", "ASSIST OFF" ...
     std::uint64_t interventions = 0;

@@ -823,6 +823,49 @@ TEST(Assist, ASideAlarmStandingInForTheCentreIsNamedInEveryPhase) {
     EXPECT_EQ(o.region, vision::Region::Right);
 }
 
+TEST(Assist, ABrakePendingBehindASidesSteeringIsStillSaid) {
+    // At 1.5 m/s the centre unsafe at 3 s to contact (a brake to confirm) and the left unsafe at
+    // 2 s with the right clear (steered away from): the side's steering takes the action and
+    // its line, acting now; the pending brake is still said, until it is confirmed (then the
+    // brake's own line) or dropped (the centre clear: nothing pending).
+    Assist a;
+    AssistInput in = flying_forward(1.5, unsafe(3.0));
+    in.regions[0] = unsafe(2.0);
+    AssistOutput o = a.step(in);
+    EXPECT_EQ(o.action, AssistAction::SteerRight) << o.reason;
+    EXPECT_EQ(o.reason, "STEERING right: obstacle left, contact in 2.0 s");
+    EXPECT_EQ(o.pending, "CONFIRMING: centre alarm, contact in 3.0 s, braking if it holds");
+    // The centre alone: the same pending line is the action's.
+    Assist b;
+    o = b.step(flying_forward(1.5, unsafe(3.0)));
+    EXPECT_EQ(o.action, AssistAction::Confirming);
+    EXPECT_EQ(o.pending, o.reason);
+    // Confirmed: braking, nothing pending.
+    double t = 0;
+    while (o.action != AssistAction::Braking && t < 1.0) {
+        in.t_s = t += 0.03;
+        o = a.step(in);
+        if (o.action != AssistAction::Braking) {
+            EXPECT_FALSE(o.pending.empty()) << o.reason;
+        }
+    }
+    ASSERT_EQ(o.action, AssistAction::Braking) << o.reason;
+    EXPECT_TRUE(o.pending.empty()) << o.pending;
+    // Dropped: the centre reads clear long enough while the left stays unsafe.
+    Assist c;
+    in = flying_forward(1.5, unsafe(3.0));
+    in.regions[0] = unsafe(2.0);
+    o = c.step(in);
+    ASSERT_FALSE(o.pending.empty());
+    in.regions[1] = clear();
+    for (t = 0; t < 1.0 && !o.pending.empty();) {
+        in.t_s = t += 0.03;
+        o = c.step(in);
+    }
+    EXPECT_TRUE(o.pending.empty()) << o.pending;
+    EXPECT_EQ(o.action, AssistAction::SteerRight) << o.reason;
+}
+
 TEST(Assist, AStopTheCapPlacedIsNotProbedBlind) {
     // Seed 11's ahead-pillar-1.0 in closed loop: braked at 1.0 m/s for a reading of 2.2 s on a
     // frame 0.13 s old (placed 1.55 m ahead; the pillar truly stood 1.04 m ahead, its rates

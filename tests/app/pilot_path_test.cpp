@@ -124,6 +124,41 @@ TEST(PilotPath, SideUnsafeZeroesOnlyTheRollTowardIt) {
     EXPECT_FLOAT_EQ(pp_move(c).roll, 0.4f) << "away from the unsafe side passes";
 }
 
+TEST(PilotPath, ABrakePendingWhileSteeringAwayFromASideIsShownWithIt) {
+    // Flying forward at 1.5 m/s, the centre and the left unsafe, the right clear: the assist
+    // steers right now and confirms the centre's alarm. The status says both, the steering
+    // first, and flags the confirmation (the HUD's amber, the status bar's banner).
+    // The flow classifier's decision: its scores are rates (1/s), so the centre's alarm places
+    // the obstacle (3 s to contact) and leaves time to confirm it.
+    PipelineOutput d =
+        pp_decision(RegionState::Unsafe, 0, 0, RegionState::Unsafe, RegionState::Clear);
+    d.classifier = "flow";
+    d.result.regions[0].score = 0.5;
+    d.result.regions[1].score = 1.0 / 3.0;
+    d.result.regions[2].score = 0.1;
+    PilotPath p;
+    p.on_navdata(pp_flying_at(1.5));
+    p.on_output(d);
+    auto c = p.step(link::Move{0, -0.5f, 0, 0}, 10 * kPpMs);
+    ASSERT_TRUE(pp_is_move(c));
+    EXPECT_GT(pp_move(c).roll, 0.0f) << "steered right, away from the left";
+    const AssistStatus s = p.status();
+    EXPECT_EQ(s.action, "STEERING RIGHT");
+    EXPECT_TRUE(s.acting);
+    EXPECT_TRUE(s.confirming);
+    EXPECT_EQ(s.line.rfind("STEERING right: obstacle left", 0), 0u) << s.line;
+    EXPECT_NE(s.line.find("; CONFIRMING: centre alarm"), std::string::npos) << s.line;
+    EXPECT_NE(s.line.find("braking if it holds"), std::string::npos) << s.line;
+    // The left alone: steering, nothing pending.
+    PilotPath q;
+    q.on_navdata(pp_flying_at(1.5));
+    q.on_output(pp_decision(RegionState::Clear, 0, 0, RegionState::Unsafe, RegionState::Clear));
+    (void)q.step(link::Move{0, -0.5f, 0, 0}, 10 * kPpMs);
+    EXPECT_EQ(q.status().action, "STEERING RIGHT");
+    EXPECT_FALSE(q.status().confirming);
+    EXPECT_EQ(q.status().line.find("CONFIRMING"), std::string::npos) << q.status().line;
+}
+
 TEST(PilotPath, UnknownCentreNeverBrakesAndSaysSo) {
     PilotPath p;
     p.on_navdata(pp_flying_at(1.0));
