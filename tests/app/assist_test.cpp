@@ -28,6 +28,10 @@ RegionEvidence unsafe(double ttc = kUnknown) {
 RegionEvidence clear() {
     return {RegionState::Clear, 0.05, kUnknown};
 }
+// No evidence (too few points, too slow to judge), decided `age_s` ago (NaN: age not known).
+RegionEvidence unknown(double age_s = 0.05) {
+    return {RegionState::Unknown, age_s, kUnknown};
+}
 
 AssistInput flying_forward(double vx, RegionEvidence centre) {
     AssistInput in;
@@ -85,7 +89,7 @@ TEST(Assist, CentreUnsafeWhileMovingForwardBrakesThenHoldsUntilClear) {
     // The centre turns unknown once the drone is stopped: still held (unknown is not clear).
     in.t_s = 1.0;
     in.vx_mps = 0.1;
-    in.regions[1] = {RegionState::Unknown, kUnknown, kUnknown};
+    in.regions[1] = unknown(kUnknown);
     o = a.step(in);
     EXPECT_EQ(o.action, AssistAction::Holding);
     EXPECT_FLOAT_EQ(o.command.pitch, static_cast<float>(a.params().hold_gain * 0.1));
@@ -161,7 +165,7 @@ TEST(Assist, HeldAndStillMovingTowardTheObstacleItBrakesAgain) {
     ASSERT_EQ(a.step(in).action, AssistAction::Braking);
     in.t_s = 0.5;
     in.vx_mps = 0.2;
-    in.regions[1] = {RegionState::Unknown, kUnknown, kUnknown};
+    in.regions[1] = unknown(kUnknown);
     ASSERT_EQ(a.step(in).action, AssistAction::Holding);
     // A gust (or the hover's slow decay) carries it forward faster than rebrake_mps.
     in.t_s = 0.8;
@@ -182,7 +186,7 @@ TEST(Assist, AfterABrakeTheDroneIsHeldNoFartherThanTheGapFromWhereItStopped) {
     ASSERT_EQ(a.step(in).action, AssistAction::Braking);
     in.t_s = 0.5;
     in.vx_mps = 0.1;
-    in.regions[1] = {RegionState::Unknown, kUnknown, kUnknown};
+    in.regions[1] = unknown(kUnknown);
     AssistOutput o = a.step(in);
     EXPECT_EQ(o.action, AssistAction::Holding) << o.reason;
     EXPECT_NEAR(o.obstacle_m, a.params().hold_gap_m, 1e-9);
@@ -206,7 +210,7 @@ TEST(Assist, AnApproachingDroneIsStoppedWithItsStoppingDistanceBeforeTheGap) {
     const AssistParams& p = a.params();
     AssistInput in = flying_forward(0.0, unsafe());
     ASSERT_EQ(a.step(in).action, AssistAction::Holding);
-    in.regions[1] = {RegionState::Unknown, kUnknown, kUnknown};
+    in.regions[1] = unknown(kUnknown);
     in.t_s = 0.1;
     ASSERT_EQ(a.step(in).action, AssistAction::Approaching);
     // Approaching at 0.8 m/s: it must brake while the stopping distance still fits in front of
@@ -254,7 +258,7 @@ TEST(Assist, TurningAwayReleasesTheHold) {
     in.yaw_deg = 40;  // turning, the centre still unsafe: held (and the heading followed)
     in.t_s = 1;
     EXPECT_EQ(a.step(in).action, AssistAction::Holding);
-    in.regions[1] = {RegionState::Unknown, kUnknown, kUnknown};
+    in.regions[1] = unknown(kUnknown);
     in.yaw_deg = 70;  // 30 degrees further: not yet
     in.t_s = 2;
     EXPECT_EQ(a.step(in).action, AssistAction::Holding);
@@ -419,7 +423,7 @@ TEST(Assist, TheSideNudgeNeverPushesTowardASideWithoutEvidenceNorFartherThanItsS
     Assist a;
     AssistInput in = flying_forward(1.0, clear());
     in.regions[2] = unsafe(1.5);
-    in.regions[0] = {RegionState::Unknown, 0.05, kUnknown};
+    in.regions[0] = unknown();
     in.pilot.roll = 0.3f;  // the pilot rolls toward the obstacle: that is zeroed, as always
     AssistOutput o = a.step(in);
     EXPECT_FLOAT_EQ(o.command.roll, 0.0f);  // nothing known to the left: not pushed there
@@ -465,7 +469,7 @@ TEST(Assist, TheSideNudgeNeverPushesTowardASideWithoutEvidenceNorFartherThanItsS
 
 TEST(Assist, UnknownAndStaleEvidenceNeverBrakesAndSaysSo) {
     Assist a;
-    AssistOutput o = a.step(flying_forward(1.5, {RegionState::Unknown, kUnknown, kUnknown}));
+    AssistOutput o = a.step(flying_forward(1.5, unknown(kUnknown)));
     EXPECT_EQ(o.action, AssistAction::Watching);
     EXPECT_EQ(o.command, forward());
     EXPECT_EQ(o.reason, "centre unknown: no evidence, not braking");
@@ -479,7 +483,7 @@ TEST(Assist, UnknownAndStaleEvidenceNeverBrakesAndSaysSo) {
     EXPECT_TRUE(o.unknown_ahead);
     EXPECT_EQ(o.centre, RegionState::Stale);
     // Not flying forward: nothing to say about what is ahead.
-    AssistInput still = flying_forward(0.0, {RegionState::Unknown, kUnknown, kUnknown});
+    AssistInput still = flying_forward(0.0, unknown(kUnknown));
     still.pilot = FlightCommand{};
     EXPECT_FALSE(a.step(still).unknown_ahead);
 }
@@ -593,7 +597,7 @@ PilotRun fly_with_pilot_forward(Assist& a, double seconds, double obstacle_x, Cl
 // 25 % long (a fit over past frames).
 RegionEvidence flow_like(double vx, double true_ttc_s) {
     if (vx < 0.2) return clear();
-    if (vx < 0.3) return {RegionState::Unknown, 0.05, kUnknown};
+    if (vx < 0.3) return unknown();
     return true_ttc_s < 3.3 ? unsafe(1.25 * true_ttc_s) : clear();
 }
 
@@ -647,8 +651,7 @@ TEST(Assist, ABlindProbeKeepsTheWiderGapUntilTheCentreIsSeenClear) {
         }
         ASSERT_EQ(o.action, AssistAction::Probing) << o.reason;
         ASSERT_NEAR(o.obstacle_m, 1.5, 0.01);
-        const ProbeEnd e = probe_at_035(
-            a, in, t, o, seen ? clear() : RegionEvidence{RegionState::Unknown, 0.05, kUnknown});
+        const ProbeEnd e = probe_at_035(a, in, t, o, seen ? clear() : unknown());
         const double last_probing_remaining = e.last_remaining_m, stop = e.stop_m;
         if (seen) {
             EXPECT_EQ(o.action, AssistAction::Watching) << o.reason;  // forgotten
@@ -689,8 +692,7 @@ TEST(Assist, AClearFlickerRightAfterTheAlarmDoesNotGiveTheProbeTheNearerGap) {
         for (const double v : {0.55, 0.5, 0.45, 0.4, 0.3, 0.2, 0.1, 0.0}) {
             in.t_s = t += 0.03;
             in.vx_mps = v;
-            in.regions[1] =
-                v >= 0.4 ? clear() : RegionEvidence{RegionState::Unknown, 0.05, kUnknown};
+            in.regions[1] = v >= 0.4 ? clear() : unknown();
             a.step(in);
         }
         in.regions[1] = clear();
@@ -701,8 +703,7 @@ TEST(Assist, AClearFlickerRightAfterTheAlarmDoesNotGiveTheProbeTheNearerGap) {
         }
         ASSERT_EQ(o.action, AssistAction::Probing) << o.reason;
         // A blind probe at 0.35 m/s: the centre unknown all the way.
-        const ProbeEnd e =
-            probe_at_035(a, in, t, o, RegionEvidence{RegionState::Unknown, 0.05, kUnknown});
+        const ProbeEnd e = probe_at_035(a, in, t, o, unknown());
         const double last_remaining = e.last_remaining_m, stop = e.stop_m;
         if (seen_s < 0.12)
             EXPECT_LT(last_remaining, p.probe_blind_gap_m + stop - 0.1) << "the rule before";
@@ -716,14 +717,13 @@ TEST(Assist, ASideAlarmBesideAnUnknownCentreIsTakenAsTheCentres) {
     // tracked points), its left edge unsafe at 1.9-2.5 s to contact, at 0.6 m/s. Taken as the
     // centre's alarm: braked for and held, saying what it was. With the centre
     // read clear (a free way seen) or the rule off, the side rules alone: never a brake.
-    const RegionEvidence unknown{RegionState::Unknown, 0.05, kUnknown};
     struct Case {
         RegionEvidence centre;
         bool rule;
         bool brakes;
     };
     for (const Case c :
-         {Case{unknown, true, true}, Case{clear(), true, false}, Case{unknown, false, false}}) {
+         {Case{unknown(), true, true}, Case{clear(), true, false}, Case{unknown(), false, false}}) {
         SCOPED_TRACE(testing::Message() << to_string(c.centre.state) << (c.rule ? "" : ", off"));
         AssistParams p;
         p.side_blocks_unknown_centre = c.rule;
@@ -784,9 +784,8 @@ TEST(Assist, ASideAlarmStandingInForTheCentreIsNamedInEveryPhase) {
     // side and says nothing was seen ahead, and is recorded as the right's; a change of phase
     // is a change (logged), the same phase again is not.
     Assist a;
-    const RegionEvidence unknown{RegionState::Unknown, 0.05, kUnknown};
-    AssistInput in = flying_forward(1.5, unknown);
-    in.regions[0] = unknown;
+    AssistInput in = flying_forward(1.5, unknown());
+    in.regions[0] = unknown();
     in.regions[2] = unsafe(3.0);
     AssistOutput o = a.step(in);
     EXPECT_EQ(o.action, AssistAction::Confirming) << o.reason;
@@ -887,15 +886,14 @@ TEST(Assist, AStopTheCapPlacedIsNotProbedBlind) {
         for (const double v : {0.9, 0.75, 0.6, 0.45, 0.3, 0.2, 0.1, 0.0}) {
             in.t_s = t += 0.06;
             in.vx_mps = v;
-            in.regions[1] = RegionEvidence{RegionState::Unknown, 0.13, kUnknown};
+            in.regions[1] = unknown(0.13);
             a.step(in);
         }
         bool probed = false, forward_sent = false;
         AssistOutput o;
         for (const double t0 = t; t < t0 + 6.0; t += 0.03) {
             in.t_s = t;
-            in.regions[1] =
-                t < t0 + 3.0 ? clear() : RegionEvidence{RegionState::Unknown, 0.1, kUnknown};
+            in.regions[1] = t < t0 + 3.0 ? clear() : unknown(0.1);
             o = a.step(in);
             probed = probed || o.action == AssistAction::Probing;
             forward_sent = forward_sent || (o.command.progressive && o.command.pitch < 0);
@@ -1100,7 +1098,7 @@ TEST(Assist, ACentreAlarmWithNoTimeToSpareOrNoDistanceBrakesAtOnceAndItsDeadline
     Assist a;
     AssistInput in = flying_forward(1.0, unsafe(3.0));
     ASSERT_EQ(a.step(in).action, AssistAction::Confirming);
-    in.regions[1] = {RegionState::Unknown, kUnknown, kUnknown};
+    in.regions[1] = unknown(kUnknown);
     double braked_at = -1;
     AssistOutput o;
     for (int i = 1; i < 40 && braked_at < 0; ++i) {
@@ -1187,8 +1185,7 @@ TEST(Assist, AnObstacleRememberedNearerThanItStandsIsForgottenOnlyOnceSeenClearW
                 while (k > 0 && speeds[k].first > t - 0.3) --k;
                 const double v_fit = speeds[k].second;  // the speed the fit saw
                 const double ahead = target - x;
-                if (vx >= 0.3 && ahead < 2.0)
-                    return RegionEvidence{RegionState::Unknown, 0.05, kUnknown};
+                if (vx >= 0.3 && ahead < 2.0) return unknown();
                 return flow_like(vx, v_fit > 0.05 ? ahead / v_fit : 1e9);
             });
         EXPECT_GE(r.brakes, 1);
