@@ -6,6 +6,7 @@
 #include <opencv2/calib3d.hpp>
 
 #include <algorithm>
+#include <limits>
 
 namespace gs::vision {
 
@@ -159,6 +160,13 @@ const ParamTable<FlowParams>& FlowParams::table() {
                  "homography rate: median of the last n accepted rates")
             .add("centre_max_age_s", &P::centre_max_age_s, 0.05, 10,
                  "forget accepted centre rates older than this")
+            .add("lag_allowance_s", &P::lag_allowance_s, -0.2, 0.2,
+                 "navdata lag allowed for in the floor test while the pitch rate changes: a "
+                 "static point is placed as far as its radial flow less what such a lag adds to "
+                 "it allows (s; negative: navdata early; 0: off)")
+            .add("lag_min_pitch_accel", &P::lag_min_pitch_accel, 0, 100,
+                 "the lag is allowed for only while the pitch rate changes faster than this "
+                 "(rad/s^2): slower is the rate's noise")
             .add("confirm_frames", &P::confirm_frames, 1, 30,
                  "a decision must hold this many frames")
             .add("loom_confirm_young", &P::loom_confirm_young, 0, 1,
@@ -184,6 +192,7 @@ FlowClassifier::FlowClassifier(const CameraCalibration& calib, const FlowParams&
     s_hazards_ = add_series("corridor.points");
     s_residual_yaw_ = add_series("derotation.residual_yaw_deg");
     s_residual_pitch_ = add_series("derotation.residual_pitch_deg");
+    s_lag_allowance_ = add_series("derotation.lag_allowance_px_s");
     // What the images alone say of the navdata rotation's error this frame (before the filter).
     s_image_yaw_ = add_series("derotation.image_yaw_deg");
     s_image_pitch_ = add_series("derotation.image_pitch_deg");
@@ -213,6 +222,62 @@ void FlowClassifier::on_reset() {
     streak_ = {};
     rejections_ = 0;
     derot_ = cv::Matx33d::eye();
+    pitch_rates_.clear();
+    pitch_slopes_.clear();
+    rate_prev_t_ = kUnknown;
+}
+
+void FlowClassifier::note_nav_rate(const FrameInput& in) {
+    const auto win = static_cast<std::size_t>(std::max(2, p_.velocity_window));
+    const double t = static_cast<double>(in.t_ns) * 1e-9;
+    // The pitch rate over the last frame (the images' correction included: its error is the
+    // navdata's); no navdata attitude, no navdata lag.
+    const bool nav = in.attitude.complete();
+    const double dt = t - rate_prev_t_;  // NaN: no frame with navdata before
+    rate_prev_t_ = nav ? t : kUnknown;
+    if (!nav) {
+        pitch_rates_.clear();
+    } else if (dt > 0) {
+        if (pitch_rates_.size() >= win) pitch_rates_.erase(pitch_rates_.begin());
+        pitch_rates_.push_back({t, tracker_.rotation_rad()[0] / dt});
+    }
+    pitch_slopes_.assign(win + 1, 0.0);
+    const std::size_t m = pitch_rates_.size();
+    for (std::size_t n = 2; n <= m; ++n) {
+        double st = 0;
+        for (std::size_t k = m - n; k < m; ++k) st += pitch_rates_[k][0];
+        st /= static_cast<double>(n);
+        double stt = 0, stw = 0;
+        for (std::size_t k = m - n; k < m; ++k) {
+            const double d = pitch_rates_[k][0] - st;
+            stt += d * d;
+            stw += d * pitch_rates_[k][1];
+        }
+        if (stt > 0) pitch_slopes_[n] = stw / stt;
+    }
+    // A track longer than the navdata's run: the slope over that run.
+    for (std::size_t n = m + 1; m >= 2 && n <= win; ++n) pitch_slopes_[n] = pitch_slopes_[m];
+}
+
+double FlowClassifier::lag_pitch_accel(std::size_t n) const {
+    if (p_.lag_allowance_s == 0 || n >= pitch_slopes_.size()) return 0;
+    // Only in a manoeuvre: a slope under lag_min_pitch_accel is the rate's noise (or a cruise's
+    // wobble), and allowing for it would take a real obstacle's points off the path.
+    const double slope = pitch_slopes_[n];
+    return std::abs(slope) > p_.lag_min_pitch_accel ? slope : 0.0;
+}
+
+double FlowClassifier::lag_flow_px_s(const WindowFit& w, double ay) const {
+    // A navdata L late derotates with the pitch rate of L before: the fit's vertical flow is off
+    // by -fy L (the rate's slope) (image y down; a positive rate about the camera's x axis is
+    // the nose going down, which moves the scene up). The allowance is what that adds to the
+    // flow of a point below the principal point (ay > 0), the floor's: a point it takes flow
+    // from is nearer than it reads, and nothing is placed nearer. Not above it, nor for yaw or
+    // roll: allowing for those took real obstacles' points
+    // off the path in the closed loop (the upper half of a pillar ahead while the drone pitches
+    // up to brake; a side pillar's while the held heading wobbles).
+    if (!(ay > 0)) return 0;
+    return std::max(0.0, -p_.lag_allowance_s * calib_.fy * lag_pitch_accel(w.n) * ay);
 }
 
 void FlowClassifier::confirm(Region r, bool raw) {
@@ -437,6 +502,14 @@ void FlowClassifier::all_unknown(UnknownReason why) {
 }
 
 void FlowClassifier::classify(const FrameInput& in) {
+    note_nav_rate(in);
+    // The allowance over a whole fit window for a point straight below the principal point (the
+    // floor ahead): positive when the lag adds to its flow, negative when it takes from it (and
+    // none is made).
+    const double accel = lag_pitch_accel(static_cast<std::size_t>(std::max(2, p_.velocity_window)));
+    plot(s_lag_allowance_, !in.attitude.complete() ? kUnknown
+                           : accel == 0            ? 0.0
+                                                   : -p_.lag_allowance_s * calib_.fy * accel);
     // The whole rotation (navdata's and the images' correction), for the centre homography.
     derot_ = small_rotation_homography(calib_, tracker_.rotation_rad());
     plot(s_residual_yaw_, -tracker_.image_correction_deg()[1]);
@@ -570,6 +643,7 @@ const std::vector<FlowClassifier::WindowFit>& FlowClassifier::window_fits() {
         lag /= static_cast<double>(n);
         WindowFit& w = fits_[i];
         w.ok = true;
+        w.n = n;
         w.t0 = t0;
         w.lag = lag;
         w.vx = fx.slope;
@@ -676,6 +750,10 @@ void FlowClassifier::rate_points(const cv::Matx33d& level, double floor_down) {
             tangential = 0;  // not measured
         }
         const double rate_then = radial / dn;
+        // What the navdata's lag could have made of the radial flow (lag_allowance_s).
+        double lag_px_s = 0;
+        if (p_.lag_allowance_s != 0 && radial > 0)
+            lag_px_s = lag_flow_px_s(w, ap.edge ? ap.ny / ap.cos : dy / dn);
         {
             // Where it was, for check_history: along the direction its flow is measured in (the
             // edge's normal on an edge), its translation-only path taken back from then.
@@ -688,6 +766,11 @@ void FlowClassifier::rate_points(const cv::Matx33d& level, double floor_down) {
             past_[i] = {t0 - lag, rate_then, dx * ux + dy * uy, ux, uy, w.dx, w.dy};
         }
         const double rate = rate_now(rate_then, lag);
+        // Below the path only as far along its ray as the navdata's lag could have moved it
+        // (lag_allowance_s): the depth from the radial flow without what the lag could have
+        // added to it (all of it the lag's: at any depth, not placed on the path).
+        const double vscale = radial > lag_px_s ? radial / (radial - lag_px_s)
+                                                : std::numeric_limits<double>::infinity();
         // With track.fb_max_px set, flying forward, a point LK could not track back to where it
         // came from in a frame of the fit window is not rated as a static point: its flow may be
         // a slip along a repeating pattern (a tiled floor) or an occluding edge dragging it (a
@@ -711,7 +794,7 @@ void FlowClassifier::rate_points(const cv::Matx33d& level, double floor_down) {
             continue;
         }
         if (!(rate > 0)) continue;  // receding or still: never an obstacle
-        if (outside_corridor(mx, my, rate_then, level, floor_down)) {
+        if (outside_corridor(mx, my, rate_then, level, floor_down, vscale)) {
             class_[i] = PointClass::Outside;
             continue;
         }
@@ -721,7 +804,8 @@ void FlowClassifier::rate_points(const cv::Matx33d& level, double floor_down) {
 }
 
 bool FlowClassifier::outside_corridor(double mx, double my, double rate_then,
-                                      const cv::Matx33d& level, double floor_down) const {
+                                      const cv::Matx33d& level, double floor_down,
+                                      double vertical_scale) const {
     if (!metric_) return false;
     // Depth along the optical axis from the time to contact and the forward speed, then the
     // point in the level frame: beside the corridor, floor, or overhead?
@@ -737,11 +821,12 @@ bool FlowClassifier::outside_corridor(double mx, double my, double rate_then,
         const double s = dn > 0 ? std::max(0.0, dn - p_.corridor_foe_k * foe_sigma_px_) / dn : 1.0;
         across = s * s;
     }
-    return outside_corridor(pc, level, floor_down, across);
+    return outside_corridor(pc, level, floor_down, across, vertical_scale);
 }
 
 bool FlowClassifier::outside_corridor(const cv::Vec3d& pc, const cv::Matx33d& level,
-                                      double floor_down, double across) const {
+                                      double floor_down, double across,
+                                      double vertical_scale) const {
     const cv::Vec3d pl = level * pc;
     // Across the path: measured from the flight line (the direction of travel).
     const cv::Vec3d dir_l = level * cam_velocity_;
@@ -749,8 +834,11 @@ bool FlowClassifier::outside_corridor(const cv::Vec3d& pc, const cv::Matx33d& le
     const double along = dnorm > 0 ? pl.dot(dir_l) / dnorm : 0.0;
     const cv::Vec3d off = dnorm > 0 ? pl - along * dir_l * (1.0 / dnorm) : pl;
     const bool beside = std::abs(off[1]) * across > p_.corridor_half_width_m;
-    const bool floor = !std::isnan(floor_down) && pl[2] > floor_down;
-    const bool overhead = pl[2] < -p_.corridor_up_m;
+    // Below or above the path: the point as far along its ray as its depth may be
+    // (vertical_scale >= 1, lag_allowance_s: only for points below the principal point).
+    const double down = pl[2] * vertical_scale;
+    const bool floor = !std::isnan(floor_down) && down > floor_down;
+    const bool overhead = down < -p_.corridor_up_m;
     return beside || floor || overhead;
 }
 

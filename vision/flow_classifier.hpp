@@ -227,9 +227,24 @@ struct FlowParams : TrackerParams {
     int max_rejections = 2;
     int centre_window = 7;          // homography rate = median of the last n accepted rates
     double centre_max_age_s = 1.0;  // accepted rates older than this are forgotten
-    int confirm_frames = 2;         // raw decision must hold this many frames
-    int side_confirm_frames = 4;    // ... a side region's in flight (0: confirm_frames; confirm())
-    double colour_max = 1.0;        // overlay: red at this rate (1/s)
+    // The navdata's lag behind the frames is not known (the realism layer's 30 +- 10 ms, a real
+    // link's own): a lag L misplaces each derotated point by f L w, w the rotation rate, and
+    // while the rate changes the fitted flow is off by f L dw/dt, the same shift for every
+    // point. Pitching into forward flight (about 11 degrees nose-down in a third of a second)
+    // that reads as a third more looming on the floor ahead, which then seems nearer and higher
+    // than it is and passes the floor test. So while the pitch rate changes faster than
+    // lag_min_pitch_accel (cruise: under 0.25 rad/s^2 at the 99th percentile on the suites, its
+    // noise; the pitch into forward flight: 1-7), the floor test places each static point below
+    // the principal point as far as its radial flow less what this lag adds to it allows (none
+    // where the lag takes flow away: the error has the sign of the rate's change). The floor
+    // only, pitch only, in manoeuvres only, only what the lag adds: each wider allowance (above
+    // too, for yaw, in cruise's noise, of either sign) took real obstacles' points off the path
+    // in the closed loop (README, Realism suite, session 30).
+    double lag_allowance_s = 0.05;     // s; negative: the navdata early; 0: off
+    double lag_min_pitch_accel = 0.5;  // rad/s^2
+    int confirm_frames = 2;            // raw decision must hold this many frames
+    int side_confirm_frames = 4;  // ... a side region's in flight (0: confirm_frames; confirm())
+    double colour_max = 1.0;      // overlay: red at this rate (1/s)
 
     static const ParamTable<FlowParams>& table();
 };
@@ -307,11 +322,11 @@ private:
     // A point rated 1/TTC (then, at the fit window's mean time) at undistorted (mx, my): placed
     // beside the corridor, on the floor or overhead (metric_ only).
     bool outside_corridor(double mx, double my, double rate_then, const cv::Matx33d& level,
-                          double floor_down) const;
+                          double floor_down, double vertical_scale = 1) const;
     // The same for a point pc (m, camera frame): beside the flight line, floor or overhead.
     // `across` scales its offset from the flight line before the test.
     bool outside_corridor(const cv::Vec3d& pc, const cv::Matx33d& level, double floor_down,
-                          double across = 1) const;
+                          double across = 1, double vertical_scale = 1) const;
     void check_static_looming();
     void check_history();
     double odometer_at(double t_s) const;  // distance flown forward by then (m), NaN unknown
@@ -360,8 +375,23 @@ private:
     // frame, where it was then (m: undistorted; d: derotated), and the newest frame's time.
     struct WindowFit {
         bool ok = false;
+        std::size_t n = 0;  // frames fitted
         double t0 = 0, lag = 0, vx = 0, vy = 0, mx = 0, my = 0, dx = 0, dy = 0;
     };
+    // The navdata pitch rate of the last velocity_window frames (time s, rad/s about the
+    // camera's x axis), and per fit length n its least-squares slope over the last n (rad/s^2):
+    // a navdata late by L derotates a point wrong by fy L w, so a fit over n frames has its
+    // vertical velocity off by fy L times that slope (lag_allowance_s).
+    std::vector<cv::Vec2d> pitch_rates_;
+    std::vector<double> pitch_slopes_;
+    double rate_prev_t_ = kUnknown;  // the last frame with navdata (s)
+    void note_nav_rate(const FrameInput& in);
+    // The most a navdata lag of lag_allowance_s moves the fit of `w` along a direction whose
+    // vertical component is `ay` (px/s).
+    double lag_flow_px_s(const WindowFit& w, double ay) const;
+    // The pitch rate's slope over the last n frames as the allowance takes it (rad/s^2, signed;
+    // 0 under lag_min_pitch_accel, or with the allowance off).
+    double lag_pitch_accel(std::size_t n) const;
     std::vector<WindowFit> fits_;
     bool fits_current_ = false;  // fits_ is this frame's
     // fits_ for this frame's tracks, computed on first use in a frame (a still frame, or one
@@ -392,7 +422,7 @@ private:
     int rejections_ = 0;
     std::size_t s_centre_points_, s_centre_hom_, s_scale_raw_, s_rate_raw_, s_rejected_, s_hazards_;
     std::size_t s_residual_yaw_, s_residual_pitch_, s_foe_sigma_, s_prior_rejected_, s_moving_;
-    std::size_t s_image_yaw_, s_image_pitch_;
+    std::size_t s_image_yaw_, s_image_pitch_, s_lag_allowance_;
     std::size_t s_foe_img_x_, s_foe_nav_x_, s_foe_x_, s_foe_img_y_, s_foe_nav_y_, s_foe_y_;
     std::vector<std::size_t> moving_idx_;
     std::vector<std::size_t> near_idx_;       // this frame's static points too near the FOE

@@ -627,17 +627,18 @@ TEST_F(EvalCli, ShardsMergeIntoTheSingleRunsReportWhateverTheJobs) {
 namespace gs::test {
 namespace {
 
-// One flight of the realism suite (seed 2026) rendered into `dir`/suite by the test, and its
-// replays into `dir`/TAG with extra options.
+// One flight of the realism suite (seed 2026 unless given) rendered into `dir`/suite by the
+// test, and its replays into `dir`/TAG with extra options.
 struct RealismFlight {
     fs::path dir, flight;
     CmdResult generated;
     RealismFlight(const std::string& scratch_name, const std::string& name,
-                  const std::string& extra = "")
+                  const std::string& extra = "", int seed = 2026)
         : dir(scratch(scratch_name)),
           flight(dir / "suite" / name),
-          generated(run_cli("generate --suite --only " + name + " --seed 2026 --realism -q -j 1 " +
-                            extra + " --out " + (dir / "suite").string())) {}
+          generated(run_cli("generate --suite --only " + name + " --seed " + std::to_string(seed) +
+                            " --realism -q -j 1 " + extra + " --out " + (dir / "suite").string())) {
+    }
     dataset::csv::Table replay(const std::string& tag, const std::string& set) const {
         const CmdResult r =
             run_cli("replay " + flight.string() + " -q " + set + " --out " + (dir / tag).string());
@@ -740,8 +741,10 @@ TEST(ReplayCli, ATakeOffUnderLateNavdataReadsNoLooming) {
             }
         return o;
     };
-    const TakeOff off = take_off("lag_off", "--set ego.latency_sigma_s=0");
-    const TakeOff on = take_off("default", "");
+    // Measured with the floor tests' own lag allowance off (the next test): it also quiets
+    // this take-off, and this one is about the rotation.
+    const TakeOff off = take_off("lag_off", "--set ego.latency_sigma_s=0 --set lag_allowance_s=0");
+    const TakeOff on = take_off("default", "--set lag_allowance_s=0");
     std::printf(
         "take-off peak rates (left, centre, right): %.2f %.2f %.2f without, %.2f %.2f %.2f "
         "with the lag allowed for; region-frames flagged %d -> %d\n",
@@ -755,6 +758,40 @@ TEST(ReplayCli, ATakeOffUnderLateNavdataReadsNoLooming) {
               0.9 * (off.peak[0] + off.peak[1] + off.peak[2]));
     for (std::size_t r = 0; r < 3; ++r)
         EXPECT_GE(on.judged[r], 25) << r << ": quiet because judged, not unknown";
+}
+
+TEST(ReplayCli, TheFloorAheadOfATakeOffUnderLateNavdataStaysTheFloor) {
+    // Realism seed 7's open_path1_06 as the suite renders it (1 Mbit/s): nothing in the path;
+    // the drone pitches 11 degrees nose-down in its first 0.35 s, its navdata 30 +- 10 ms late.
+    // Even with that lag measured and allowed for in the rotation (the test above), the late
+    // attitude leaves the fit over the window a vertical flow of about f L dw/dt, 20-30 px/s,
+    // which the floor's points at the bottom of the image read as a third more looming: the
+    // floor 2 m ahead then seems nearer and higher than it is, no longer below the floor test's
+    // line, and its points, genuinely at 2.5-3 s to contact, flagged the centre for 7 frames
+    // from frame 15. While the pitch rate changes that fast, the floor test now places each
+    // point as far as its flow less what the lag adds to it allows (lag_allowance_s): the
+    // floor stays the floor.
+    const RealismFlight f("floor_lag", "open_path1_06", "--bitrate 1000", 7);
+    ASSERT_EQ(f.generated.exit_code, 0) << f.generated.out;
+    const auto first_frames = [&](const std::string& tag, const std::string& set) {
+        const dataset::csv::Table t = f.replay(tag, set);
+        std::array<int, 3> flagged{0, 0, 0};
+        int judged = 0;
+        for (std::size_t i = 0; i < std::min<std::size_t>(60, t.rows()); ++i) {
+            for (std::size_t r = 0; r < 3; ++r) flagged[r] += t.field(i, 2 + r) == "1" ? 1 : 0;
+            judged += t.field(i, 6).empty() ? 0 : 1;  // the centre's score: measured
+        }
+        return std::pair{flagged, judged};
+    };
+    const auto [off, judged_off] = first_frames("allowance_off", "--set lag_allowance_s=0");
+    const auto [on, judged_on] = first_frames("default", "");
+    std::printf(
+        "first 60 frames, region-frames flagged (left, centre, right): %d %d %d without the "
+        "allowance, %d %d %d with it; centre judged on %d / %d\n",
+        off[0], off[1], off[2], on[0], on[1], on[2], judged_off, judged_on);
+    EXPECT_GE(off[1], 3) << "the flight no longer shows the take-off alarm";
+    for (std::size_t r = 0; r < 3; ++r) EXPECT_EQ(on[r], 0) << r;
+    EXPECT_GE(judged_on, 45) << "quiet because judged, not unknown";
 }
 
 TEST(ReplayCli, TakeOffWhenMostPointsMoveAgainstTheCameraIsUnknownNotAnAlarm) {

@@ -533,3 +533,84 @@ TEST(SyntheticFlight, ABiasedVelocityDoesNotPushAWallAtTheCorridorsEdgeOutOfIt) 
     for (const double bias : {-0.08, 0.08})
         EXPECT_EQ(right_flags(Motion::WidePass, bias, 1), 0) << bias;
 }
+
+TEST(SyntheticFlight, PitchingIntoFlightWithLaggedNavdataABoardAheadIsStillFlagged) {
+    // The same take-off toward a board standing on the floor 3.5 m ahead: the allowance widens
+    // only the floor test, and the board is flagged as early as without it.
+    Flight f = make_flight(Motion::TakeOffObstacle);
+    f.navdata_lag_s = 0.03;
+    auto no_allowance = make_classifier("flow", synthetic_calibration());
+    ASSERT_EQ(no_allowance->set_param("lag_allowance_s", 0), ParamStatus::Ok);
+    auto by_default = make_classifier("flow", synthetic_calibration());
+    const auto without = fly(f, *no_allowance);
+    const auto with = fly(f, *by_default);
+    const int first_without = first_unsafe(without, Region::Centre);
+    const int first_with = first_unsafe(with, Region::Centre);
+    ASSERT_GE(first_with, 0) << "the board was never flagged";
+    std::printf("board flagged from frame %d (%.2f m) with the allowance, %d without\n", first_with,
+                with[static_cast<std::size_t>(first_with)].distance_m, first_without);
+    EXPECT_LE(first_with, first_without + 1);
+    EXPECT_GT(with[static_cast<std::size_t>(first_with)].distance_m, 1.0);
+}
+
+namespace {
+// The flow classifier's lag allowance (derotation.lag_allowance_px_s) per frame of its last run.
+std::vector<double> lag_allowance(ObstacleClassifier& c) {
+    const PlotSeries* s = c.process({}).find_series("derotation.lag_allowance_px_s");
+    std::vector<double> v;
+    if (s)
+        for (std::size_t i = 0; i < s->points.size(); ++i) v.push_back(s->points[i].y);
+    return v;
+}
+}  // namespace
+
+TEST(SyntheticFlight, TheLagAllowanceActsInThePitchIntoFlightOnly) {
+    // The take-off's pitch over (11 degrees nose-down in 0.35 s): the pitch rate changes by
+    // 1-7 rad/s^2 and the allowance acts, for the floor (positive), up to 100 px/s; once the
+    // nose comes back up steadily it is zero again.
+    Flight f = make_flight(Motion::TakeOff);
+    f.navdata_lag_s = 0.03;
+    auto c = make_classifier("flow", synthetic_calibration());
+    fly(f, *c);
+    const std::vector<double> v = lag_allowance(*c);
+    ASSERT_EQ(v.size(), static_cast<std::size_t>(f.frames));
+    const double peak = *std::max_element(v.begin(), v.begin() + 15);
+    std::printf("take-off: lag allowance peak %.1f px/s in the first 15 frames, last %.1f px/s\n",
+                peak, v.back());
+    EXPECT_GT(peak, 20.0);
+    EXPECT_EQ(v.back(), 0.0);
+}
+
+TEST(SyntheticFlight, TheLagAllowanceLeavesACruisesPitchWobbleAlone) {
+    // At 1 m/s toward a board standing on the floor 5 m ahead, the pitch wobbling half a degree
+    // at 1 Hz as a drone holding its speed does: the pitch rate changes by 0.35 rad/s^2 at
+    // most, under lag_min_pitch_accel, so the allowance never acts (with that threshold at 0 it
+    // would, on most frames) and the board is flagged from the same frame as with it off.
+    Flight f = make_flight(Motion::FloorObstacle);
+    f.pitch_wobble_deg = 0.5;
+    const auto run = [&](double allowance_s, double min_accel) {
+        auto c = make_classifier("flow", synthetic_calibration());
+        EXPECT_EQ(c->set_param("lag_allowance_s", allowance_s), ParamStatus::Ok);
+        EXPECT_EQ(c->set_param("lag_min_pitch_accel", min_accel), ParamStatus::Ok);
+        const auto rec = fly(f, *c);
+        return std::pair{first_unsafe(rec, Region::Centre), lag_allowance(*c)};
+    };
+    const auto [first_off, off] = run(0, 0.5);
+    const auto [first_on, on] = run(0.05, 0.5);
+    const auto [first_ungated, ungated] = run(0.05, 0);
+    ASSERT_EQ(on.size(), static_cast<std::size_t>(f.frames));
+    ASSERT_EQ(ungated.size(), on.size());
+    int acting = 0, acting_ungated = 0;
+    for (std::size_t i = 0; i < on.size(); ++i) {
+        acting += on[i] != 0;
+        acting_ungated += ungated[i] != 0;
+    }
+    std::printf(
+        "wobble: allowance on %d / %zu frames (%d with no threshold); board flagged from "
+        "frame %d, %d without the allowance\n",
+        acting, on.size(), acting_ungated, first_on, first_off);
+    EXPECT_EQ(acting, 0);
+    EXPECT_GT(acting_ungated, f.frames / 2);
+    ASSERT_GE(first_off, 0);
+    EXPECT_EQ(first_on, first_off);
+}

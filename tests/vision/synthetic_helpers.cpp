@@ -2,6 +2,7 @@
 
 #include "vision/flow_classifier.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace gs::vision::test {
@@ -12,7 +13,35 @@ CameraCalibration synthetic_calibration() {
 
 namespace {
 constexpr double kSpeed = 1.0;  // m/s
+
+bool take_off(Motion m) {
+    return m == Motion::TakeOff || m == Motion::TakeOffObstacle;
 }
+
+// TakeOff's attitude and forward speed and distance at time t (s): integrated in 1 ms steps.
+struct TakeOffState {
+    double pitch_deg = 0, speed_mps = 0, z_m = 0;
+};
+TakeOffState take_off_at(double t) {
+    const auto pitch = [](double s) {
+        if (s <= 0.1) return 0.0;
+        if (s <= 0.45) {
+            const double u = (s - 0.1) / 0.35;
+            return -11.0 * u * u * (3 - 2 * u);  // smoothstep
+        }
+        return std::min(-5.0, -11.0 + 4.0 * (s - 0.45));
+    };
+    TakeOffState st;
+    const double dt = 1e-3;
+    for (double s = 0; s < t - 1e-12; s += dt) {
+        const double a = 9.81 * std::tan(-pitch(s) * CV_PI / 180) - 0.5 * st.speed_mps;
+        st.speed_mps += a * dt;
+        st.z_m += st.speed_mps * dt;
+    }
+    st.pitch_deg = pitch(t);
+    return st;
+}
+}  // namespace
 
 Flight make_flight(Motion m) {
     Flight f;
@@ -66,6 +95,17 @@ Flight make_flight(Motion m) {
             f.moving_plane = 1;
             f.plane_velocity = {1.3, 0, 0};
             break;
+        case Motion::TakeOff:
+        case Motion::TakeOffObstacle:
+            f.frames = 40;  // 1.6 s, 1.1 m
+            f.planes.push_back(make_plane({0, 0, 30}, {1, 0, 0}, {0, 1, 0}, 44, 26, 0.08, 11));
+            // 1.1 m below, from 1.8 m ahead to 30 m.
+            f.planes.push_back(
+                make_plane({0, 1.1, 15.9}, {1, 0, 0}, {0, 0, 1}, 10, 28.2, 0.06, 14));
+            if (m == Motion::TakeOffObstacle)  // its foot on the floor
+                f.planes.push_back(
+                    make_plane({0, 0.3, 3.5}, {1, 0, 0}, {0, 1, 0}, 1.2, 1.6, 0.01, 15));
+            break;
         case Motion::Roll:
         case Motion::Yaw:
             f.frames = 75;
@@ -91,7 +131,15 @@ CameraPose Flight::pose_at(int i) const {
         case Motion::FloorWidePass:
         case Motion::Crossing:
             p.position = {0, 0, kSpeed * t};
+            p.pitch_deg = pitch_wobble_deg * std::sin(2 * CV_PI * t);
             break;
+        case Motion::TakeOff:
+        case Motion::TakeOffObstacle: {
+            const TakeOffState st = take_off_at(t);
+            p.position = {0, 0, st.z_m};
+            p.pitch_deg = st.pitch_deg;
+            break;
+        }
         case Motion::Roll:
             p.roll_deg = 10 * std::sin(2 * CV_PI * 0.5 * t);
             break;
@@ -104,6 +152,7 @@ CameraPose Flight::pose_at(int i) const {
 
 double Flight::distance_at(int i) const {
     const double z = kSpeed * i / fps;
+    if (take_off(motion)) return 3.5 - take_off_at(i / fps).z_m;
     if (motion == Motion::Approach || motion == Motion::FloorObstacle) return 5 - z;
     if (motion == Motion::SidePass || motion == Motion::NearPass) return 4 - z;  // wall's near end
     return 8;
@@ -126,7 +175,17 @@ std::vector<FrameRecord> fly(const Flight& f, ObstacleClassifier& c) {
         in.t_ns = static_cast<std::int64_t>(std::llround(i * 1e9 / f.fps));
         in.attitude = {pose.roll_deg, pose.pitch_deg, pose.yaw_deg * f.navdata_yaw_scale};
         if (f.navdata_altitude && f.motion == Motion::Floor) in.altitude_m = 0.6;
-        if (f.navdata_velocity) {
+        if (take_off(f.motion)) {
+            // The navdata as it was navdata_lag_s before the frame.
+            const TakeOffState nav = take_off_at(std::max(0.0, i / f.fps - f.navdata_lag_s));
+            in.attitude.pitch_deg = nav.pitch_deg;
+            if (f.navdata_altitude) in.altitude_m = 1.1;
+            if (f.navdata_velocity) {
+                in.vx_mps = nav.speed_mps;
+                in.vy_mps = 0;
+                in.vz_mps = 0;
+            }
+        } else if (f.navdata_velocity) {
             const bool moving = f.motion != Motion::Roll && f.motion != Motion::Yaw;
             in.vx_mps = moving ? kSpeed : 0.0;
             in.vy_mps = moving ? f.navdata_vy_bias_mps : 0.0;

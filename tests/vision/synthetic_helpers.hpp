@@ -22,6 +22,11 @@ enum class Motion {
                     // to the right at 1.3 m/s
     FloorObstacle,  // Floor, and a 1.2 m wide, 1.5 m tall board standing on it 5 m ahead
     FloorWidePass,  // Floor, and WidePass's wall 1.5 m to the right standing on it
+    // From a hover 1.1 m above a textured floor, the pitch into forward flight an AR.Drone
+    // flies: nose down to 11 degrees in 0.35 s, accelerating (drag 0.5/s) toward 1.1 m/s as
+    // the nose comes back up at 4 degrees/s; far wall. The navdata's altitude is 1.1 m.
+    TakeOff,
+    TakeOffObstacle,  // TakeOff, and a 1.2 m wide, 1.6 m tall board on the floor 3.5 m ahead
 };
 
 struct FrameRecord {
@@ -44,6 +49,10 @@ struct Flight {
     bool navdata_altitude = true;    // ... and the height above the floor (Floor only)
     double navdata_yaw_scale = 1;    // navdata reports this share of the true yaw
     double navdata_vy_bias_mps = 0;  // added to the navdata's sideways velocity (a biased estimate)
+    double navdata_lag_s = 0;        // TakeOff*: the navdata is this much older than the frame
+    // The drone's pitch wobbling in cruise, a sine of this amplitude at 1 Hz (degrees; the
+    // navdata reads it exactly)
+    double pitch_wobble_deg = 0;
     std::vector<TexturedPlane> planes;
     int moving_plane = -1;  // this plane moves at plane_velocity (m/s, world axes)
     cv::Vec3d plane_velocity{0, 0, 0};
