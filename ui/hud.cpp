@@ -354,7 +354,7 @@ void Hud::draw(ImDrawList* dl, ImVec2 p0, ImVec2 p1, const GuiSnapshot& s, ViewS
     if (as.available) {
         const bool say =
             as.acting || as.unknown || as.confirming || as.override_held || !as.enabled;
-        const std::string_view msg =
+        std::string_view msg =
             say ? std::string_view(as.line) : (as.dry_run ? "ASSIST (dry run)" : "ASSIST ON");
         const std::uint32_t col = as.acting                                         ? colors::kBad
                                   : as.unknown || as.confirming || as.override_held ? colors::kWarn
@@ -380,20 +380,34 @@ void Hud::draw(ImDrawList* dl, ImVec2 p0, ImVec2 p1, const GuiSnapshot& s, ViewS
         const auto box = [&] {
             return Rect{c.x - tw * 0.5f - 8, wy, c.x + tw * 0.5f + 8, wy + th + 4};
         };
-        wrap(std::max(fs * 4.0f, W - 40.0f));
-        bool covers = false;
-        for (const Rect& r : readouts) covers = covers || overlaps(box(), r);
-        if (covers) {
-            // The column, and the banner in it: in the larger type if it fits there whole, else
-            // in the body type (a small picture).
-            const float column = 2.0f * std::min(c.x - std::max(readouts[0].x1, readouts[1].x1),
-                                                 readouts[2].x0 - c.x);
-            const float max_w = std::max(fs * 4.0f, column - 24.0f);
-            wrap(max_w);
-            if (tw > max_w || n_lines == kMaxBannerLines || box().y1 > p1.y) {
-                size = std::min(size, fs);
+        const auto lay_out = [&] {
+            wrap(std::max(fs * 4.0f, W - 40.0f));
+            bool covers = false;
+            for (const Rect& r : readouts) covers = covers || overlaps(box(), r);
+            if (covers) {
+                // The column, and the banner in it: in the larger type if it fits there whole,
+                // else in the body type (a small picture).
+                const float column = 2.0f * std::min(c.x - std::max(readouts[0].x1, readouts[1].x1),
+                                                     readouts[2].x0 - c.x);
+                const float max_w = std::max(fs * 4.0f, column - 24.0f);
                 wrap(max_w);
+                if (tw > max_w || n_lines == kMaxBannerLines || box().y1 > p1.y) {
+                    size = std::min(size, fs);
+                    wrap(max_w);
+                }
             }
+        };
+        lay_out();
+        // Still running out of the picture (a small one, a long line: a side's steering with a
+        // brake pending behind it), whose end would be cut off: the action words alone, which
+        // say both ("STEERING LEFT; BRAKE PENDING"); the status bar keeps the whole line.
+        std::string brief;
+        if (say && box().y1 > p1.y && !as.action.empty()) {
+            brief = std::string(as.dry_run ? "DRY RUN: " : "") + as.action +
+                    (as.confirming && as.action != "CONFIRMING" ? "; BRAKE PENDING" : "");
+            msg = brief;
+            size = say ? fs * 1.35f : fs * 0.9f;
+            lay_out();
         }
         const Rect bx = box();
         const ImVec2 b0{bx.x0, bx.y0}, b1{bx.x1, bx.y1};

@@ -320,6 +320,37 @@ TEST_F(CockpitLayout, TheAssistBannerNeverCoversTheSpeedOrAltitude) {
     }
 }
 
+// A side's steering with a centre brake pending behind it is the longest line the assist says.
+// Where the wrapped line would run out of the picture (cut off: at 960x540 the pending brake,
+// its end, was not shown at all), the HUD says the action words instead, both of them; the
+// status bar keeps the whole line.
+TEST_F(CockpitLayout, ASteeringLineWithABrakePendingStaysWholeInThePicture) {
+    const std::string line =
+        "DRY RUN (replay, nothing sent): STEERING left: obstacle right, contact in 2.5 s; "
+        "CONFIRMING: centre alarm, contact in 2.2 s, braking if it holds";
+    for (const Size size : {Size{800, 600}, Size{960, 540}, Size{1280, 720}, Size{1920, 1080}}) {
+        restart(size);
+        Gui gui;
+        GuiSnapshot s;
+        make_demo_snapshot(s, 1);
+        assist_acting(s, line);
+        s.assist.dry_run = true;
+        s.assist.confirming = true;
+        s.assist.action = "STEERING LEFT";
+        for (int f = 0; f < 3; ++f) frame(gui, s);
+        const LayoutReport& l = gui.view().layout;
+        const Rect* banner = label(l, "hud.assist");
+        ASSERT_NE(banner, nullptr) << size.w;
+        EXPECT_LE(banner->y1, l.video_image.y1)
+            << size.w << "x" << size.h << ": " << str(*banner) << " in " << str(l.video_image);
+        EXPECT_TRUE(l.assist.hud == line || l.assist.hud == "DRY RUN: STEERING LEFT; BRAKE PENDING")
+            << size.w << ": " << l.assist.hud;
+        EXPECT_EQ(l.assist.banner, line) << size.w;
+        std::printf("%dx%d: HUD says \"%s\"\n", static_cast<int>(size.w), static_cast<int>(size.h),
+                    l.assist.hud.c_str());
+    }
+}
+
 TEST(ScoreFormat, TwoSignificantDigitsOfTheThresholdNoExponent) {
     EXPECT_EQ(format_score(4.95e-06, 0.3), "0.00");
     EXPECT_EQ(format_score(0.1234, 0.3), "0.12");
