@@ -93,6 +93,7 @@ void GuiAdapter::fill_assist(ui::GuiSnapshot& s) {
     a.confirming = st.confirming;
     a.action = st.action;
     a.line = st.line;
+    a.brief = st.brief;
     a.interventions = st.interventions;
 }
 

@@ -139,6 +139,8 @@ AssistStatus PilotPath::status() const {
         line += "; " + o.pending;
     }
     s.line = (dry_ ? "DRY RUN (replay, nothing sent): " : "") + line;
+    s.brief = (dry_ ? "DRY RUN: " : "") + s.action +
+              (s.confirming && o.action != AssistAction::Confirming ? "; BRAKE PENDING" : "");
     return s;
 }
 

@@ -45,6 +45,9 @@ struct AssistStatus {
                               // while a side is steered away from: `line` then says both)
     std::string action;       // "BRAKING", "HOLDING", "LEFT BLOCKED", "WATCHING", "OFF" ...
     std::string line;         // "BRAKING: obstacle ahead, contact in 1.8 s", "ASSIST OFF" ...
+    // The action words alone, for where `line` does not fit: "STEERING LEFT; BRAKE PENDING",
+    // "DRY RUN: BRAKING". They still say both an action and a brake pending behind it.
+    std::string brief;
     std::uint64_t interventions = 0;
 };
 

@@ -400,13 +400,10 @@ void Hud::draw(ImDrawList* dl, ImVec2 p0, ImVec2 p1, const GuiSnapshot& s, ViewS
         lay_out();
         // Still running out of the picture (a small one, a long line: a side's steering with a
         // brake pending behind it), whose end would be cut off: the action words alone, which
-        // say both ("STEERING LEFT; BRAKE PENDING"); the status bar keeps the whole line.
-        std::string brief;
-        if (say && box().y1 > p1.y && !as.action.empty()) {
-            brief = std::string(as.dry_run ? "DRY RUN: " : "") + as.action +
-                    (as.confirming && as.action != "CONFIRMING" ? "; BRAKE PENDING" : "");
-            msg = brief;
-            size = say ? fs * 1.35f : fs * 0.9f;
+        // say both ("STEERING LEFT; BRAKE PENDING"); the status bar's tooltip keeps the line.
+        if (say && box().y1 > p1.y && !as.brief.empty()) {
+            msg = as.brief;
+            size = fs * 1.35f;
             lay_out();
         }
         const Rect bx = box();

@@ -392,6 +392,8 @@ struct AssistView {
     bool confirming = false;  // a centre alarm being confirmed: braking if it holds
     std::string action;       // "BRAKING", "HOLDING", "LEFT BLOCKED", "UNKNOWN", "WATCHING" ...
     std::string line;         // "BRAKING: obstacle ahead, contact in 1.8 s", "ASSIST ON" ...
+    // The action words alone, drawn where `line` does not fit: "STEERING LEFT; BRAKE PENDING".
+    std::string brief;
     std::uint64_t interventions = 0;
 };
 

@@ -349,17 +349,52 @@ void StatusBar::draw(const GuiSnapshot& s, ViewState& v, Actions& a) {
         banners.push_back(
             {t.emergency_commanded ? "EMERGENCY (commanded)" : "EMERGENCY", colors::kBad});
     if (s.video.stale) banners.push_back({"VIDEO STALE", colors::kWarn});
+    std::size_t assist_at = SIZE_MAX;  // the assist's banner among them
     if (s.assist.available && (s.assist.acting || s.assist.unknown || s.assist.confirming ||
                                s.assist.override_held || !s.assist.enabled)) {
+        assist_at = banners.size();
         banners.push_back({s.assist.line, s.assist.acting ? colors::kBad : colors::kWarn});
-        v.layout.assist.banner = s.assist.line;
     }
     if (v.leave_after_landing.pending())
         banners.push_back({std::string("LANDING, THEN ") + leave_verb(v.leave_after_landing.kind),
                            colors::kWarn});
+    std::snprintf(buf, sizeof buf, "Log (%zu)", s.messages.size());
+    const float log_w = ImGui::CalcTextSize(buf).x + ImGui::GetStyle().FramePadding.x * 2;
+    const float log_x = ImGui::GetWindowContentRegionMax().x - log_w;
+    if (assist_at != SIZE_MAX) {
+        // The banners end before the Log button: an assist line too long for the room left (a
+        // small window, a side's steering with a brake pending) is said in its action words
+        // ("STEERING LEFT; BRAKE PENDING"), cut short only if even they do not fit; the whole
+        // line is the banner's tooltip and in the HUD.
+        const float item_sp = ImGui::GetStyle().ItemSpacing.x;
+        float others = 0;
+        for (std::size_t i = 0; i < banners.size(); ++i)
+            if (i != assist_at)
+                others += ImGui::CalcTextSize(banners[i].first.c_str()).x + 16.0f + item_sp;
+        if (v.leave_after_landing.pending())
+            others +=
+                ImGui::CalcTextSize("Cancel").x + ImGui::GetStyle().FramePadding.x * 2 + item_sp;
+        const float room = log_x - ImGui::GetCursorPosX() - others - 16.0f - sp * 2;
+        std::string& text = banners[assist_at].first;
+        if (ImGui::CalcTextSize(text.c_str()).x > room && !s.assist.brief.empty())
+            text = s.assist.brief;
+        if (ImGui::CalcTextSize(text.c_str()).x > room) {
+            while (text.size() > 1 && ImGui::CalcTextSize((text + "...").c_str()).x > room)
+                text.pop_back();
+            text += "...";
+        }
+        v.layout.assist.banner = text;
+    }
     const float row2_h = ImGui::GetTextLineHeight() + 2.0f;
-    for (const auto& [text, col] : banners) {
+    for (std::size_t i = 0; i < banners.size(); ++i) {
+        const auto& [text, col] = banners[i];
         badge(text.c_str(), col, IM_COL32(255, 255, 255, 255), row2_h, 8.0f);
+        if (i == assist_at) {
+            if (ImGui::IsItemHovered() && text != s.assist.line)
+                ImGui::SetTooltip("%s", s.assist.line.c_str());
+            const ImVec2 r0 = ImGui::GetItemRectMin(), r1 = ImGui::GetItemRectMax();
+            v.layout.labels.push_back({"status.assist_banner", {r0.x, r0.y, r1.x, r1.y}});
+        }
         out.banners.push_back(text);
         ImGui::SameLine();
     }
@@ -372,13 +407,11 @@ void StatusBar::draw(const GuiSnapshot& s, ViewState& v, Actions& a) {
         }
         ImGui::SameLine();
     }
-    std::snprintf(buf, sizeof buf, "Log (%zu)", s.messages.size());
-    const float log_w = ImGui::CalcTextSize(buf).x + ImGui::GetStyle().FramePadding.x * 2;
-    const float log_x = ImGui::GetWindowContentRegionMax().x - log_w;
-    if (!s.messages.empty()) {
+    const float msg_room = log_x - ImGui::GetCursorPosX() - sp * 2;
+    if (!s.messages.empty() && msg_room > fs * 3) {
         const LogLine& m = s.messages.back();
         std::string text = m.text;
-        const float room = log_x - ImGui::GetCursorPosX() - sp * 2;
+        const float room = msg_room;
         if (ImGui::CalcTextSize(text.c_str()).x > room) {
             while (text.size() > 1 && ImGui::CalcTextSize((text + "...").c_str()).x > room)
                 text.pop_back();

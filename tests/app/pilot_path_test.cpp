@@ -149,6 +149,8 @@ TEST(PilotPath, ABrakePendingWhileSteeringAwayFromASideIsShownWithIt) {
     EXPECT_EQ(s.line.rfind("STEERING right: obstacle left", 0), 0u) << s.line;
     EXPECT_NE(s.line.find("; CONFIRMING: centre alarm"), std::string::npos) << s.line;
     EXPECT_NE(s.line.find("braking if it holds"), std::string::npos) << s.line;
+    // Where the line does not fit (a small window), the action words still say both.
+    EXPECT_EQ(s.brief, "STEERING RIGHT; BRAKE PENDING");
     // The left alone: steering, nothing pending.
     PilotPath q;
     q.on_navdata(pp_flying_at(1.5));
@@ -157,6 +159,7 @@ TEST(PilotPath, ABrakePendingWhileSteeringAwayFromASideIsShownWithIt) {
     EXPECT_EQ(q.status().action, "STEERING RIGHT");
     EXPECT_FALSE(q.status().confirming);
     EXPECT_EQ(q.status().line.find("CONFIRMING"), std::string::npos) << q.status().line;
+    EXPECT_EQ(q.status().brief, "STEERING RIGHT");
 }
 
 TEST(PilotPath, UnknownCentreNeverBrakesAndSaysSo) {
@@ -262,6 +265,7 @@ TEST(PilotPath, ReplayDryRunShowsTheBrakeAndSendsNothing) {
     EXPECT_TRUE(s.dry_run);
     EXPECT_EQ(s.action, "BRAKING");
     EXPECT_EQ(s.line.rfind("DRY RUN (replay, nothing sent): BRAKING", 0), 0u) << s.line;
+    EXPECT_EQ(s.brief, "DRY RUN: BRAKING");
     EXPECT_EQ(p.moves(), 0u);
     EXPECT_EQ(p.hovers(), 0u);
     EXPECT_EQ(p.take_new().size(), 1u);

@@ -322,8 +322,9 @@ TEST_F(CockpitLayout, TheAssistBannerNeverCoversTheSpeedOrAltitude) {
 
 // A side's steering with a centre brake pending behind it is the longest line the assist says.
 // Where the wrapped line would run out of the picture (cut off: at 960x540 the pending brake,
-// its end, was not shown at all), the HUD says the action words instead, both of them; the
-// status bar keeps the whole line.
+// its end, was not shown at all), the HUD says the action words instead, both of them. The
+// status bar's banner ends before its Log button (at 960x540 it ran on under it): the whole line
+// where it fits, else the same action words.
 TEST_F(CockpitLayout, ASteeringLineWithABrakePendingStaysWholeInThePicture) {
     const std::string line =
         "DRY RUN (replay, nothing sent): STEERING left: obstacle right, contact in 2.5 s; "
@@ -337,17 +338,29 @@ TEST_F(CockpitLayout, ASteeringLineWithABrakePendingStaysWholeInThePicture) {
         s.assist.dry_run = true;
         s.assist.confirming = true;
         s.assist.action = "STEERING LEFT";
+        const std::string brief = "DRY RUN: STEERING LEFT; BRAKE PENDING";
+        s.assist.brief = brief;
+        s.messages.push_back({"assist: steering left", LogLevel::Warn, 1.0});
         for (int f = 0; f < 3; ++f) frame(gui, s);
         const LayoutReport& l = gui.view().layout;
         const Rect* banner = label(l, "hud.assist");
         ASSERT_NE(banner, nullptr) << size.w;
         EXPECT_LE(banner->y1, l.video_image.y1)
             << size.w << "x" << size.h << ": " << str(*banner) << " in " << str(l.video_image);
-        EXPECT_TRUE(l.assist.hud == line || l.assist.hud == "DRY RUN: STEERING LEFT; BRAKE PENDING")
+        EXPECT_TRUE(l.assist.hud == line || l.assist.hud == brief)
             << size.w << ": " << l.assist.hud;
-        EXPECT_EQ(l.assist.banner, line) << size.w;
-        std::printf("%dx%d: HUD says \"%s\"\n", static_cast<int>(size.w), static_cast<int>(size.h),
-                    l.assist.hud.c_str());
+        const Rect* status = label(l, "status.assist_banner");
+        const Rect* log = l.button("status.log");
+        ASSERT_TRUE(status && log) << size.w;
+        EXPECT_LE(status->x1, log->x0) << size.w << "x" << size.h << ": " << str(*status)
+                                       << " runs under the Log button " << str(*log);
+        EXPECT_TRUE(l.assist.banner == line || l.assist.banner == brief)
+            << size.w << ": " << l.assist.banner;
+        if (size.w >= 1920) {
+            EXPECT_EQ(l.assist.banner, line);  // room for the whole line
+        }
+        std::printf("%dx%d: HUD says \"%s\", the status bar \"%s\"\n", static_cast<int>(size.w),
+                    static_cast<int>(size.h), l.assist.hud.c_str(), l.assist.banner.c_str());
     }
 }
 
