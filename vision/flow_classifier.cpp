@@ -193,6 +193,9 @@ FlowClassifier::FlowClassifier(const CameraCalibration& calib, const FlowParams&
     s_residual_yaw_ = add_series("derotation.residual_yaw_deg");
     s_residual_pitch_ = add_series("derotation.residual_pitch_deg");
     s_lag_allowance_ = add_series("derotation.lag_allowance_px_s");
+    // The camera's auto-exposure: this frame's brightness over the last one's when it stepped
+    // (track.step_gain_min), 1 otherwise.
+    s_exposure_step_ = add_series("track.exposure_step");
     // What the images alone say of the navdata rotation's error this frame (before the filter).
     s_image_yaw_ = add_series("derotation.image_yaw_deg");
     s_image_pitch_ = add_series("derotation.image_pitch_deg");
@@ -510,6 +513,7 @@ void FlowClassifier::classify(const FrameInput& in) {
     plot(s_lag_allowance_, !in.attitude.complete() ? kUnknown
                            : accel == 0            ? 0.0
                                                    : -p_.lag_allowance_s * calib_.fy * accel);
+    plot(s_exposure_step_, tracker_.exposure_step());
     // The whole rotation (navdata's and the images' correction), for the centre homography.
     derot_ = small_rotation_homography(calib_, tracker_.rotation_rad());
     plot(s_residual_yaw_, -tracker_.image_correction_deg()[1]);

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <limits>
 
 namespace gs::vision {
@@ -83,6 +84,59 @@ void TrajectoryTracker::compensate_gain() {
         band_ref_[std::size_t(b)] += a * (band_mean_[std::size_t(b)] - band_ref_[std::size_t(b)]);
 }
 
+void TrajectoryTracker::find_step() {
+    // The mean of each block of an 8 x 6 grid (at 640 x 360, 80 x 60 px): texture and the
+    // camera's motion average out in a block, and change its mean only by what enters and leaves
+    // it; a gain changes every block's by itself.
+    const int tw = std::max(4, grey_track_.cols / 40), th = std::max(3, grey_track_.rows / 30);
+    cv::resize(grey_track_, thumb_, cv::Size(tw, th), 0, 0, cv::INTER_AREA);
+    step_log_ = 0;
+    if (have_prev_ && thumb_prev_.size() == thumb_.size()) {
+        step_ratio_.clear();
+        for (int y = 0; y < th; ++y) {
+            const std::uint8_t* a = thumb_prev_.ptr<std::uint8_t>(y);
+            const std::uint8_t* b = thumb_.ptr<std::uint8_t>(y);
+            for (int x = 0; x < tw; ++x) {
+                // Clipped blocks say nothing of a gain.
+                if (a[x] < 8 || b[x] < 8 || a[x] > 247 || b[x] > 247) continue;
+                step_ratio_.push_back(
+                    std::log(static_cast<float>(b[x]) / static_cast<float>(a[x])));
+            }
+        }
+        if (step_ratio_.size() >= static_cast<std::size_t>(tw * th / 2)) {
+            const auto mid =
+                step_ratio_.begin() + static_cast<std::ptrdiff_t>(step_ratio_.size() / 2);
+            std::nth_element(step_ratio_.begin(), mid, step_ratio_.end());
+            const double m = *mid;
+            if (std::abs(m) > p_.step_gain_min) {
+                std::size_t same = 0;
+                for (float r : step_ratio_)
+                    same += static_cast<double>(r) * m > 0.25 * m * m ? 1 : 0;
+                if (static_cast<double>(same) >=
+                    p_.step_gain_share * static_cast<double>(step_ratio_.size())) {
+                    step_log_ = m;
+                    ++steps_found_;
+                }
+            }
+        }
+    }
+    std::swap(thumb_prev_, thumb_);
+}
+
+void TrajectoryTracker::scale_previous_pyramid(double k) {
+    // Each level whole, with the border the pyramid was built with (LK reads into it near the
+    // image's edges).
+    for (cv::Mat& level : pyr_prev_) {
+        cv::Size whole;
+        cv::Point ofs;
+        level.locateROI(whole, ofs);
+        cv::Mat all = level;
+        all.adjustROI(ofs.y, whole.height - level.rows - ofs.y, ofs.x,
+                      whole.width - level.cols - ofs.x);
+        all.convertTo(all, -1, k, 0);
+    }
+}
+
 void TrajectoryTracker::own_grey_track(const cv::Mat& image) {
     if (grey_track_.data == image.data) {
         grey_track_.copyTo(grey_own_);  // never change the caller's image
@@ -95,6 +149,8 @@ void TrajectoryTracker::reset() {
     prev_pts_.clear();
     have_prev_ = false;
     band_ref_.clear();
+    step_log_ = 0;
+    steps_found_ = 0;
     frame_ = 0;
     next_id_ = 1;
     ended_ = added_ = 0;
@@ -190,6 +246,11 @@ void TrajectoryTracker::update(const cv::Mat& image, std::int64_t t_ns, double r
     } else {
         grey_track_ = *grey;  // header only
     }
+    // Exposure steps: on the raw brightness (the other compensations change it themselves).
+    if (p_.step_gain_min > 0 && p_.gain_bands == 0 && p_.highpass_px == 0)
+        find_step();
+    else
+        step_log_ = 0;
     if (p_.gain_bands > 0) {
         own_grey_track(image);
         compensate_gain();
@@ -226,6 +287,9 @@ void TrajectoryTracker::update(const cv::Mat& image, std::int64_t t_ns, double r
                     to_track(calib_.distort_point(apply_homography(base_h, tracks_[i].undist)));
             flags = cv::OPTFLOW_USE_INITIAL_FLOW;
         }
+        // An exposure step between the two frames: the last one brought to this one's
+        // brightness for this search only (this frame stays as filmed for the next).
+        if (step_log_ != 0) scale_previous_pyramid(std::exp(step_log_));
         // err_ gets each point's smaller gradient-matrix eigenvalue: how well it is determined.
         cv::calcOpticalFlowPyrLK(pyr_prev_, pyr_cur_, prev_pts_, cur_pts_, status_, err_, win,
                                  p_.lk_levels,

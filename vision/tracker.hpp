@@ -82,6 +82,19 @@ struct TrackerParams {
     // tracker spread over that many frames instead of at once. 0 = off.
     int gain_bands = 0;
     double gain_tau_frames = 30;
+    // An exposure step (a real camera's auto-exposure making the whole image some 10-15 % brighter
+    // or darker from one frame to the next) breaks the constant brightness LK assumes: on a
+    // tiled floor points slip onto the next tile's corner and read as a near obstacle. A step is
+    // the median of the log brightness ratios of an 8 x 6 grid of blocks to the last frame's,
+    // when it is larger than step_gain_min and nearly every block (step_gain_share of them) went
+    // the same way: a gain moves every block, a moving thing or the camera's own motion only
+    // some, and not all one way. The last frame is then brought to this one's brightness for
+    // this frame's search only: every other pair of frames is tracked as filmed (a compensation
+    // that lasts, decaying over frames, drifts the brightness a little every frame, and on the
+    // plain walls of the realism suite that read as motion and raised side alarms: README).
+    // 0 = off; not with gain_bands or highpass_px, which change the brightness themselves.
+    double step_gain_min = 0;
+    double step_gain_share = 0.8;
     // Track on the image less its local mean over a box this wide (tracked-image px, odd; 0 =
     // off): brightness that varies slowly across the image (flicker bands rolling down the rows,
     // vignetting, a gain step's offset) leaves the texture LK follows, and moves no point.
@@ -171,6 +184,11 @@ void describe_tracker_params(ParamTable<P>& t) {
              "photometric compensation: bands of rows whose brightness is held steady (0 = off)")
         .add("track.gain_tau_frames", &P::gain_tau_frames, 1, 1000,
              "photometric compensation: frames over which a brightness change is let through")
+        .add("track.step_gain_min", &P::step_gain_min, 0, 1,
+             "exposure steps: a frame whose blocks all changed brightness by more than this "
+             "(log ratio, median) is tracked from the last one brought to its brightness (0 = off)")
+        .add("track.step_gain_share", &P::step_gain_share, 0.5, 1,
+             "exposure steps: the share of blocks that must have changed the same way")
         .add("track.highpass_px", &P::highpass_px, 0, 99,
              "track on the image less its local mean over a box this wide (tracked-image px; "
              "0 = off)")
@@ -267,6 +285,10 @@ public:
     const RollStabiliser& stabiliser() const { return stab_; }
     cv::Point2f centre() const { return centre_; }
     std::int64_t frame_index() const { return frame_; }
+    // Exposure steps found so far (step_gain_min), and this frame's (its brightness over the last
+    // one's; 1: none).
+    int exposure_steps() const { return steps_found_; }
+    double exposure_step() const { return std::exp(step_log_); }
     int ended_last_frame() const { return ended_; }
     int added_last_frame() const { return added_; }
     const TrackerTimings& timings() const { return timings_; }
@@ -281,6 +303,9 @@ private:
     int cell_quota() const;
     void balance_grid();
     void compensate_gain();
+    // Finds an exposure step against the last frame (step_gain_min): step_log_.
+    void find_step();
+    void scale_previous_pyramid(double k);
     void own_grey_track(const cv::Mat& image);  // before changing grey_track_ in place
 
     CameraCalibration calib_;
@@ -295,6 +320,10 @@ private:
 
     cv::Mat grey_full_, grey_track_, grey_own_, local_mean_;
     std::vector<double> row_mean_, band_mean_, band_ref_, row_gain_;  // compensate_gain
+    cv::Mat thumb_, thumb_prev_;                                      // find_step
+    std::vector<float> step_ratio_;
+    double step_log_ = 0;  // this frame's exposure step against the last one (log), 0: none
+    int steps_found_ = 0;
     std::vector<cv::Mat> pyr_prev_, pyr_cur_;
     std::vector<Trajectory> tracks_;
     std::vector<cv::Point2f> prev_pts_, cur_pts_, raw_, und_;
