@@ -276,9 +276,9 @@ double FlowClassifier::lag_flow_px_s(const WindowFit& w, double ay) const {
     // the nose going down, which moves the scene up). The allowance is what that adds to the
     // flow of a point below the principal point (ay > 0), the floor's: a point it takes flow
     // from is nearer than it reads, and nothing is placed nearer. Not above it, nor for yaw or
-    // roll: allowing for those took real obstacles' points
-    // off the path in the closed loop (the upper half of a pillar ahead while the drone pitches
-    // up to brake; a side pillar's while the held heading wobbles).
+    // roll: allowing for those took real obstacles' points off the path in the closed loop (the
+    // upper half of a pillar ahead while the drone pitches up to brake; a side pillar's while
+    // the held heading wobbles).
     if (!(ay > 0)) return 0;
     return std::max(0.0, -p_.lag_allowance_s * calib_.fy * lag_pitch_accel(w.n) * ay);
 }
@@ -754,10 +754,10 @@ void FlowClassifier::rate_points(const cv::Matx33d& level, double floor_down) {
             tangential = 0;  // not measured
         }
         const double rate_then = radial / dn;
-        // What the navdata's lag could have made of the radial flow (lag_allowance_s).
-        double lag_px_s = 0;
-        if (p_.lag_allowance_s != 0 && radial > 0)
-            lag_px_s = lag_flow_px_s(w, ap.edge ? ap.ny / ap.cos : dy / dn);
+        // What the navdata's lag could have made of the radial flow (lag_allowance_s; 0 with
+        // the allowance off or outside a manoeuvre).
+        const double lag_px_s =
+            radial > 0 ? lag_flow_px_s(w, ap.edge ? ap.ny / ap.cos : dy / dn) : 0.0;
         {
             // Where it was, for check_history: along the direction its flow is measured in (the
             // edge's normal on an edge), its translation-only path taken back from then.
