@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <span>
 
 namespace gs::vision {
 
@@ -225,7 +226,8 @@ void FlowClassifier::on_reset() {
     streak_ = {};
     rejections_ = 0;
     derot_ = cv::Matx33d::eye();
-    pitch_rates_.clear();
+    pitch_t_.clear();
+    pitch_w_.clear();
     pitch_slopes_.clear();
     rate_prev_t_ = kUnknown;
 }
@@ -239,24 +241,22 @@ void FlowClassifier::note_nav_rate(const FrameInput& in) {
     const double dt = t - rate_prev_t_;  // NaN: no frame with navdata before
     rate_prev_t_ = nav ? t : kUnknown;
     if (!nav) {
-        pitch_rates_.clear();
+        pitch_t_.clear();
+        pitch_w_.clear();
     } else if (dt > 0) {
-        if (pitch_rates_.size() >= win) pitch_rates_.erase(pitch_rates_.begin());
-        pitch_rates_.push_back({t, tracker_.rotation_rad()[0] / dt});
+        if (pitch_t_.size() >= win) {
+            pitch_t_.erase(pitch_t_.begin());
+            pitch_w_.erase(pitch_w_.begin());
+        }
+        pitch_t_.push_back(t);
+        pitch_w_.push_back(tracker_.rotation_rad()[0] / dt);
     }
     pitch_slopes_.assign(win + 1, 0.0);
-    const std::size_t m = pitch_rates_.size();
+    const std::size_t m = pitch_t_.size();
+    const std::span<const double> ts(pitch_t_), ws(pitch_w_);
     for (std::size_t n = 2; n <= m; ++n) {
-        double st = 0;
-        for (std::size_t k = m - n; k < m; ++k) st += pitch_rates_[k][0];
-        st /= static_cast<double>(n);
-        double stt = 0, stw = 0;
-        for (std::size_t k = m - n; k < m; ++k) {
-            const double d = pitch_rates_[k][0] - st;
-            stt += d * d;
-            stw += d * pitch_rates_[k][1];
-        }
-        if (stt > 0) pitch_slopes_[n] = stw / stt;
+        const LineFit f = fit_line(ts.last(n), ws.last(n));
+        if (f.ok) pitch_slopes_[n] = f.slope;
     }
     // A track longer than the navdata's run: the slope over that run.
     for (std::size_t n = m + 1; m >= 2 && n <= win; ++n) pitch_slopes_[n] = pitch_slopes_[m];

@@ -385,7 +385,7 @@ private:
     // camera's x axis), and per fit length n its least-squares slope over the last n (rad/s^2):
     // a navdata late by L derotates a point wrong by fy L w, so a fit over n frames has its
     // vertical velocity off by fy L times that slope (lag_allowance_s).
-    std::vector<cv::Vec2d> pitch_rates_;
+    std::vector<double> pitch_t_, pitch_w_;  // frame time (s), pitch rate (rad/s), oldest first
     std::vector<double> pitch_slopes_;
     double rate_prev_t_ = kUnknown;  // the last frame with navdata (s)
     void note_nav_rate(const FrameInput& in);
