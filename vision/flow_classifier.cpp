@@ -133,6 +133,10 @@ const ParamTable<FlowParams>& FlowParams::table() {
             .add("fb_static", &P::fb_static, 0, 1,
                  "with track.fb_max_px: a point that missed is not rated as static (0: misses "
                  "only keep points out of a moving object's looming)")
+            .add("fb_lost_px", &P::fb_lost_px, 0, 100,
+                 "with track.fb_max_px, flying forward: a point whose fit window holds a step "
+                 "that missed its track-back by more than this (px: a lost track) is not rated "
+                 "as static (0: off)")
             .add("moving_frames", &P::moving_frames, 1, 30,
                  "a point is moving after this many frames off the camera's motion")
             .add("side_inv_ttc_threshold", &P::side_inv_ttc_threshold, 0, 20,
@@ -728,8 +732,7 @@ void FlowClassifier::rate_points(const cv::Matx33d& level, double floor_down) {
         const double dx = mx - static_cast<double>(foe_.x), dy = my - static_cast<double>(foe_.y);
         const double d2 = dx * dx + dy * dy;
         if (d2 < min_d2) {
-            if (!moving && p_.near_foe_rows && !(p_.fb_static && nav_moving_ && fb_missed(t, n)))
-                near_idx_.push_back(i);
+            if (!moving && p_.near_foe_rows && !fb_unrated(t, n)) near_idx_.push_back(i);
             continue;
         }
         const double dn = std::sqrt(d2);
@@ -776,10 +779,11 @@ void FlowClassifier::rate_points(const cv::Matx33d& level, double floor_down) {
         const double vscale = radial > lag_px_s ? radial / (radial - lag_px_s)
                                                 : std::numeric_limits<double>::infinity();
         // With track.fb_max_px set, flying forward, a point LK could not track back to where it
-        // came from in a frame of the fit window is not rated as a static point: its flow may be
-        // a slip along a repeating pattern (a tiled floor) or an occluding edge dragging it (a
-        // person walking past), not the scene's.
-        const bool fb_miss = p_.fb_static && nav_moving_ && fb_missed(t, n);
+        // came from in a frame of the fit window (by fb_lost_px: a lost track; with fb_static,
+        // by fb_max_px) is not rated as a static point: its flow may be a jump to another patch
+        // (a plain, blurred person's clothes), a slip along a repeating pattern (a tiled floor)
+        // or an occluding edge dragging it (a person walking past), not the scene's.
+        const bool fb_miss = fb_unrated(t, n);
         if (fb_miss && !moving) continue;
         ++rated_count_[ri];
         track_score_[i] = rate;
@@ -957,11 +961,17 @@ void FlowClassifier::reject_ground() {
     }
 }
 
-bool FlowClassifier::fb_missed(const Trajectory& t, std::size_t n) const {
+bool FlowClassifier::fb_missed(const Trajectory& t, std::size_t n, double px) const {
     if (!(p_.fb_max_px > 0)) return false;
     for (std::size_t k = 0; k + 1 < n; ++k)
-        if (!(static_cast<double>(t.at_back(k).fb_px) <= p_.fb_max_px)) return true;
+        if (!(static_cast<double>(t.at_back(k).fb_px) <= px)) return true;
     return false;
+}
+
+bool FlowClassifier::fb_unrated(const Trajectory& t, std::size_t n) const {
+    if (!nav_moving_) return false;
+    if (p_.fb_static && fb_missed(t, n, p_.fb_max_px)) return true;
+    return p_.fb_lost_px > 0 && fb_missed(t, n, std::max(p_.fb_lost_px, p_.fb_max_px));
 }
 
 double FlowClassifier::looming_rate(std::size_t a, bool moving_only, double lo, double hi,
@@ -980,11 +990,11 @@ double FlowClassifier::looming_rate(std::size_t a, bool moving_only, double lo, 
     // outline over the background streaming past) do not move with it. Not before a still
     // camera: there a hand opening as it reaches toward the lens misses too, and is all there is.
     const bool fb_out = moving_only && nav_moving_;
-    if (fb_out && fb_missed(ta, std::min(win, ta.history_size()))) return kUnknown;
+    if (fb_out && fb_missed(ta, std::min(win, ta.history_size()), p_.fb_max_px)) return kUnknown;
     const auto consider = [&](std::size_t b) {
         if (a == b) return;
         const Trajectory& tb = tracks[b];
-        if (fb_out && fb_missed(tb, std::min(win, tb.history_size()))) return;
+        if (fb_out && fb_missed(tb, std::min(win, tb.history_size()), p_.fb_max_px)) return;
         const cv::Point2f d_now = ta.at_back(0).derot - tb.at_back(0).derot;
         const double n2 = static_cast<double>(d_now.dot(d_now));
         if (n2 > r2max || n2 < min2) return;

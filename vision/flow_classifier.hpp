@@ -207,6 +207,11 @@ struct FlowParams : TrackerParams {
     // static miss also drops near surfaces LK follows less exactly (a wall seen at a grazing
     // angle, a plain target's specks as it nears: README, Realism suite).
     bool fb_static = false;
+    // A step whose track-back missed by more than this (px) is a lost track, not a sub-pixel
+    // slip: LK jumped to another patch (a plain, blurred person's clothes: 10-40 px). Flying
+    // forward, such a point is not rated as static while that step is in its fit window,
+    // whatever fb_static says (needs track.fb_max_px; 0 = off).
+    double fb_lost_px = 2;
     int moving_frames = 2;  // a point is moving after this many frames off the camera's motion
     double side_inv_ttc_threshold = 0.3;  // 1/s: unsafe when time to contact < 3.3 s
     int side_min_support = 4;             // region score = k-th largest point rate
@@ -333,7 +338,9 @@ private:
     void check_static_looming();
     void check_history();
     double odometer_at(double t_s) const;  // distance flown forward by then (m), NaN unknown
-    bool fb_missed(const Trajectory& t, std::size_t n) const;
+    bool fb_missed(const Trajectory& t, std::size_t n, double px) const;
+    // Flying forward, this track's window holds a miss that keeps it from being rated static.
+    bool fb_unrated(const Trajectory& t, std::size_t n) const;
     void reject_ground();
     double looming_rate(std::size_t a, bool moving_only, double lo, double hi, double radius);
     struct Aperture {
