@@ -18,13 +18,13 @@ extern "C" {
 
 #include <algorithm>
 #include <array>
+#include <cstdint>
 #include <cstdlib>
 #include <filesystem>
 #include <functional>
 #include <map>
 #include <string>
 #include <string_view>
-#include <tuple>
 #include <vector>
 
 namespace gs::test {
@@ -647,6 +647,24 @@ struct RealismFlight {
         EXPECT_EQ(r.exit_code, 0) << r.out;
         return read_csv(dir / tag / "decisions.csv");
     }
+    // A replay's first `max_rows` frames: region-frames flagged (left, centre, right) and the
+    // frames on which region `judged_region` (0 left, 1 centre, 2 right) was measured.
+    struct Tally {
+        std::array<int, 3> flagged{0, 0, 0};
+        int judged = 0;
+        std::size_t rows = 0;
+    };
+    Tally tally(const std::string& tag, const std::string& set, std::size_t judged_region,
+                std::size_t max_rows = SIZE_MAX) const {
+        const dataset::csv::Table t = replay(tag, set);
+        Tally n;
+        n.rows = std::min(max_rows, t.rows());
+        for (std::size_t i = 0; i < n.rows; ++i) {
+            for (std::size_t r = 0; r < 3; ++r) n.flagged[r] += t.field(i, 2 + r) == "1" ? 1 : 0;
+            n.judged += t.field(i, 5 + judged_region).empty() ? 0 : 1;  // its score: measured
+        }
+        return n;
+    }
 };
 
 // The flow classifier as it was before the history check (check_history), the forward-backward
@@ -775,18 +793,10 @@ TEST(ReplayCli, TheFloorAheadOfATakeOffUnderLateNavdataStaysTheFloor) {
     // floor stays the floor.
     const RealismFlight f("floor_lag", "open_path1_06", "--bitrate 1000", 7);
     ASSERT_EQ(f.generated.exit_code, 0) << f.generated.out;
-    const auto first_frames = [&](const std::string& tag, const std::string& set) {
-        const dataset::csv::Table t = f.replay(tag, set);
-        std::array<int, 3> flagged{0, 0, 0};
-        int judged = 0;
-        for (std::size_t i = 0; i < std::min<std::size_t>(60, t.rows()); ++i) {
-            for (std::size_t r = 0; r < 3; ++r) flagged[r] += t.field(i, 2 + r) == "1" ? 1 : 0;
-            judged += t.field(i, 6).empty() ? 0 : 1;  // the centre's score: measured
-        }
-        return std::pair{flagged, judged};
-    };
-    const auto [off, judged_off] = first_frames("allowance_off", "--set lag_allowance_s=0");
-    const auto [on, judged_on] = first_frames("default", "");
+    const auto [off, judged_off, rows_off] =
+        f.tally("allowance_off", "--set lag_allowance_s=0", 1, 60);
+    const auto [on, judged_on, rows_on] = f.tally("default", "", 1, 60);
+    ASSERT_EQ(rows_off, rows_on);
     std::printf(
         "first 60 frames, region-frames flagged (left, centre, right): %d %d %d without the "
         "allowance, %d %d %d with it; centre judged on %d / %d\n",
@@ -807,18 +817,8 @@ TEST(ReplayCli, ALostTrackOnAPersonWalkingOffThePathIsNotRatedStatic) {
     // rated static while it is in the point's fit window.
     const RealismFlight f("lost_track", "open_path2_07", "--bitrate 1000", 7);
     ASSERT_EQ(f.generated.exit_code, 0) << f.generated.out;
-    const auto count = [&](const std::string& tag, const std::string& set) {
-        const dataset::csv::Table t = f.replay(tag, set);
-        std::array<int, 3> flagged{0, 0, 0};
-        int right_judged = 0;
-        for (std::size_t i = 0; i < t.rows(); ++i) {
-            for (std::size_t r = 0; r < 3; ++r) flagged[r] += t.field(i, 2 + r) == "1" ? 1 : 0;
-            right_judged += t.field(i, 7).empty() ? 0 : 1;  // the right's score: measured
-        }
-        return std::tuple{flagged, right_judged, t.rows()};
-    };
-    const auto [off, judged_off, rows] = count("rule_off", "--set fb_lost_px=0");
-    const auto [on, judged_on, rows_on] = count("default", "");
+    const auto [off, judged_off, rows] = f.tally("rule_off", "--set fb_lost_px=0", 2);
+    const auto [on, judged_on, rows_on] = f.tally("default", "", 2);
     ASSERT_EQ(rows, rows_on);
     std::printf(
         "region-frames flagged (left, centre, right): %d %d %d without the rule, %d %d %d with "
