@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <limits>
 #include <span>
+#include <utility>
 
 namespace gs::vision {
 
@@ -510,6 +511,9 @@ void FlowClassifier::all_unknown(UnknownReason why) {
 
 void FlowClassifier::classify(const FrameInput& in) {
     note_nav_rate(in);
+    // Where a lost track may count (fb_lost_px): in a region unsafe last frame.
+    for (std::size_t r = 0; r < 3; ++r)
+        keep_lost_[r] = result_.regions[r].valid && result_.regions[r].unsafe;
     // The allowance over a whole fit window for a point straight below the principal point (the
     // floor ahead): positive when the lag adds to its flow, negative when it takes from it (and
     // none is made).
@@ -564,7 +568,8 @@ void FlowClassifier::classify(const FrameInput& in) {
     // first metres while the navdata still reads it as hovering), and their looming says
     // nothing: the regions are unknown.
     std::size_t rated = 0;
-    for (int c : rated_count_) rated += static_cast<std::size_t>(c);
+    for (std::size_t r = 0; r < 3; ++r)
+        rated += static_cast<std::size_t>(rated_count_[r] + lost_rated_[r]);
     if (p_.max_moving_share < 1 && rated >= 10 &&
         static_cast<double>(moving_idx_.size()) >
             p_.max_moving_share * static_cast<double>(rated)) {
@@ -580,10 +585,17 @@ void FlowClassifier::classify(const FrameInput& in) {
         check_static_looming();
         rate_moving_points(level, floor_down);
     }
-    for (std::size_t i = 0; i < class_.size(); ++i)
-        if (class_[i] == PointClass::Hazard)
-            hazard_[static_cast<std::size_t>(region_of(tracker_.tracks()[i].at_back(0).stab.x))]
-                .push_back(track_score_[i]);
+    // A lost track (fb_lost_px) counts only where the region was unsafe last frame: it may keep
+    // an alarm going (a near surface at the end of a close pass), not raise one (a person's
+    // plain clothes walking off the path), nor hold a raw alarm until it is confirmed.
+    for (std::size_t r = 0; r < 3; ++r)
+        if (keep_lost_[r]) rated_count_[r] += std::exchange(lost_rated_[r], 0);
+    for (std::size_t i = 0; i < class_.size(); ++i) {
+        if (class_[i] != PointClass::Hazard) continue;
+        const auto r = static_cast<std::size_t>(region_of(tracker_.tracks()[i].at_back(0).stab.x));
+        if (i < lost_.size() && lost_[i] && !keep_lost_[r]) continue;
+        hazard_[r].push_back(track_score_[i]);
+    }
     plot(s_moving_, static_cast<double>(moving_idx_.size()));
     const double hom =
         p_.centre_homography && foe_source_ != FoeSource::Still ? homography_rate(in) : kUnknown;
@@ -693,6 +705,8 @@ void FlowClassifier::rate_points(const cv::Matx33d& level, double floor_down) {
     past_.assign(tracks.size(), Past{kUnknown, kUnknown, kUnknown, 0, 0, 0, 0});
     for (auto& v : hazard_) v.clear();
     rated_count_.assign(3, 0);
+    lost_.assign(tracks.size(), 0);
+    lost_rated_ = {0, 0, 0};
     moving_idx_.clear();
     near_idx_.clear();
     const auto win = static_cast<std::size_t>(p_.velocity_window);
@@ -727,6 +741,12 @@ void FlowClassifier::rate_points(const cv::Matx33d& level, double floor_down) {
         }
         const WindowFit& w = (*fits)[i];
         if (!w.ok) continue;
+        // A lost track (fb_lost_px) rated as a static point may keep an alarm, not raise one:
+        // see classify. A moving point is judged by its looming, which fb_max_px guards.
+        lost_[i] = !moving && nav_moving_ && p_.fb_lost_px > 0 &&
+                           fb_missed(t, n, std::max(p_.fb_lost_px, p_.fb_max_px))
+                       ? 1
+                       : 0;
         const double t0 = w.t0, lag = w.lag, mx = w.mx, my = w.my;
         const double vx = w.vx, vy = w.vy;
         const double dx = mx - static_cast<double>(foe_.x), dy = my - static_cast<double>(foe_.y);
@@ -778,14 +798,13 @@ void FlowClassifier::rate_points(const cv::Matx33d& level, double floor_down) {
         // added to it (all of it the lag's: at any depth, not placed on the path).
         const double vscale = radial > lag_px_s ? radial / (radial - lag_px_s)
                                                 : std::numeric_limits<double>::infinity();
-        // With track.fb_max_px set, flying forward, a point LK could not track back to where it
-        // came from in a frame of the fit window (by fb_lost_px: a lost track; with fb_static,
-        // by fb_max_px) is not rated as a static point: its flow may be a jump to another patch
-        // (a plain, blurred person's clothes), a slip along a repeating pattern (a tiled floor)
-        // or an occluding edge dragging it (a person walking past), not the scene's.
+        // With track.fb_max_px set and fb_static, flying forward, a point LK could not track
+        // back to where it came from in a frame of the fit window is not rated as a static
+        // point: its flow may be a slip along a repeating pattern (a tiled floor) or an
+        // occluding edge dragging it (a person walking past), not the scene's.
         const bool fb_miss = fb_unrated(t, n);
         if (fb_miss && !moving) continue;
-        ++rated_count_[ri];
+        count_rated(i, ri);
         track_score_[i] = rate;
         const bool across =
             std::abs(tangential) > p_.max_tangential_ratio * std::abs(radial) + p_.flow_noise_px_s;
@@ -904,7 +923,7 @@ void FlowClassifier::rate_near_foe(const cv::Matx33d& level, double floor_down) 
         const double rate_then = median_inplace(loom_);
         const WindowFit& w = fits[a];
         const auto ri = static_cast<std::size_t>(region_of(ta.at_back(0).stab.x));
-        ++rated_count_[ri];
+        count_rated(a, ri);
         track_score_[a] = rate_now(rate_then, w.lag);
         if (!(rate_then > 0)) continue;  // not nearing
         if (p_.near_foe_growth > 0 &&
@@ -969,9 +988,7 @@ bool FlowClassifier::fb_missed(const Trajectory& t, std::size_t n, double px) co
 }
 
 bool FlowClassifier::fb_unrated(const Trajectory& t, std::size_t n) const {
-    if (!nav_moving_) return false;
-    if (p_.fb_static && fb_missed(t, n, p_.fb_max_px)) return true;
-    return p_.fb_lost_px > 0 && fb_missed(t, n, std::max(p_.fb_lost_px, p_.fb_max_px));
+    return nav_moving_ && p_.fb_static && fb_missed(t, n, p_.fb_max_px);
 }
 
 double FlowClassifier::looming_rate(std::size_t a, bool moving_only, double lo, double hi,
@@ -1019,8 +1036,11 @@ double FlowClassifier::looming_rate(std::size_t a, bool moving_only, double lo, 
     if (moving_only) {
         for (std::size_t b : moving_idx_) consider(b);
     } else {
+        // A lost track bears a point out only where it may count (fb_lost_px, classify).
         for (std::size_t b = 0; b < tracks.size(); ++b)
-            if (class_[b] == PointClass::Hazard && track_score_[b] >= lo && track_score_[b] <= hi)
+            if (class_[b] == PointClass::Hazard && track_score_[b] >= lo && track_score_[b] <= hi &&
+                (b >= lost_.size() || !lost_[b] ||
+                 keep_lost_[static_cast<std::size_t>(region_of(tracks[b].at_back(0).stab.x))]))
                 consider(b);
     }
     if (static_cast<int>(loom_.size()) < p_.loom_min_neighbours) return kUnknown;

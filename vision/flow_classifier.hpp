@@ -209,8 +209,12 @@ struct FlowParams : TrackerParams {
     bool fb_static = false;
     // A step whose track-back missed by more than this (px) is a lost track, not a sub-pixel
     // slip: LK jumped to another patch (a plain, blurred person's clothes: 10-40 px). Flying
-    // forward, such a point is not rated as static while that step is in its fit window,
-    // whatever fb_static says (needs track.fb_max_px; 0 = off).
+    // forward, while that step is in its fit window such a point rated as static may keep a
+    // region's alarm going but neither raise one nor bear out another point's rate (it counts
+    // only in a region that was unsafe last frame): a near surface streaming past at the end of
+    // a close pass is matched less exactly too (its patch shears and grows between frames; its
+    // track-backs miss by as much as its steps), and its alarm, raised while it was farther,
+    // must hold. Needs track.fb_max_px; 0 = off.
     double fb_lost_px = 2;
     int moving_frames = 2;  // a point is moving after this many frames off the camera's motion
     double side_inv_ttc_threshold = 0.3;  // 1/s: unsafe when time to contact < 3.3 s
@@ -423,6 +427,16 @@ private:
     };
     RingBuffer<Odometer> odometer_{Trajectory::kHistory + 1};
     std::vector<int> rated_count_;
+    // Per track: its fit window holds a lost step (fb_lost_px); per region, such points rated.
+    std::vector<std::uint8_t> lost_;
+    std::array<int, 3> lost_rated_{};
+    std::array<bool, 3> keep_lost_{};  // per region: lost tracks count (unsafe last frame)
+    void count_rated(std::size_t track, std::size_t region) {
+        if (lost_[track])
+            ++lost_rated_[region];
+        else
+            ++rated_count_[region];
+    }
     std::vector<PointClass> class_;
     std::vector<cv::Point2f> src_, dst_;
     std::vector<std::uint8_t> inliers_;
