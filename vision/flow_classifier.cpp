@@ -593,7 +593,10 @@ void FlowClassifier::classify(const FrameInput& in) {
     for (std::size_t i = 0; i < class_.size(); ++i) {
         if (class_[i] != PointClass::Hazard) continue;
         const auto r = static_cast<std::size_t>(region_of(tracker_.tracks()[i].at_back(0).stab.x));
-        if (i < lost_.size() && lost_[i] && !keep_lost_[r]) continue;
+        if (i < lost_.size() && lost_[i] && !keep_lost_[r]) {
+            class_[i] = PointClass::Lost;
+            continue;
+        }
         hazard_[r].push_back(track_score_[i]);
     }
     plot(s_moving_, static_cast<double>(moving_idx_.size()));
@@ -741,18 +744,19 @@ void FlowClassifier::rate_points(const cv::Matx33d& level, double floor_down) {
         }
         const WindowFit& w = (*fits)[i];
         if (!w.ok) continue;
-        // A lost track (fb_lost_px) rated as a static point may keep an alarm, not raise one:
-        // see classify. A moving point is judged by its looming, which fb_max_px guards.
-        lost_[i] = !moving && nav_moving_ && p_.fb_lost_px > 0 &&
-                           fb_missed(t, n, std::max(p_.fb_lost_px, p_.fb_max_px))
-                       ? 1
-                       : 0;
+        // A lost track (fb_lost_px) judged as a static point may keep an alarm, not raise one
+        // (see classify); one judged as moving, by its looming, is guarded by fb_max_px there.
+        const bool lost = nav_moving_ && p_.fb_lost_px > 0 &&
+                          fb_missed(t, n, std::max(p_.fb_lost_px, p_.fb_max_px));
         const double t0 = w.t0, lag = w.lag, mx = w.mx, my = w.my;
         const double vx = w.vx, vy = w.vy;
         const double dx = mx - static_cast<double>(foe_.x), dy = my - static_cast<double>(foe_.y);
         const double d2 = dx * dx + dy * dy;
         if (d2 < min_d2) {
-            if (!moving && p_.near_foe_rows && !fb_unrated(t, n)) near_idx_.push_back(i);
+            if (!moving && p_.near_foe_rows && !fb_unrated(t, n)) {
+                lost_[i] = lost ? 1 : 0;
+                near_idx_.push_back(i);
+            }
             continue;
         }
         const double dn = std::sqrt(d2);
@@ -804,18 +808,20 @@ void FlowClassifier::rate_points(const cv::Matx33d& level, double floor_down) {
         // occluding edge dragging it (a person walking past), not the scene's.
         const bool fb_miss = fb_unrated(t, n);
         if (fb_miss && !moving) continue;
-        count_rated(i, ri);
         track_score_[i] = rate;
         const bool across =
             std::abs(tangential) > p_.max_tangential_ratio * std::abs(radial) + p_.flow_noise_px_s;
         // ... unless its flow, over the fit window, is radial from the FOE used (which may be
         // the navdata's where the images' own was off): then it is a static point after all.
         if (moving && (across || radial < -p_.flow_noise_px_s)) {
+            ++rated_count_[ri];
             class_[i] = PointClass::Moving;
             moving_idx_.push_back(i);
             track_score_[i] = kUnknown;
             continue;
         }
+        lost_[i] = lost ? 1 : 0;
+        count_rated(i, ri);
         if (across || fb_miss) {
             class_[i] = PointClass::Inconsistent;
             continue;
@@ -1296,6 +1302,8 @@ std::string_view FlowClassifier::to_string(PointClass c) {
             return "hazard";
         case PointClass::Moving:
             return "moving";
+        case PointClass::Lost:
+            return "lost";
     }
     return "unrated";
 }
@@ -1306,9 +1314,9 @@ std::string_view FlowClassifier::point_kind(std::size_t i) const {
 
 void FlowClassifier::add_overlay_points() {
     // Rings (the trajectories layer): corridor points coloured by 1/TTC, blue to red at
-    // colour_max; points still being judged small and blue; points placed outside the corridor
-    // or with inconsistent flow small and grey. Filled dots (the centre band layer): the band's
-    // points. The white ring is the focus of expansion.
+    // colour_max; points still being judged, and lost tracks that may not count, small and
+    // blue; points placed outside the corridor or with inconsistent flow small and grey. Filled
+    // dots (the centre band layer): the band's points. The white ring is the focus of expansion.
     const auto& tracks = tracker_.tracks();
     Overlay& o = result_.overlay;
     for (std::size_t i = 0; i < tracks.size(); ++i) {
@@ -1319,6 +1327,7 @@ void FlowClassifier::add_overlay_points() {
                 o.points.push_back({tracks[i].raw, 5, blue_to_red(s / p_.colour_max), false});
                 break;
             case PointClass::Unrated:
+            case PointClass::Lost:
                 o.points.push_back({tracks[i].raw, 3, blue_to_red(0), false});
                 break;
             case PointClass::Moving:

@@ -297,6 +297,7 @@ public:
         Outside,       // placed outside the corridor (beside it, floor, overhead)
         Hazard,        // counts toward its region's score
         Moving,        // does not move with the scene; rated by its looming (may count too)
+        Lost,          // in the corridor, but a lost track (fb_lost_px) where it may not count
     };
     const std::vector<PointClass>& point_classes() const { return class_; }
     static std::string_view to_string(PointClass c);

@@ -280,8 +280,8 @@ TEST(ReplayCli, PointsCsvHoldsEveryTrackedPointAndExplainsTheScores) {
         std::map<long, int> age_by_id;
     };
     std::map<long, FrameRows> frames;
-    const std::vector<std::string> kinds = {"unrated", "inconsistent", "aperture",
-                                            "outside", "hazard",       "moving"};
+    const std::vector<std::string> kinds = {"unrated", "inconsistent", "aperture", "outside",
+                                            "hazard",  "moving",       "lost"};
     for (std::size_t i = 0; i < pts.rows(); ++i) {
         const long f = std::stol(std::string(pts.field(i, 0)));
         ASSERT_GE(f, 0);
