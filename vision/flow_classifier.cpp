@@ -135,9 +135,9 @@ const ParamTable<FlowParams>& FlowParams::table() {
                  "with track.fb_max_px: a point that missed is not rated as static (0: misses "
                  "only keep points out of a moving object's looming)")
             .add("fb_lost_px", &P::fb_lost_px, 0, 100,
-                 "with track.fb_max_px, flying forward: a point whose fit window holds a step "
-                 "that missed its track-back by more than this (px: a lost track) is not rated "
-                 "as static (0: off)")
+                 "with track.fb_max_px, flying forward: a point rated as static whose fit "
+                 "window holds a step that missed its track-back by more than this (px: a lost "
+                 "track) counts only where its region was unsafe last frame (0: off)")
             .add("moving_frames", &P::moving_frames, 1, 30,
                  "a point is moving after this many frames off the camera's motion")
             .add("side_inv_ttc_threshold", &P::side_inv_ttc_threshold, 0, 20,
