@@ -35,7 +35,10 @@ nlohmann::json ObstacleFlightInfo::extra_labels() const {
     j["yaw_wobble_deg"] = params.yaw_wobble_deg;
     j["yaw_wobble_hz"] = params.yaw_wobble_hz;
     if (!std::isnan(params.end_lateral_m)) j["end_lateral_m"] = params.end_lateral_m;
-    if (!std::isnan(params.clear_path_m)) j["clear_path_m"] = params.clear_path_m;
+    if (!std::isnan(params.clear_path_m)) {
+        j["clear_path_m"] = params.clear_path_m;
+        j["clear_ahead_s"] = params.clear_ahead_s;
+    }
     j["seed"] = params.seed;
     return j;
 }
@@ -144,6 +147,64 @@ Expected<FlightEnd, std::string> fly_protocol(const ObstacleFlightInfo& fl, cons
 
 }  // namespace
 
+Expected<FlownScene, std::string> flown_scene(const ObstacleFlightInfo& fl) {
+    const ObstacleFlightParams& p = fl.params;
+    FlownScene out;
+    out.scene = fl.scene;
+    Scene& scene = out.scene;
+    std::optional<std::size_t>& target = out.target;
+    if (fl.scenario != "none") {
+        target = find_obstacle(scene, scene.target_id);
+        if (!target)
+            return Unexpected("scene " + scene.name + " has no target obstacle '" +
+                              scene.target_id + "'");
+    }
+    const bool correct_drift = target && !std::isnan(p.end_lateral_m);
+    if (!correct_drift && !(p.clear_path_m > 0)) return out;
+    // A dry run (no pixels) of the same flight: the flight model does not depend on where it
+    // starts, so what it gives holds, shifted, for the real one.
+    std::vector<cv::Point2d>& path = out.path;
+    auto dry = fly_protocol(fl, scene, target, [&](const FlightFrame& f) {
+        path.emplace_back(f.pose.x_m, f.pose.y_m);
+        return std::optional<std::string>();
+    });
+    if (!dry) return Unexpected(dry.error());
+    if (correct_drift) {
+        // Drift (wind) carries the drone sideways during the approach: move the start across
+        // the heading so that the target ends at end_lateral_m.
+        const double shift = dry->lateral_m - p.end_lateral_m;  // start moves right by this
+        const double yaw = scene.start.yaw_deg * std::numbers::pi / 180;
+        const cv::Point2d d(-shift * std::sin(yaw), shift * std::cos(yaw));
+        scene.start.x_m += d.x;
+        scene.start.y_m += d.y;
+        for (cv::Point2d& q : path) q += d;
+        const Room& r = scene.room;
+        if (!(scene.start.x_m > r.x_min_m + 0.3 && scene.start.x_m < r.x_max_m - 0.3 &&
+              scene.start.y_m > r.y_min_m + 0.3 && scene.start.y_m < r.y_max_m - 0.3))
+            return Unexpected("the drift correction moves the start of " + fl.name +
+                              " out of the room");
+    }
+    if (p.clear_path_m > 0) {
+        // The flight line ahead of the last position, along the start heading.
+        if (!path.empty() && p.clear_ahead_s > 0) {
+            const double yaw = scene.start.yaw_deg * std::numbers::pi / 180;
+            const cv::Point2d heading(std::cos(yaw), std::sin(yaw));
+            const cv::Point2d end = path.back();
+            const double ahead_m = p.speed_mps * p.clear_ahead_s;
+            for (double s_m = 0.1; s_m <= ahead_m; s_m += 0.1) path.push_back(end + s_m * heading);
+        }
+        const std::string target_id = target ? scene.obstacles[*target].id : std::string();
+        std::erase_if(scene.obstacles, [&](const Obstacle& o) {
+            if (!o.clutter || (!target_id.empty() && o.id == target_id)) return false;
+            for (const cv::Point2d& q : path)
+                if (footprint_distance(o, q.x, q.y) < p.clear_path_m) return true;
+            return false;
+        });
+        if (target) target = find_obstacle(scene, scene.target_id);
+    }
+    return out;
+}
+
 Expected<ObstacleFlightSummary, std::string> write_obstacle_flight(const fs::path& dir,
                                                                    const ObstacleFlightInfo& fl) {
     const ObstacleFlightParams& p = fl.params;
@@ -154,50 +215,9 @@ Expected<ObstacleFlightSummary, std::string> write_obstacle_flight(const fs::pat
     if (fs::exists(dir, ec) && !fs::is_empty(dir, ec))
         return Unexpected(dir.string() + " exists and is not empty");
 
-    Scene scene = fl.scene;
-    std::optional<std::size_t> target;
-    if (fl.scenario != "none") {
-        target = find_obstacle(scene, scene.target_id);
-        if (!target)
-            return Unexpected("scene " + scene.name + " has no target obstacle '" +
-                              scene.target_id + "'");
-    }
-    const bool correct_drift = target && !std::isnan(p.end_lateral_m);
-    if (correct_drift || p.clear_path_m > 0) {
-        // A dry run (no pixels) of the same flight: the flight model does not depend on where it
-        // starts, so what it gives holds, shifted, for the real one.
-        std::vector<cv::Point2d> path;
-        auto dry = fly_protocol(fl, scene, target, [&](const FlightFrame& f) {
-            path.emplace_back(f.pose.x_m, f.pose.y_m);
-            return std::optional<std::string>();
-        });
-        if (!dry) return Unexpected(dry.error());
-        if (correct_drift) {
-            // Drift (wind) carries the drone sideways during the approach: move the start across
-            // the heading so that the target ends at end_lateral_m.
-            const double shift = dry->lateral_m - p.end_lateral_m;  // start moves right by this
-            const double yaw = scene.start.yaw_deg * std::numbers::pi / 180;
-            const cv::Point2d d(-shift * std::sin(yaw), shift * std::cos(yaw));
-            scene.start.x_m += d.x;
-            scene.start.y_m += d.y;
-            for (cv::Point2d& q : path) q += d;
-            const Room& r = scene.room;
-            if (!(scene.start.x_m > r.x_min_m + 0.3 && scene.start.x_m < r.x_max_m - 0.3 &&
-                  scene.start.y_m > r.y_min_m + 0.3 && scene.start.y_m < r.y_max_m - 0.3))
-                return Unexpected("the drift correction moves the start of " + fl.name +
-                                  " out of the room");
-        }
-        if (p.clear_path_m > 0) {
-            const std::string target_id = target ? scene.obstacles[*target].id : std::string();
-            std::erase_if(scene.obstacles, [&](const Obstacle& o) {
-                if (!o.clutter || (!target_id.empty() && o.id == target_id)) return false;
-                for (const cv::Point2d& q : path)
-                    if (footprint_distance(o, q.x, q.y) < p.clear_path_m) return true;
-                return false;
-            });
-            if (target) target = find_obstacle(scene, scene.target_id);
-        }
-    }
+    GS_TRY_ASSIGN(FlownScene prepared, flown_scene(fl));
+    Scene scene = std::move(prepared.scene);
+    std::optional<std::size_t> target = prepared.target;
     if (auto e = p.realism.check()) return Unexpected(*e);
     // The realism layer's scene effects (plain walls ...): what the camera sees, not the flight.
     const SceneEffects scene_fx = apply_scene_effects(scene, p.realism, mix_seed(p.seed, 0x5ce4e));

@@ -22,10 +22,12 @@
 #include "drone/sim/scene.hpp"
 
 #include <nlohmann/json.hpp>
+#include <opencv2/core/types.hpp>
 
 #include <cstdint>
 #include <filesystem>
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -59,6 +61,12 @@ struct ObstacleFlightParams {
     // the target is the only obstacle near the flight and a flag elsewhere is a false alarm.
     // NaN: the scene as it is.
     double clear_path_m = kUnknown;
+    // ... and so is clutter that close to the flight line ahead of the path's end, as far as the
+    // flight covers at speed_mps in this time: what the classifiers see approach in the scored
+    // frames (they flag at 3.3 s to contact) is part of the path. Without it a side pass's
+    // scenery on the far side, kept 1.6 m from the target's line, not the drone's, stood in the
+    // corridor 2-4 m past the flight's end, and its flags counted as wrong-side alarms.
+    double clear_ahead_s = 4.0;
     int bitrate_bps = 1'500'000;  // the drone's default video bitrate
     // What a real camera, link and estimator add (drone/sim/realism.hpp); all off by default.
     RealismOptions realism;
@@ -85,6 +93,16 @@ struct ObstacleFlightSummary {
     int slices_lost = 0;                                // frames damaged by realism.slice_loss_pct
     std::uint64_t video_bytes = 0;
 };
+
+// The scene as `flight` flies it: the start moved across the heading to cancel the drift
+// (end_lateral_m), scenery near the path cleared (clear_path_m, clear_ahead_s); with the target's
+// index and the path checked against (the dry run's positions, then the line ahead).
+struct FlownScene {
+    Scene scene;
+    std::optional<std::size_t> target;
+    std::vector<cv::Point2d> path;
+};
+[[nodiscard]] Expected<FlownScene, std::string> flown_scene(const ObstacleFlightInfo& flight);
 
 // Renders and writes `flight` into `dir` (created; must not exist or be empty).
 [[nodiscard]] Expected<ObstacleFlightSummary, std::string> write_obstacle_flight(
