@@ -232,6 +232,7 @@ void TrajectoryTracker::update(const cv::Mat& image, std::int64_t t_ns, double r
         prior.rotation_sigma_deg = p_.ego_prediction_sigma_deg;
     }
     const bool navdata_rotation = prior_in.rotation;
+    shutter_rate_ = prior.rotation && dt > 0 ? base_rot * (1.0 / dt) : cv::Vec3d(0, 0, 0);
     set_roll(roll_deg);
     auto t0 = StageClock::now();
     const cv::Mat* grey = &image;
@@ -331,6 +332,7 @@ void TrajectoryTracker::update(const cv::Mat& image, std::int64_t t_ns, double r
         raw_.resize(n);
         und_.resize(n);
         calib_.undistort_points(raw_, und_);
+        unroll_shutter(raw_, und_);
         // Where the known rotation alone would have moved each point; then what the images say.
         pred_.resize(n);
         for (std::size_t i = 0; i < n; ++i) pred_[i] = apply_homography(base_h, tracks_[i].undist);
@@ -407,6 +409,19 @@ void TrajectoryTracker::update(const cv::Mat& image, std::int64_t t_ns, double r
     std::swap(pyr_prev_, pyr_cur_);
     have_prev_ = true;
     ++frame_;
+}
+
+void TrajectoryTracker::unroll_shutter(const std::vector<cv::Point2f>& raw,
+                                       std::vector<cv::Point2f>& und) const {
+    if (!(p_.readout_ms > 0) || shutter_rate_ == cv::Vec3d(0, 0, 0) || calib_.height <= 0) return;
+    const double readout_s = p_.readout_ms * 1e-3;
+    for (std::size_t i = 0; i < und.size(); ++i) {
+        // The row's delay after mid-frame; the camera turned by rate x delay since then.
+        const double delay_s =
+            (static_cast<double>(raw[i].y) / static_cast<double>(calib_.height) - 0.5) * readout_s;
+        und[i] =
+            apply_homography(small_rotation_homography(calib_, shutter_rate_ * -delay_s), und[i]);
+    }
 }
 
 int TrajectoryTracker::cell_of(cv::Point2f raw) const {
@@ -497,6 +512,7 @@ void TrajectoryTracker::detect(double roll) {
     for (std::size_t i = 0; i < corners_.size(); ++i) raw_[i] = to_full(corners_[i]);
     und_.resize(raw_.size());
     calib_.undistort_points(raw_, und_);
+    unroll_shutter(raw_, und_);
     const auto w = static_cast<float>(calib_.width);
     const auto h = static_cast<float>(calib_.height);
     for (std::size_t i = 0; i < raw_.size(); ++i) {

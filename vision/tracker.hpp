@@ -59,6 +59,17 @@ struct TrackerParams {
     // Without a navdata rotation, start each LK search where the last frame's rotation (from the
     // images) moves the point: a camera that turns keeps turning.
     bool predict_rotation = true;
+    // Rolling shutter: the sensor reads its rows out top to bottom over this time (the AR.Drone
+    // 2 front camera: 25 ms), so while the camera turns each row sees it turned by the rate x
+    // its delay. Each point's undistorted position is moved to where the camera's rotation puts
+    // it at mid-frame (the rate: this frame's rotation prior, navdata or predicted, over the
+    // frame interval). Uncorrected, a pitch that speeds up or slows down stretches the image
+    // vertically from one frame to the next, and points read that as looming: the realism
+    // closed loop's take-off brakes. 0 (default): a global shutter. Off by default: the rate is
+    // the navdata's (late, and half a frame behind a changing rate), and on the realism suites
+    // (filmed with 25 ms) it cut three take-off brakes of the closed loop but raised as many
+    // elsewhere, and offline it helped seeds 2026 and 7 and hurt 31 (README, Realism suite).
+    double readout_ms = 0;
     int max_tracks = 150;               // speed: ~1 ms per frame with the settings below (bench)
     double quality_level = 0.01;        // goodFeaturesToTrack qualityLevel
     double min_corner_distance_px = 8;  // goodFeaturesToTrack minDistance (full-size px)
@@ -160,6 +171,8 @@ void describe_tracker_params(ParamTable<P>& t) {
              "image roll: time constant of the leak back to level")
         .add("track.predict_rotation", &P::predict_rotation, 0, 1,
              "without navdata rotation, start LK where the last frame's rotation moves points")
+        .add("track.readout_ms", &P::readout_ms, 0, 100,
+             "rolling shutter: row readout time, first row to last (0: global shutter)")
         .add("track.max_tracks", &P::max_tracks, 10, 2000, "most trajectories alive at once", true)
         .add("track.quality_level", &P::quality_level, 1e-4, 0.5,
              "Shi-Tomasi: corner strength relative to the strongest corner")
@@ -307,6 +320,8 @@ private:
     void find_step();
     void scale_previous_pyramid(double k);
     void own_grey_track(const cv::Mat& image);  // before changing grey_track_ in place
+    // Moves undistorted points (rows from their raw positions) to mid-frame (readout_ms).
+    void unroll_shutter(const std::vector<cv::Point2f>& raw, std::vector<cv::Point2f>& und) const;
 
     CameraCalibration calib_;
     TrackerParams p_;
@@ -337,6 +352,7 @@ private:
     std::vector<std::uint8_t> drop_;
     EgoMotionEstimator ego_;
     cv::Vec3d last_rotation_rad_{0, 0, 0};  // whole camera rotation of the last frame
+    cv::Vec3d shutter_rate_{0, 0, 0};       // this frame's rotation rate (rad/s), for readout_ms
     NavdataRateError nav_error_;            // the navdata rotation's error, followed over frames
     bool have_rotation_ = false;
     double image_roll_deg_ = 0;
