@@ -884,36 +884,22 @@ TEST(ReplayCli, TheImagesFoeReplacesTheNavdatasOnlyWhenThePointsPlainlySaySo) {
     // a wrong navdata velocity is still overruled).
     const RealismFlight f("foe_overrule", "open_path1_07", "--bitrate 1000");
     ASSERT_EQ(f.generated.exit_code, 0) << f.generated.out;
-    const dataset::csv::Table frames = read_csv(f.flight / "frames.csv");
-    const nlohmann::json info = read_json(f.flight / "flight.json");
-    core::CameraCalibration calib;
-    calib.fx = info["calibration"]["fx"].get<double>();
-    calib.fy = info["calibration"]["fy"].get<double>();
-    calib.cx = info["calibration"]["cx"].get<double>();
-    calib.cy = info["calibration"]["cy"].get<double>();
-    calib.width = info["width"].get<int>();
-    calib.height = info["height"].get<int>();
-    const auto col = [&](const char* name) {
-        const auto c = frames.column(name);
-        EXPECT_TRUE(c.has_value()) << name;
-        return c.value_or(0);
-    };
-    const auto num = [&](std::size_t row, const char* name) {
-        return std::stod(std::string(frames.field(row, col(name))));
-    };
+    const auto ds = dataset::Dataset::open(f.flight);
+    ASSERT_TRUE(ds.has_value()) << to_string(ds.error());
+    const std::vector<dataset::FrameRow>& rows = ds->frames();
     // Level-frame velocities (forward, right, down): the navdata's and the ground truth's
     // (central differences of the track, turned by its heading).
-    const std::size_t n = frames.rows();
+    const std::size_t n = rows.size();
     ASSERT_GE(n, 100u);
     std::vector<cv::Vec3d> nav(n), truth(n);
     for (std::size_t i = 0; i < n; ++i) {
-        nav[i] = {num(i, "vx_mps"), num(i, "vy_mps"), -num(i, "vz_mps")};
-        const std::size_t a = i > 0 ? i - 1 : i, b = i + 1 < n ? i + 1 : i;
-        const double dt = (num(b, "t_ms") - num(a, "t_ms")) * 1e-3;
-        const double dx = (num(b, "gt_x_m") - num(a, "gt_x_m")) / dt;
-        const double dy = (num(b, "gt_y_m") - num(a, "gt_y_m")) / dt;
-        const double dz = (num(b, "gt_z_m") - num(a, "gt_z_m")) / dt;
-        const double yaw = num(i, "gt_yaw_deg") * CV_PI / 180.0;
+        nav[i] = {rows[i].nav.vx_mps, rows[i].nav.vy_mps, -rows[i].nav.vz_mps};
+        const dataset::FrameRow& a = rows[i > 0 ? i - 1 : i];
+        const dataset::FrameRow& b = rows[i + 1 < n ? i + 1 : i];
+        const double dt = static_cast<double>(b.nav.t_ns - a.nav.t_ns) * 1e-9;
+        const double dx = (b.gt.x_m - a.gt.x_m) / dt, dy = (b.gt.y_m - a.gt.y_m) / dt;
+        const double dz = (b.gt.z_m - a.gt.z_m) / dt;
+        const double yaw = rows[i].gt.yaw_deg * CV_PI / 180.0;
         truth[i] = {std::cos(yaw) * dx + std::sin(yaw) * dy,
                     -std::sin(yaw) * dx + std::cos(yaw) * dy, -dz};
     }
@@ -922,8 +908,8 @@ TEST(ReplayCli, TheImagesFoeReplacesTheNavdatasOnlyWhenThePointsPlainlySaySo) {
     const auto foe_at = [&](const std::vector<cv::Vec3d>& v, std::size_t i) {
         cv::Vec3d m(0, 0, 0);
         for (std::size_t k = i + 1 - kWindow; k <= i; ++k) m += v[k] * (1.0 / kWindow);
-        return cv::Point2d(vision::focus_of_expansion(calib, num(i, "roll_deg"),
-                                                      num(i, "pitch_deg"), m[0], m[1], m[2]));
+        return cv::Point2d(vision::focus_of_expansion(ds->calibration(), rows[i].nav.roll_deg,
+                                                      rows[i].nav.pitch_deg, m[0], m[1], m[2]));
     };
     struct Run {
         int far = 0, frames = 0, centre = 0;
