@@ -169,11 +169,11 @@ Expected<FlownScene, std::string> flown_scene(const ObstacleFlightInfo& fl) {
         return std::optional<std::string>();
     });
     if (!dry) return Unexpected(dry.error());
+    const double yaw = scene.start.yaw_deg * std::numbers::pi / 180;
     if (correct_drift) {
         // Drift (wind) carries the drone sideways during the approach: move the start across
         // the heading so that the target ends at end_lateral_m.
         const double shift = dry->lateral_m - p.end_lateral_m;  // start moves right by this
-        const double yaw = scene.start.yaw_deg * std::numbers::pi / 180;
         const cv::Point2d d(-shift * std::sin(yaw), shift * std::cos(yaw));
         scene.start.x_m += d.x;
         scene.start.y_m += d.y;
@@ -187,7 +187,6 @@ Expected<FlownScene, std::string> flown_scene(const ObstacleFlightInfo& fl) {
     if (p.clear_path_m > 0) {
         // The flight line ahead of the last position, along the start heading.
         if (!path.empty() && p.clear_ahead_s > 0) {
-            const double yaw = scene.start.yaw_deg * std::numbers::pi / 180;
             const cv::Point2d heading(std::cos(yaw), std::sin(yaw));
             const cv::Point2d end = path.back();
             const double ahead_m = p.speed_mps * p.clear_ahead_s;
