@@ -88,6 +88,7 @@ std::string stats_json(const record::RecorderStatus& st, const link::LinkStatus&
                  {"video_connects", ls.video.connects},
                  {"video_decoded", ls.video.decoded},
                  {"video_concealed", ls.video.concealed},
+                 {"video_repaired", ls.video.repaired},
                  {"video_idr_waits", ls.video.idr_waits},
                  {"video_cut_by_reset", ls.video.cut_by_reset}};
     return j.dump(2) + "\n";

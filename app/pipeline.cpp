@@ -14,6 +14,7 @@ vision::FrameInput to_frame_input(const FrameSample& s) {
     in.vz_mps = s.nav.vz_mps;
     in.altitude_m = s.nav.altitude_m;
     in.concealed = s.concealed;
+    in.repaired = s.repaired;
     return in;
 }
 

@@ -362,6 +362,7 @@ nlohmann::json summary_json(const dataset::Dataset& d, const ReplaySettings& s,
     j["processed"] = st.processed;
     j["decode_errors"] = st.decode_errors;
     j["concealed_frames"] = st.concealed;
+    j["repaired_frames"] = st.repaired;
     j["rejected_time_steps"] = st.rejected_steps;
     if (!st.first_error.empty()) j["first_decode_error"] = st.first_error;
     j["flagged_frames"] = {

@@ -236,6 +236,7 @@ Expected<ReplayStats, std::string> replay_dataset(const dataset::Dataset& datase
         const vision::FrameResult& res = pipeline.process(sample);
         const double t2 = wall_seconds();
         st.concealed += sample.concealed ? 1 : 0;
+        st.repaired += sample.repaired ? 1 : 0;
         st.rejected_steps = res.rejected_steps;
         read_ms.push_back((t1 - t0) * 1e3);
         classify_ms.push_back((t2 - t1) * 1e3);

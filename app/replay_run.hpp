@@ -50,6 +50,7 @@ struct ReplayStats {
     std::int64_t processed = 0;       // frames through the classifier
     std::int64_t decode_errors = 0;   // frames that could not be read (skipped, row left empty)
     std::int64_t concealed = 0;       // frames decoded with concealed damage (kept, less trusted)
+    std::int64_t repaired = 0;        // intra frames that replaced concealed damage (less trusted)
     std::int64_t rejected_steps = 0;  // frames whose time was not after the previous one's
     std::string first_error;
     std::array<std::int64_t, 3> flagged{};  // frames each region was reported unsafe

@@ -39,7 +39,7 @@ const char* to_string(UnknownReason r) {
         case UnknownReason::Gap:
             return "frames missing";
         case UnknownReason::DamagedFrame:
-            return "damaged frame (concealed by the decoder)";
+            return "damaged frame (concealed by the decoder, or the frame that repaired it)";
         case UnknownReason::MotionContradicted:
             return "most points move against the camera motion in use";
     }
@@ -164,8 +164,9 @@ const FrameResult& TrackingClassifier::process(const FrameInput& in) {
         const auto i = static_cast<std::size_t>(r);
         was_unsafe[i] = result_.regions[i].valid && result_.regions[i].unsafe;
     }
+    damaged_ = in.concealed || in.repaired;
     classify(in);
-    if (in.concealed) {
+    if (damaged_) {
         // Less trust in a damaged frame: it may keep an alarm, not raise one.
         for (Region r : kRegions) {
             RegionDecision& d = result_.regions[static_cast<std::size_t>(r)];

@@ -32,9 +32,13 @@ struct FrameInput {
     // ground, NaN = unknown. Only "flow" uses them.
     double vx_mps = kUnknown, vy_mps = kUnknown, vz_mps = kUnknown;
     double altitude_m = kUnknown;
-    // Decoded with damage the video decoder concealed: tracked as usual, but it cannot turn a
-    // region unsafe by itself (the region is unknown, DamagedFrame, until a clean frame agrees).
+    // Decoded with damage the video decoder concealed, or the intra picture that replaced such
+    // damage (whole again, it jumps where the damage was): tracked as usual, but its evidence is
+    // not trusted. It cannot turn a region unsafe (the region is unknown, DamagedFrame), nor count
+    // toward the frames that confirm an alarm ("flow": confirm_frames, side_confirm_frames); an
+    // alarm already standing is kept.
     bool concealed = false;
+    bool repaired = false;
 };
 
 enum class Region : int { Left = 0, Centre = 1, Right = 2 };
@@ -53,7 +57,7 @@ enum class UnknownReason : std::uint8_t {
     Rotating,      // rotating too fast to tell expansion from rotation
     StaleVideo,    // (session) the newest frame is older than the staleness limit
     Gap,           // (session) frames missing before this one (link loss, replay gap)
-    DamagedFrame,  // the frame was decoded with concealed damage: it alone cannot raise an alarm
+    DamagedFrame,  // damaged video (concealed, or its repair): it cannot raise an alarm
     MotionContradicted,  // most tracked points move against the camera motion in use (the
                          // navdata lagging a drone that starts to fly): their looming says nothing
 };
@@ -225,6 +229,8 @@ protected:
     Attitude prev_attitude_;
     std::int64_t prev_t_ns_ = 0;
     bool have_prev_ = false;
+    // This frame's video is damaged (FrameInput::concealed or repaired): set before classify().
+    bool damaged_ = false;
 
 private:
     void fill_traces();

@@ -294,7 +294,10 @@ double FlowClassifier::lag_flow_px_s(const WindowFit& w, double ay) const {
 
 void FlowClassifier::confirm(Region r, bool raw) {
     const auto i = static_cast<std::size_t>(r);
-    streak_[i] = raw ? streak_[i] + 1 : 0;
+    // A damaged frame's evidence (concealed, or repaired: FrameInput) does not count toward the
+    // streak: with a clean frame before it, it would confirm an alarm that motion measured across
+    // the damage raised. It holds the streak, so a standing alarm is kept.
+    streak_[i] = raw ? streak_[i] + (damaged_ ? 0 : 1) : 0;
     // In flight (the FOE from the camera's motion) a side region needs side_confirm_frames: a
     // side alarm only holds back the roll toward that side, and a few frames more there take out
     // most brief alarms on things passing by. The centre keeps confirm_frames: its alarm brakes,
@@ -305,7 +308,14 @@ void FlowClassifier::confirm(Region r, bool raw) {
     const int need = flying && r != Region::Centre && p_.side_confirm_frames > 0
                          ? p_.side_confirm_frames
                          : p_.confirm_frames;
-    result_.regions[i].unsafe = streak_[i] >= need;
+    RegionDecision& d = result_.regions[i];
+    d.unsafe = streak_[i] >= need;
+    if (raw && damaged_ && !d.unsafe) {
+        // Unsafe by this frame's evidence alone, which is not trusted: not known to be clear.
+        d.valid = false;
+        d.approach_only = false;
+        d.unknown = UnknownReason::DamagedFrame;
+    }
 }
 
 void FlowClassifier::prepare(const FrameInput& in, EgoPrior& prior) {

@@ -49,6 +49,9 @@ struct FrameSample {
     // Decoded with damage the decoder concealed (lost or corrupt slices filled in from other
     // frames): shown and classified, but trusted less (it cannot raise an alarm by itself).
     bool concealed = false;
+    // An intra picture that replaced concealed damage: whole again, but it jumps from the
+    // pictures before it where the damage was (trusted less in the same way).
+    bool repaired = false;
 };
 
 }  // namespace gs::inline core

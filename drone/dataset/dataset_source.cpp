@@ -54,6 +54,7 @@ SourceStatus DatasetSource::deliver(FrameSample& out) {
     out.image = image_;
     out.nav = row.nav;
     out.concealed = frames_->last_concealed();
+    out.repaired = frames_->last_repaired();
     ++next_frame_;
     return SourceStatus::Sample;
 }

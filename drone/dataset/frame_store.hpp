@@ -19,6 +19,8 @@ public:
     [[nodiscard]] virtual std::optional<FileError> read(std::int64_t index, cv::Mat& out) = 0;
     // The frame read last was decoded with concealed damage (video only).
     virtual bool last_concealed() const { return false; }
+    // ... was an intra picture that replaced concealed damage (video only).
+    virtual bool last_repaired() const { return false; }
 };
 
 // Frames from the dataset's image files (frames/ or a thesis folder). Each image must decode and

@@ -20,6 +20,7 @@ public:
     bool ok() const { return static_cast<bool>(in_); }
     std::int64_t count() const override { return static_cast<std::int64_t>(units_.size()); }
     bool last_concealed() const override { return concealed_; }
+    bool last_repaired() const override { return repaired_; }
 
     std::optional<FileError> read(std::int64_t index, cv::Mat& out) override {
         if (index < 0 || index >= count())
@@ -47,9 +48,10 @@ public:
             au.frame_number = static_cast<std::uint32_t>(i);
             au.display_width = width_;
             au.display_height = height_;
-            const std::uint64_t concealed_before = decoder_.stats().concealed;
+            const video::H264DecoderStats before = decoder_.stats();
             auto r = decoder_.decode(au, out);
-            concealed_ = decoder_.stats().concealed > concealed_before;
+            concealed_ = decoder_.stats().concealed > before.concealed;
+            repaired_ = decoder_.stats().repaired > before.repaired;
             // The decoder has taken this unit whatever came out: the next frame in order goes on
             // from here, so one damaged unit costs its own frame, not the rest of its GOP. A
             // damaged unit before the one asked for is concealed by the decoder.
@@ -84,6 +86,7 @@ private:
     std::vector<std::uint8_t> buf_;
     std::int64_t last_ = -1;
     bool concealed_ = false;
+    bool repaired_ = false;
 };
 
 }  // namespace

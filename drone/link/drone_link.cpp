@@ -682,6 +682,7 @@ void DroneLink::video_loop() {
         stats.pave_frames = r.units;
         stats.decoded = r.pictures;
         stats.concealed = r.concealed;
+        stats.repaired = r.repaired;
         stats.no_picture = r.no_picture;
         stats.cut_by_reset = r.cut_by_reset;
         stats.decode_errors = d.decode_errors;
@@ -779,6 +780,7 @@ void DroneLink::video_loop() {
                 fs.frame_number = u->frame_number;
                 fs.pave_timestamp_ms = u->pave_timestamp_ms;
                 fs.concealed = u->fate == video::UnitFate::Concealed;
+                fs.repaired = u->repaired;
                 fs.image = std::move(u->image);  // a pooled buffer, free again when dropped
                 // The attitude at the capture time, interpolated as a recording does
                 // (drone/core/nav_timeline.hpp), not the newest sample relabelled; unknown when

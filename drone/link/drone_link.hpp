@@ -148,6 +148,7 @@ struct VideoStats {
     std::uint64_t pool_exhausted = 0;            // every pooled frame still in use: one allocated
     std::uint64_t unsupported_codec_frames = 0;  // PaVE frames not H.264: skipped (last_error)
     std::uint64_t concealed = 0;                 // frames shown with damage the decoder concealed
+    std::uint64_t repaired = 0;      // intra frames that replaced concealed damage (they jump)
     std::uint64_t no_picture = 0;    // access units that gave no picture (damaged beyond repair)
     std::uint64_t cut_by_reset = 0;  // frames a connection ended inside (never joined to the next)
     std::uint64_t nav_interpolated = 0;  // frames whose attitude lies between two samples

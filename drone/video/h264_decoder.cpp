@@ -80,6 +80,9 @@ struct H264Decoder::Impl {
     // Geometry of the last emitted picture; 0 = none since the last (re)initialisation.
     int src_w = 0, src_h = 0, src_fmt = -1;
     H264DecoderStats stats;
+    // The last picture emitted carries concealed damage: its own, or predicted from a concealed
+    // one (P-frames copy the damage on until an intra picture replaces it).
+    bool damage_shown = false;
 
     Impl() {
         // libavcodec logs concealment details on stderr; the counters report them instead.
@@ -249,6 +252,10 @@ Expected<DecodeStatus, DecodeError> H264Decoder::decode(const AccessUnit& au, cv
         if (d.frame->width > 0 && d.frame->height > 0) {
             if (d.frame->decode_error_flags != 0 || (d.frame->flags & AV_FRAME_FLAG_CORRUPT) != 0) {
                 ++d.stats.concealed;
+                d.damage_shown = true;
+            } else if (d.damage_shown && d.frame->pict_type == AV_PICTURE_TYPE_I) {
+                ++d.stats.repaired;
+                d.damage_shown = false;
             }
             d.convert(out);
             got = true;

@@ -20,8 +20,11 @@ struct H264DecoderStats {
     std::uint64_t skipped_waiting_idr = 0;  // access units dropped while waiting for an IDR
     std::uint64_t decode_errors = 0;  // access units libavcodec rejected (send/receive failed)
     std::uint64_t concealed = 0;      // frames emitted with damage libavcodec concealed
-    std::uint64_t frame_gaps = 0;     // frame-number gaps seen (each forces an IDR wait)
-    std::uint64_t reinits = 0;  // re-initialisations (stream_id, display or coded size change)
+    // Intra pictures emitted while concealed damage was on show (in a concealed picture or the
+    // ones predicted from it): the picture is whole again, and jumps where the damage was.
+    std::uint64_t repaired = 0;
+    std::uint64_t frame_gaps = 0;  // frame-number gaps seen (each forces an IDR wait)
+    std::uint64_t reinits = 0;     // re-initialisations (stream_id, display or coded size change)
 };
 
 // The largest picture the decoder accepts (bigger SPS sizes are decode errors): 1080p, above the

@@ -98,10 +98,12 @@ std::optional<ReceivedUnit> VideoReceiver::next() {
         if (res && *res == DecodeStatus::Frame) {
             const bool concealed = after.concealed > before.concealed;
             u.fate = concealed ? UnitFate::Concealed : UnitFate::Decoded;
+            u.repaired = after.repaired > before.repaired;
             u.image = std::move(image);
             u.frame_index = next_frame_++;
             ++stats_.pictures;
             if (concealed) ++stats_.concealed;
+            if (u.repaired) ++stats_.repaired;
         } else if (after.skipped_waiting_idr > before.skipped_waiting_idr) {
             u.fate = UnitFate::WaitingIdr;
             ++stats_.waiting_idr;

@@ -61,6 +61,9 @@ struct ReceivedUnit {
     TimeNs capture_ns = 0;  // the drone's timestamp on the receiver's clock (<= recv_ns)
     bool idr = false;       // holds an IDR slice
     UnitFate fate = UnitFate::NoPicture;
+    // Decoded: an intra picture that replaced concealed damage (H264DecoderStats::repaired); it
+    // jumps where the damage was.
+    bool repaired = false;
     std::span<const std::uint8_t> bytes;  // the Annex-B payload; valid until the next push()
     cv::Mat image;                        // the decoded picture (pooled), empty without one
     std::int64_t frame_index = -1;        // 0-based among the pictures produced, else -1
@@ -72,6 +75,7 @@ struct ReceiverStats {
     std::uint64_t units = 0;         // PaVE frames out (every fate)
     std::uint64_t pictures = 0;      // Decoded + Concealed
     std::uint64_t concealed = 0;     // pictures with concealed damage
+    std::uint64_t repaired = 0;      // intra pictures that replaced concealed damage
     std::uint64_t waiting_idr = 0;   // units skipped for a lost reference
     std::uint64_t no_picture = 0;    // units the decoder refused
     std::uint64_t not_h264 = 0;      // units in another codec

@@ -1,7 +1,8 @@
 // Issue 14 point 8: damaged video plays. A real AR.Drone 2 clip is damaged at test time (bytes
 // flipped inside P and IDR slices, as a poor Wi-Fi link leaves them) and replayed: every frame
 // ffmpeg's decoding gives a picture for is a picture here too (libavcodec conceals as ffmpeg
-// does by default), concealed frames are counted and kept, replay exits 0, --strict refuses.
+// does by default), concealed frames are counted and kept, and so are the intra frames that
+// repaired them; replay exits 0, --strict refuses.
 // The reference count comes from libavcodec's own H.264 parser and decoder with default options,
 // the pipeline the ffmpeg command runs, independent of the project's splitter and decoder.
 #include "cli_test_util.hpp"
@@ -36,6 +37,7 @@ std::vector<std::uint8_t> read_all(const fs::path& p) {
 
 struct Reference {
     int frames = 0, corrupt = 0;
+    int repaired = 0;  // intra pictures after a corrupt one (since the last intra picture)
 };
 
 // As `ffmpeg -i clip.h264 -f null -` decodes: the h264 parser cuts the stream, the decoder runs
@@ -51,11 +53,17 @@ Reference ffmpeg_count(const std::vector<std::uint8_t>& data) {
     AVFrame* frame = av_frame_alloc();
     std::vector<std::uint8_t> buf(data.size() + AV_INPUT_BUFFER_PADDING_SIZE, 0);
     std::memcpy(buf.data(), data.data(), data.size());
+    bool damage = false;
     auto drain = [&] {
         while (avcodec_receive_frame(ctx, frame) == 0) {
             ++r.frames;
-            if (frame->decode_error_flags != 0 || (frame->flags & AV_FRAME_FLAG_CORRUPT) != 0)
+            if (frame->decode_error_flags != 0 || (frame->flags & AV_FRAME_FLAG_CORRUPT) != 0) {
                 ++r.corrupt;
+                damage = true;
+            } else if (damage && frame->pict_type == AV_PICTURE_TYPE_I) {
+                ++r.repaired;
+                damage = false;
+            }
             av_frame_unref(frame);
         }
     };
@@ -142,6 +150,9 @@ TEST(DamagedVideo, EveryFrameFfmpegDecodesIsAPictureConcealedFramesAreCountedAnd
         EXPECT_EQ(j["processed"], ref.frames);
         EXPECT_EQ(j["decode_errors"], 0);
         EXPECT_EQ(j["concealed_frames"], ref.corrupt);
+        // (Every intra frame is among the damaged here, so none repairs; the decoder's tests
+        // damage one P-frame and see the next intra frame repair it.)
+        EXPECT_EQ(j["repaired_frames"], ref.repaired);
         // --strict turns any damage into a failure.
         const auto s = run_cli("replay -q --strict " + ds.string() + " --out " +
                                (dir / ("strict" + std::to_string(seed))).string());

@@ -949,6 +949,46 @@ TEST(ReplayCli, TheImagesFoeReplacesTheNavdatasOnlyWhenThePointsPlainlySaySo) {
     EXPECT_EQ(now.centre, 0);
 }
 
+TEST(ReplayCli, AConcealedFrameNeitherRaisesNorConfirmsAnAlarm) {
+    // Realism seed 2026's open_path2_10 at 1 Mbit/s (nothing in the path): the link loses most of
+    // frame 151's slices, and the decoder conceals them from frame 150. Motion measured across
+    // that damage lifts the centre's score over its threshold on frame 151 and again on 152:
+    // counted as two frames in a row, they confirmed a centre alarm at 152. The damaged frame's
+    // evidence no longer counts toward the streak (the centre is unknown there, DamagedFrame),
+    // and the frame after it alone confirms nothing.
+    const RealismFlight f("concealed", "open_path2_10", "--bitrate 1000");
+    ASSERT_EQ(f.generated.exit_code, 0) << f.generated.out;
+    const dataset::csv::Table d = f.replay("default", "--plots");
+    const nlohmann::json sum = read_json(f.dir / "default" / "summary.json");
+    EXPECT_GE(sum["concealed_frames"].get<int>(), 1);
+    EXPECT_GE(sum["repaired_frames"].get<int>(), 1);  // the intra frames that put it back
+    const nlohmann::json why = sum["unknown_reasons"]["center"];
+    const char* reason = "damaged frame (concealed by the decoder, or the frame that repaired it)";
+    ASSERT_TRUE(why.contains(reason)) << why.dump();
+    // The centre's threshold per frame, from the plots.
+    std::map<std::int64_t, double> threshold;
+    const dataset::csv::Table series = read_csv(f.dir / "default" / "plots" / "series.csv");
+    for (std::size_t i = 0; i < series.rows(); ++i)
+        if (series.field(i, 0) == "centre.threshold")
+            threshold[std::stoll(std::string(series.field(i, 1)))] =
+                std::stod(std::string(series.field(i, 2)));
+    const auto over = [&](std::size_t i) {
+        const std::string score(d.field(i, 6));
+        const auto t = threshold.find(std::stoll(std::string(d.field(i, 0))));
+        return !score.empty() && t != threshold.end() && std::stod(score) > t->second;
+    };
+    int damaged_over = 0, centre_flagged = 0;
+    for (std::size_t i = 0; i < d.rows(); ++i) {
+        centre_flagged += d.field(i, 3) == "1" ? 1 : 0;
+        // Unknown, with a score over the threshold: the damaged frame whose evidence said
+        // unsafe. The next frame's says so too: with the damaged one counted, an alarm.
+        if (d.field(i, 9) == "unknown" && over(i) && i + 1 < d.rows() && over(i + 1))
+            ++damaged_over;
+    }
+    EXPECT_GE(damaged_over, 1) << "the flight no longer shows the concealment alarm";
+    EXPECT_EQ(centre_flagged, 0);
+}
+
 TEST(ReplayCli, TakeOffWhenMostPointsMoveAgainstTheCameraIsUnknownNotAnAlarm) {
     // The first metres of a realism open-space flight (seed 2026, open_path2_10): the drone
     // pitches forward and speeds up while the late navdata still reads under 0.2 m/s, so the

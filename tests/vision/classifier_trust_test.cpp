@@ -1,6 +1,7 @@
 // What the classifier does with frames it cannot fully trust (issue 14 points 3 and 8): a frame
 // whose time is not after the previous one is rejected (no motion is measured over a zero or
-// negative step), and a frame decoded with concealed damage may keep an alarm but not raise one.
+// negative step), and damaged video (a frame decoded with concealed damage, or the intra frame that
+// repaired it) may keep an alarm but neither raise nor confirm one.
 
 #include "synthetic_helpers.hpp"
 
@@ -71,30 +72,49 @@ TEST(ClassifierTrust, AFrameNotAfterThePreviousIsRejectedAndMeasuresNothing) {
     }
 }
 
-TEST(ClassifierTrust, AConcealedFrameKeepsAnAlarmButCannotRaiseOne) {
+// Damaged video, a frame the decoder concealed or the intra frame that put the picture back (it
+// jumps where the damage was), is not trusted: it may keep an alarm but not raise one, and its
+// evidence does not count toward the frames that confirm one (confirm_frames 2 for the centre).
+TEST(ClassifierTrust, DamagedVideoKeepsAnAlarmButNeitherRaisesNorConfirmsOne) {
     const Flight f = make_flight(Motion::Approach);
-    const int k = first_alarm(f);
+    const int k = first_alarm(f);  // clean frames k-1 and k confirm it
     ASSERT_GT(k, 5) << "flow never flagged the approach";
-    ASSERT_LT(k + 3, f.frames);
+    ASSERT_LT(k + 4, f.frames);
 
-    auto c = make_classifier("flow", synthetic_calibration());
-    cv::Mat img;
-    for (int i = 0; i < k; ++i) (void)c->process(frame_of(f, i, time_of(f, i), img));
-    // The frame that would raise the alarm arrives damaged: unknown, not unsafe.
-    FrameInput damaged = frame_of(f, k, time_of(f, k), img);
-    damaged.concealed = true;
-    const FrameResult& r = c->process(damaged);
-    EXPECT_FALSE(r.regions[1].unsafe);
-    EXPECT_FALSE(r.regions[1].valid);
-    EXPECT_EQ(r.regions[1].unknown, UnknownReason::DamagedFrame);
-    // The next clean frame agrees: the alarm rises.
-    const FrameResult& clean = c->process(frame_of(f, k + 1, time_of(f, k + 1), img));
-    EXPECT_TRUE(clean.regions[1].valid && clean.regions[1].unsafe);
-    // A damaged frame while the alarm stands keeps it.
-    FrameInput damaged2 = frame_of(f, k + 2, time_of(f, k + 2), img);
-    damaged2.concealed = true;
-    const FrameResult& kept = c->process(damaged2);
-    EXPECT_TRUE(kept.regions[1].valid && kept.regions[1].unsafe);
+    for (const bool concealed : {true, false}) {
+        SCOPED_TRACE(concealed ? "concealed" : "repaired");
+        cv::Mat img;
+        auto damaged = [&](int i) {
+            FrameInput in = frame_of(f, i, time_of(f, i), img);
+            (concealed ? in.concealed : in.repaired) = true;
+            return in;
+        };
+        auto clean = [&](int i) { return frame_of(f, i, time_of(f, i), img); };
+        // The frame that would raise the alarm arrives damaged: unknown, not unsafe (nor clear).
+        // The next clean frame is the second of the streak: the alarm rises.
+        auto c = make_classifier("flow", synthetic_calibration());
+        for (int i = 0; i < k; ++i) (void)c->process(clean(i));
+        const FrameResult& r = c->process(damaged(k));
+        EXPECT_FALSE(r.regions[1].unsafe);
+        EXPECT_FALSE(r.regions[1].valid);
+        EXPECT_EQ(r.regions[1].unknown, UnknownReason::DamagedFrame);
+        EXPECT_TRUE(c->process(clean(k + 1)).regions[1].unsafe);
+        // Damaged frames while the alarm stands keep it.
+        for (int i = k + 2; i <= k + 3; ++i) {
+            const FrameResult& kept = c->process(damaged(i));
+            EXPECT_TRUE(kept.regions[1].valid && kept.regions[1].unsafe) << i;
+        }
+        // The frame that starts the streak arrives damaged: it does not count, so frame k, the
+        // first clean one over the threshold, does not confirm the alarm; k + 1 does.
+        c = make_classifier("flow", synthetic_calibration());
+        for (int i = 0; i < k - 1; ++i) (void)c->process(clean(i));
+        const FrameResult& first = c->process(damaged(k - 1));
+        EXPECT_EQ(first.regions[1].unknown, UnknownReason::DamagedFrame);
+        const FrameResult& second = c->process(clean(k));
+        EXPECT_TRUE(second.regions[1].valid);
+        EXPECT_FALSE(second.regions[1].unsafe);
+        EXPECT_TRUE(c->process(clean(k + 1)).regions[1].unsafe);
+    }
 }
 
 // Hovering, a camera sees nothing static expand whatever stands ahead: `flow` knows its camera is

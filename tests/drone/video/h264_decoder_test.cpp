@@ -200,6 +200,36 @@ TEST(H264Decoder, RealAnnexBClipDecodesAll82Frames) {
     EXPECT_EQ(dec.stats().concealed, 0u);
 }
 
+// Damage lives on in the P-frames predicted from a concealed picture until an intra picture
+// replaces it: that picture is whole again but jumps where the damage was, and the decoder says
+// so (`repaired`). The real clip has an intra picture every 15 frames (0, 15, 30, ...: ffprobe);
+// a slice of frame 20 is damaged, so frame 20 is concealed and frame 30 repairs it, once.
+TEST(H264Decoder, TheIntraPictureAfterConcealedDamageIsCountedAsARepair) {
+    auto clip = test::read_bytes(std::string(GS_FIXTURES_DIR) +
+                                 "/real/video/ardrone2_front_office_person.h264");
+    auto aus = split_annexb(clip);
+    ASSERT_EQ(aus.size(), 82u);
+    // Frame 20's slice data, from a third of the way in: a run of bytes flipped.
+    const auto at = static_cast<std::size_t>(aus[20].data() - clip.data()) + aus[20].size() / 3;
+    for (std::size_t i = 0; i < 24; ++i) clip[at + i] ^= 0xA5;
+    aus = split_annexb(clip);
+    ASSERT_EQ(aus.size(), 82u);
+    H264Decoder dec;
+    cv::Mat img;
+    std::vector<int> concealed, repaired;
+    for (std::size_t i = 0; i < aus.size(); ++i) {
+        const H264DecoderStats before = dec.stats();
+        auto r = dec.decode(AccessUnit{aus[i], std::nullopt, 0, 0, std::nullopt}, img);
+        ASSERT_TRUE(r.has_value()) << i << ": " << to_string(r.error());
+        ASSERT_EQ(*r, DecodeStatus::Frame) << i;
+        if (dec.stats().concealed > before.concealed) concealed.push_back(static_cast<int>(i));
+        if (dec.stats().repaired > before.repaired) repaired.push_back(static_cast<int>(i));
+    }
+    EXPECT_EQ(concealed, std::vector<int>{20});
+    EXPECT_EQ(repaired, std::vector<int>{30});
+    EXPECT_EQ(dec.stats().repaired, 1u);
+}
+
 TEST(H264Decoder, CodedSizeChangeReinitialises) {
     H264Decoder dec;
     const Decoded first = decode_capture(dec, "node-ar-drone_pave-68.bin");
