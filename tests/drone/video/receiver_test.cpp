@@ -147,6 +147,56 @@ TEST(VideoReceiver, OtherCodecsAreUnitsWithoutAPictureAndAReason) {
     EXPECT_NE(rx.stats().last_error.find("frame 3"), std::string::npos) << rx.stats().last_error;
 }
 
+// The live path's view of damaged video: the real clip (an intra picture every 15 frames) in PaVE
+// frames as the drone sends it, with 24 bytes of frame 20 flipped. Frame 20 comes out concealed,
+// frame 30 (the next intra picture, which puts the concealed parts back) as the one repair.
+TEST(VideoReceiver, TheIntraPictureAfterConcealedDamageIsMarkedRepaired) {
+    auto clip =
+        read_bytes(std::string(GS_FIXTURES_DIR) + "/real/video/ardrone2_front_office_person.h264");
+    std::vector<std::span<const std::uint8_t>> aus;
+    for (std::span<const std::uint8_t> rest(clip); !rest.empty();) {
+        const std::size_t n = access_unit_size(rest);
+        aus.push_back(rest.first(n));
+        rest = rest.subspan(n);
+    }
+    ASSERT_EQ(aus.size(), 82u);
+    const auto at = static_cast<std::size_t>(aus[20].data() - clip.data()) + aus[20].size() / 3;
+    for (std::size_t i = 0; i < 24; ++i) clip[at + i] ^= 0xA5;
+    std::vector<std::uint8_t> stream;
+    for (std::size_t i = 0; i < aus.size(); ++i) {
+        PaveHeader h;
+        h.payload_size = static_cast<std::uint32_t>(aus[i].size());
+        h.encoded_stream_width = 640;
+        h.encoded_stream_height = 368;
+        h.display_width = 640;
+        h.display_height = 360;
+        h.frame_number = static_cast<std::uint32_t>(i + 1);
+        h.timestamp = static_cast<std::uint32_t>(i * 33);
+        h.frame_type =
+            i % 15 == 0 ? (i == 0 ? PaveFrameType::Idr : PaveFrameType::I) : PaveFrameType::P;
+        const std::size_t off = stream.size();
+        stream.resize(off + h.header_size + h.payload_size);
+        ASSERT_TRUE(write_pave_header(h, std::span<std::uint8_t>(stream).subspan(off)));
+        std::copy(aus[i].begin(), aus[i].end(),
+                  stream.begin() + static_cast<std::ptrdiff_t>(off + h.header_size));
+    }
+    video::VideoReceiver rx;
+    std::vector<std::int64_t> concealed, repaired;
+    rx.push(stream, 0);
+    int units = 0;
+    while (auto u = rx.next()) {
+        ++units;
+        ASSERT_TRUE(video::has_picture(u->fate)) << u->unit << ": " << video::to_string(u->fate);
+        if (u->fate == video::UnitFate::Concealed) concealed.push_back(u->unit);
+        if (u->repaired) repaired.push_back(u->unit);
+    }
+    EXPECT_EQ(units, 82);
+    EXPECT_EQ(concealed, std::vector<std::int64_t>{20});
+    EXPECT_EQ(repaired, std::vector<std::int64_t>{30});
+    EXPECT_EQ(rx.stats().concealed, 1u);
+    EXPECT_EQ(rx.stats().repaired, 1u);
+}
+
 TEST(FramePool, BuffersAreReusedOnlyOnceTheirLastHolderLetsGo) {
     auto pool = video::FramePool::create(2);
     cv::Mat a = pool->acquire();
