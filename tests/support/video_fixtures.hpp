@@ -3,12 +3,14 @@
 // framer with a given chunking.
 
 #include "drone/protocol/pave.hpp"
+#include "drone/video/h264_decoder.hpp"  // access_unit_size
 #include "support/navdata_fixtures.hpp"  // read_fixture
 
 #include <cstdint>
 #include <fstream>
 #include <iterator>
 #include <random>
+#include <span>
 #include <string>
 #include <variant>
 #include <vector>
@@ -22,6 +24,33 @@ inline std::string fixture_path(const std::string& name) {
 inline std::vector<std::uint8_t> read_bytes(const std::string& path) {
     std::ifstream f(path, std::ios::binary);
     return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
+}
+
+// An Annex-B stream cut into its access units (views into `bytes`).
+inline std::vector<std::span<const std::uint8_t>> split_annexb(
+    const std::vector<std::uint8_t>& bytes) {
+    std::vector<std::span<const std::uint8_t>> aus;
+    std::span<const std::uint8_t> rest(bytes);
+    while (!rest.empty()) {
+        const std::size_t n = video::access_unit_size(rest);
+        aus.push_back(rest.first(n));
+        rest = rest.subspan(n);
+    }
+    return aus;
+}
+
+// The real AR.Drone 2 office clip (82 frames, an intra picture every 15: 0, 15, 30, ...) with a
+// run of 24 bytes flipped a third of the way into frame `frame`'s slice data, as a lost or
+// corrupt stretch of a Wi-Fi packet leaves it: libavcodec conceals that frame.
+inline std::vector<std::uint8_t> office_clip_damaged_at(std::size_t frame) {
+    auto clip =
+        read_bytes(std::string(GS_FIXTURES_DIR) + "/real/video/ardrone2_front_office_person.h264");
+    const auto aus = split_annexb(clip);
+    if (frame >= aus.size()) return {};
+    const auto at =
+        static_cast<std::size_t>(aus[frame].data() - clip.data()) + aus[frame].size() / 3;
+    for (std::size_t i = 0; i < 24; ++i) clip[at + i] ^= 0xA5;
+    return clip;
 }
 
 // A frame copied out of the framer (its span dies at the next push).

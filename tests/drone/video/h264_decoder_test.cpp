@@ -60,16 +60,7 @@ Decoded decode_capture(H264Decoder& dec, const std::string& name) {
     return out;
 }
 
-std::vector<std::span<const std::uint8_t>> split_annexb(const std::vector<std::uint8_t>& bytes) {
-    std::vector<std::span<const std::uint8_t>> aus;
-    std::span<const std::uint8_t> rest(bytes);
-    while (!rest.empty()) {
-        const std::size_t n = access_unit_size(rest);
-        aus.push_back(rest.first(n));
-        rest = rest.subspan(n);
-    }
-    return aus;
-}
+using test::split_annexb;
 
 TEST(H264Decoder, NodeCaptureMatchesIndependentDecoderFromFirstIdr) {
     H264Decoder dec;
@@ -205,14 +196,8 @@ TEST(H264Decoder, RealAnnexBClipDecodesAll82Frames) {
 // so (`repaired`). The real clip has an intra picture every 15 frames (0, 15, 30, ...: ffprobe);
 // a slice of frame 20 is damaged, so frame 20 is concealed and frame 30 repairs it, once.
 TEST(H264Decoder, TheIntraPictureAfterConcealedDamageIsCountedAsARepair) {
-    auto clip = test::read_bytes(std::string(GS_FIXTURES_DIR) +
-                                 "/real/video/ardrone2_front_office_person.h264");
-    auto aus = split_annexb(clip);
-    ASSERT_EQ(aus.size(), 82u);
-    // Frame 20's slice data, from a third of the way in: a run of bytes flipped.
-    const auto at = static_cast<std::size_t>(aus[20].data() - clip.data()) + aus[20].size() / 3;
-    for (std::size_t i = 0; i < 24; ++i) clip[at + i] ^= 0xA5;
-    aus = split_annexb(clip);
+    const auto clip = test::office_clip_damaged_at(20);
+    const auto aus = split_annexb(clip);
     ASSERT_EQ(aus.size(), 82u);
     H264Decoder dec;
     cv::Mat img;

@@ -151,17 +151,9 @@ TEST(VideoReceiver, OtherCodecsAreUnitsWithoutAPictureAndAReason) {
 // frames as the drone sends it, with 24 bytes of frame 20 flipped. Frame 20 comes out concealed,
 // frame 30 (the next intra picture, which puts the concealed parts back) as the one repair.
 TEST(VideoReceiver, TheIntraPictureAfterConcealedDamageIsMarkedRepaired) {
-    auto clip =
-        read_bytes(std::string(GS_FIXTURES_DIR) + "/real/video/ardrone2_front_office_person.h264");
-    std::vector<std::span<const std::uint8_t>> aus;
-    for (std::span<const std::uint8_t> rest(clip); !rest.empty();) {
-        const std::size_t n = access_unit_size(rest);
-        aus.push_back(rest.first(n));
-        rest = rest.subspan(n);
-    }
+    const auto clip = test::office_clip_damaged_at(20);
+    const auto aus = test::split_annexb(clip);
     ASSERT_EQ(aus.size(), 82u);
-    const auto at = static_cast<std::size_t>(aus[20].data() - clip.data()) + aus[20].size() / 3;
-    for (std::size_t i = 0; i < 24; ++i) clip[at + i] ^= 0xA5;
     std::vector<std::uint8_t> stream;
     for (std::size_t i = 0; i < aus.size(); ++i) {
         PaveHeader h;
