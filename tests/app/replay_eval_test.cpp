@@ -51,6 +51,16 @@ dataset::csv::Table read_csv(const fs::path& p) {
     return t ? std::move(*t) : *dataset::csv::Table::parse("x\n", "empty");
 }
 
+// One series of a replay's plots/series.csv: frame -> value (frames without a value left out).
+std::map<long, double> read_series(const fs::path& series_csv, std::string_view name) {
+    const dataset::csv::Table t = read_csv(series_csv);
+    std::map<long, double> out;
+    for (std::size_t i = 0; i < t.rows(); ++i)
+        if (t.field(i, 0) == name && !t.field(i, 2).empty())
+            out[std::stol(std::string(t.field(i, 1)))] = std::stod(std::string(t.field(i, 2)));
+    return out;
+}
+
 // Every frame of an MP4 file decoded to BGR (libavformat + libavcodec), for checking what
 // `replay --video` drew.
 std::vector<cv::Mat> decode_mp4(const fs::path& file, double& fps) {
@@ -338,14 +348,10 @@ TEST(ReplayCli, PointsCsvHoldsEveryTrackedPointAndExplainsTheScores) {
     // The pillar passes on the left: many frames have enough counted points to check.
     EXPECT_GT(explained, 20);
     // The corridor's count in plots/series.csv is at least the hazard rows of the frame.
-    const dataset::csv::Table series = read_csv(out / "plots" / "series.csv");
     int counted = 0;
-    for (std::size_t i = 0; i < series.rows(); ++i) {
-        if (series.field(i, 0) != "corridor.points" || series.field(i, 2).empty()) continue;
-        const long f = std::stol(std::string(series.field(i, 1)));
+    for (const auto& [f, n] : read_series(out / "plots" / "series.csv", "corridor.points")) {
         const auto it = frames.find(f);
         if (it == frames.end()) continue;
-        const double n = std::stod(std::string(series.field(i, 2)));
         EXPECT_GE(n, it->second.hazard) << "frame " << f;
         EXPECT_LE(n, it->second.hazard + it->second.moving) << "frame " << f;
         ++counted;
@@ -965,16 +971,11 @@ TEST(ReplayCli, AConcealedFrameNeitherRaisesNorConfirmsAnAlarm) {
     const nlohmann::json why = sum["unknown_reasons"]["center"];
     const char* reason = "damaged frame (concealed by the decoder, or the frame that repaired it)";
     ASSERT_TRUE(why.contains(reason)) << why.dump();
-    // The centre's threshold per frame, from the plots.
-    std::map<std::int64_t, double> threshold;
-    const dataset::csv::Table series = read_csv(f.dir / "default" / "plots" / "series.csv");
-    for (std::size_t i = 0; i < series.rows(); ++i)
-        if (series.field(i, 0) == "centre.threshold")
-            threshold[std::stoll(std::string(series.field(i, 1)))] =
-                std::stod(std::string(series.field(i, 2)));
+    const std::map<long, double> threshold =
+        read_series(f.dir / "default" / "plots" / "series.csv", "centre.threshold");
     const auto over = [&](std::size_t i) {
         const std::string score(d.field(i, 6));
-        const auto t = threshold.find(std::stoll(std::string(d.field(i, 0))));
+        const auto t = threshold.find(std::stol(std::string(d.field(i, 0))));
         return !score.empty() && t != threshold.end() && std::stod(score) > t->second;
     };
     int damaged_over = 0, centre_flagged = 0;
