@@ -122,6 +122,7 @@ struct H264Decoder::Impl {
 
     void forget_stream() {
         waiting_idr = true;
+        damage_shown = false;  // what follows is a new stream, not a repair of the old one
         last_frame_number.reset();
         src_w = src_h = 0;
         src_fmt = -1;

@@ -213,6 +213,17 @@ TEST(H264Decoder, TheIntraPictureAfterConcealedDamageIsCountedAsARepair) {
     EXPECT_EQ(concealed, std::vector<int>{20});
     EXPECT_EQ(repaired, std::vector<int>{30});
     EXPECT_EQ(dec.stats().repaired, 1u);
+
+    // After a reset (a dataset's random access, a new connection) the next picture starts a new
+    // stream: it repairs nothing, though the last one shown before the reset was damaged.
+    H264Decoder seek;
+    for (std::size_t i = 0; i <= 25; ++i)
+        (void)seek.decode(AccessUnit{aus[i], std::nullopt, 0, 0, std::nullopt}, img);
+    ASSERT_EQ(seek.stats().concealed, 1u);
+    seek.reset();
+    for (std::size_t i = 0; i <= 25; ++i)
+        (void)seek.decode(AccessUnit{aus[i], std::nullopt, 0, 0, std::nullopt}, img);
+    EXPECT_EQ(seek.stats().repaired, 0u);
 }
 
 TEST(H264Decoder, CodedSizeChangeReinitialises) {
