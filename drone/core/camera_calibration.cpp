@@ -81,6 +81,13 @@ Expected<CameraCalibration, CalibrationIssue> calibration_from_json(const json& 
         c.width = w;
         c.height = h;
     }
+    if (obj.contains("readout_ms")) {
+        GS_TRY_ASSIGN(auto r, number(obj, "readout_ms"));
+        if (!(r >= 0 && r <= 1000))
+            return Unexpected(issue(FileErrorCode::OutOfRange, "readout_ms",
+                                    "a rolling shutter's readout time must be 0-1000 ms"));
+        c.readout_ms = r;
+    }
     if (auto s = obj.find("source"); s != obj.end() && s->is_string())
         c.source = s->get<std::string>();
     return c;
@@ -94,6 +101,8 @@ json calibration_to_json(const CameraCalibration& c, bool with_extras,
     j["cx"] = c.cx;
     j["cy"] = c.cy;
     j["dist"] = {c.dist[0], c.dist[1], c.dist[2], c.dist[3], c.dist[4]};
+    // Part of the camera model: with or without the extras, when known.
+    if (std::isfinite(c.readout_ms)) j["readout_ms"] = c.readout_ms;
     if (!with_extras) return json(j);
     if (c.width > 0 && c.height > 0) {
         j["width"] = c.width;

@@ -4,7 +4,8 @@
 // classifiers, the odometry and the calibration tools all use this struct and these functions.
 //
 // JSON shape: docs/dataset.md's flight.json "calibration" object ({"fx","fy","cx","cy","dist"})
-// plus optional "width" and "height" (together) and notes ("camera", "rms_px", "std_dev", "views",
+// plus optional "width" and "height" (together), "readout_ms" (a rolling shutter's readout time,
+// written whenever known, in flight.json too) and notes ("camera", "rms_px", "std_dev", "views",
 // "source"): the shape of assets/calibration/ardrone2_{front,bottom}.json and of what
 // `calibrate` writes. Readers ignore keys they do not know, so the same file works for
 // `--calibration FILE`, for the assets and inside flight.json.
@@ -37,7 +38,10 @@ struct CameraCalibration {
     double fx = 0, fy = 0, cx = 0, cy = 0;
     std::array<double, 5> dist{};  // k1, k2, p1, p2, k3
     int width = 0, height = 0;     // image size the intrinsics are for (0 = unknown)
-    std::string source;            // where the numbers come from (free text)
+    // Rolling shutter: the time from the first row's readout to the last's (ms); 0 a global
+    // shutter, NaN not stated (the classifier then assumes the AR.Drone 2 front camera's).
+    double readout_ms = kUnknown;
+    std::string source;  // where the numbers come from (free text)
 
     bool valid() const { return width > 0 && height > 0 && fx > 0 && fy > 0; }
     cv::Matx33d camera_matrix() const { return {fx, 0, cx, 0, fy, cy, 0, 0, 1}; }
@@ -99,7 +103,7 @@ struct CalibrationIssue {
 
 // Parses a calibration object: fx, fy, cx, cy required (finite, focal lengths positive); dist of
 // 4 or 5 numbers optional (missing = no distortion); width and height optional but together
-// (1..65535); source optional.
+// (1..65535); readout_ms optional (0..1000); source optional.
 [[nodiscard]] Expected<CameraCalibration, CalibrationIssue> calibration_from_json(
     const nlohmann::json& obj);
 // The object back: fx, fy, cx, cy, dist; with `with_extras`, also the size when known, the notes

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -65,6 +66,39 @@ TEST(Calibration, RejectsBadObjectsNamingTheKey) {
     ASSERT_FALSE(s);
     EXPECT_EQ(s.error().key, "cx");
     EXPECT_EQ(s.error().code, FileErrorCode::Malformed);
+}
+
+TEST(Calibration, AStatedRollingShutterReadoutRoundTripsAndIsChecked) {
+    // readout_ms: part of the camera model, so written in flight.json's shape too (without the
+    // extras) when known, and left out when not (NaN is not JSON).
+    auto c = calibration_from_json(
+        nlohmann::json::parse(R"({"fx": 570, "fy": 568, "cx": 331, "cy": 136, "readout_ms": 25})"));
+    ASSERT_TRUE(c);
+    EXPECT_EQ(c->readout_ms, 25.0);
+    for (bool extras : {false, true}) {
+        const nlohmann::json j = calibration_to_json(*c, extras);
+        EXPECT_EQ(j.at("readout_ms"), 25.0) << extras;
+        auto back = calibration_from_json(j);
+        ASSERT_TRUE(back);
+        EXPECT_EQ(back->readout_ms, 25.0);
+    }
+    auto global = calibration_from_json(
+        nlohmann::json::parse(R"({"fx": 570, "fy": 568, "cx": 331, "cy": 136, "readout_ms": 0})"));
+    ASSERT_TRUE(global);
+    EXPECT_EQ(global->readout_ms, 0.0);
+    EXPECT_EQ(global->scaled_to(320, 180).readout_ms, 0.0);
+    auto unstated = calibration_from_json(
+        nlohmann::json::parse(R"({"fx": 570, "fy": 568, "cx": 331, "cy": 136})"));
+    ASSERT_TRUE(unstated);
+    EXPECT_TRUE(std::isnan(unstated->readout_ms));
+    EXPECT_FALSE(calibration_to_json(*unstated, true).contains("readout_ms"));
+    for (const char* bad : {R"({"fx": 1, "fy": 1, "cx": 0, "cy": 0, "readout_ms": -3})",
+                            R"({"fx": 1, "fy": 1, "cx": 0, "cy": 0, "readout_ms": 5000})",
+                            R"({"fx": 1, "fy": 1, "cx": 0, "cy": 0, "readout_ms": "25"})"}) {
+        auto r = calibration_from_json(nlohmann::json::parse(bad));
+        ASSERT_FALSE(r) << bad;
+        EXPECT_EQ(r.error().key, "readout_ms") << bad;
+    }
 }
 
 TEST(Calibration, SaveLoadRoundTrip) {
