@@ -23,6 +23,10 @@ bool inside(cv::Point2f p, float w, float h, float m) {
 void TrajectoryTracker::configure(const CameraCalibration& calib, const TrackerParams& p) {
     calib_ = calib;
     p_ = p;
+    // The readout in use: the parameter's, or (negative) the camera's, else the AR.Drone's.
+    readout_s_ = 1e-3 * (p_.readout_ms >= 0                ? p_.readout_ms
+                         : std::isfinite(calib.readout_ms) ? calib.readout_ms
+                                                           : TrackerParams::kArDroneReadoutMs);
     centre_ = p_.rotate_about_principal_point
                   ? cv::Point2f(static_cast<float>(calib.cx), static_cast<float>(calib.cy))
                   : cv::Point2f(static_cast<float>(calib.width - 1) / 2.f,
@@ -233,6 +237,15 @@ void TrajectoryTracker::update(const cv::Mat& image, std::int64_t t_ns, double r
     }
     const bool navdata_rotation = prior_in.rotation;
     shutter_rate_ = prior.rotation && dt > 0 ? base_rot * (1.0 / dt) : cv::Vec3d(0, 0, 0);
+    {
+        // Less the deadband on each axis (readout_deadband_dps): the navdata's noise between
+        // frames is not unrolled, a manoeuvre nearly whole, with no step where a rate crosses it.
+        const double band = p_.readout_deadband_dps * CV_PI / 180.0;
+        for (int k = 0; k < 3; ++k) {
+            const double rate = shutter_rate_[k];
+            shutter_rate_[k] = std::copysign(std::max(0.0, std::abs(rate) - band), rate);
+        }
+    }
     set_roll(roll_deg);
     auto t0 = StageClock::now();
     const cv::Mat* grey = &image;
@@ -413,8 +426,8 @@ void TrajectoryTracker::update(const cv::Mat& image, std::int64_t t_ns, double r
 
 void TrajectoryTracker::unroll_shutter(const std::vector<cv::Point2f>& raw,
                                        std::vector<cv::Point2f>& und) const {
-    if (!(p_.readout_ms > 0) || shutter_rate_ == cv::Vec3d(0, 0, 0) || calib_.height <= 0) return;
-    const double readout_s = p_.readout_ms * 1e-3;
+    if (!(readout_s_ > 0) || shutter_rate_ == cv::Vec3d(0, 0, 0) || calib_.height <= 0) return;
+    const double readout_s = readout_s_;
     for (std::size_t i = 0; i < und.size(); ++i) {
         // The row's delay after mid-frame; the camera turned by rate x delay since then.
         const double delay_s =

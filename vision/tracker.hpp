@@ -65,11 +65,20 @@ struct TrackerParams {
     // it at mid-frame (the rate: this frame's rotation prior, navdata or predicted, over the
     // frame interval). Uncorrected, a pitch that speeds up or slows down stretches the image
     // vertically from one frame to the next, and points read that as looming: the realism
-    // closed loop's take-off brakes. 0 (default): a global shutter. Off by default: the rate is
-    // the navdata's (late, and half a frame behind a changing rate), and on the realism suites
-    // (filmed with 25 ms) it cut three take-off brakes of the closed loop but raised as many
-    // elsewhere, and offline it helped seeds 2026 and 7 and hurt 31 (README, Realism suite).
+    // closed loop's take-off brakes. 0: a global shutter (the tracker's default); -1 ("flow"'s
+    // default): the camera's, from its calibration (CameraCalibration::readout_ms: the virtual
+    // drone states 0 for its clean renders, the realism layer's readout for its own), and where
+    // the calibration does not say, the AR.Drone 2 front camera's, kArDroneReadoutMs. The rate
+    // is unrolled less readout_deadband_dps on each axis (a continuous
+    // deadband, no step where a rate crosses it): in cruise the navdata's rate between frames
+    // is mostly its noise (2-13 deg/s at the 99th percentile on the realism suites), and
+    // unrolling by it shifts the rows against each other by up to a pixel a frame; a pitch
+    // into forward flight (60-100 deg/s) is unrolled nearly whole. Without a deadband, on the
+    // realism suites it cut three take-off brakes of the closed loop but raised as many
+    // elsewhere (README, Realism suite).
     double readout_ms = 0;
+    static constexpr double kArDroneReadoutMs = 25;
+    double readout_deadband_dps = 0;
     int max_tracks = 150;               // speed: ~1 ms per frame with the settings below (bench)
     double quality_level = 0.01;        // goodFeaturesToTrack qualityLevel
     double min_corner_distance_px = 8;  // goodFeaturesToTrack minDistance (full-size px)
@@ -171,8 +180,11 @@ void describe_tracker_params(ParamTable<P>& t) {
              "image roll: time constant of the leak back to level")
         .add("track.predict_rotation", &P::predict_rotation, 0, 1,
              "without navdata rotation, start LK where the last frame's rotation moves points")
-        .add("track.readout_ms", &P::readout_ms, 0, 100,
-             "rolling shutter: row readout time, first row to last (0: global shutter)")
+        .add("track.readout_ms", &P::readout_ms, -1, 100,
+             "rolling shutter: row readout time, first row to last (0: global shutter, -1: the "
+             "calibration's, else 25)")
+        .add("track.readout_deadband_dps", &P::readout_deadband_dps, 0, 360,
+             "rolling shutter: the rate is unrolled less this, per axis (deg/s)")
         .add("track.max_tracks", &P::max_tracks, 10, 2000, "most trajectories alive at once", true)
         .add("track.quality_level", &P::quality_level, 1e-4, 0.5,
              "Shi-Tomasi: corner strength relative to the strongest corner")
@@ -353,6 +365,7 @@ private:
     EgoMotionEstimator ego_;
     cv::Vec3d last_rotation_rad_{0, 0, 0};  // whole camera rotation of the last frame
     cv::Vec3d shutter_rate_{0, 0, 0};       // this frame's rotation rate (rad/s), for readout_ms
+    double readout_s_ = 0;                  // the readout in use (s): readout_ms, or the camera's
     NavdataRateError nav_error_;            // the navdata rotation's error, followed over frames
     bool have_rotation_ = false;
     double image_roll_deg_ = 0;

@@ -271,25 +271,31 @@ TEST(TrackerExposureStep, AnObjectEnteringAFastPanAndFlickerAreNoStep) {
 }
 
 namespace {
-// A still scene filmed by a camera whose pitch angle speeds up (theta = alpha t^2 / 2), each row
-// read out `readout_s` after the one above, centred on the frame's time; and what the tracker's
-// navdata-rotation derotation leaves of it: how much farther the bottom third's points went than
-// the top third's (px), every point static, so 0 for an exact derotation.
-double stretch_after_pitching(double readout_ms) {
-    const CameraCalibration c = CameraCalibration::ideal(640, 360, 60);
+// A still scene filmed by a rolling-shutter camera (each row read out 25 ms / 360 after the one
+// above, centred on the frame's time) whose pitch angle follows `theta` (rad, of time s), with
+// the navdata's pitch reading theta plus `nav_noise` (rad, per frame). Returns, per frame after
+// the first, how much farther the bottom third's points have gone than the top third's since
+// the first frame, after the tracker's derotation (px): every point is static, so 0 for an exact
+// one.
+// `calib_readout_ms`: what the camera's calibration states (NaN: nothing).
+template <typename Theta, typename Noise>
+std::vector<double> shutter_stretch(double readout_ms, double deadband_dps, Theta theta,
+                                    Noise nav_noise, double calib_readout_ms = gs::kUnknown) {
+    CameraCalibration c = CameraCalibration::ideal(640, 360, 60);
+    c.readout_ms = calib_readout_ms;
     const cv::Mat world = gs::vision::make_texture(800, 600, 11);
-    const cv::Point2d off(80, 120);               // the view's (0, 0) in the world image
-    constexpr double kAlpha = 300 * CV_PI / 180;  // rad/s^2: 60 deg/s after 0.2 s
+    const cv::Point2d off(80, 120);  // the view's (0, 0) in the world image
     constexpr double kDt = 1.0 / 30, kReadout = 0.025;
-    const auto theta = [&](double t) { return 0.5 * kAlpha * t * t; };
     cv::Mat map_x(360, 640, CV_32FC1), map_y(360, 640, CV_32FC1), frame;
     TrackerParams p;
     p.ego_motion = false;  // the navdata's rotation alone: what the shutter does, in isolation
     p.readout_ms = readout_ms;
+    p.readout_deadband_dps = deadband_dps;
     p.detect_interval = 1000;  // the first frame's points only
     TrajectoryTracker t;
     t.configure(c, p);
     constexpr int kFrames = 7;
+    std::vector<double> out;
     for (int f = 0; f < kFrames; ++f) {
         const double tf = f * kDt;
         for (int y = 0; y < 360; ++y) {
@@ -304,32 +310,46 @@ double stretch_after_pitching(double readout_ms) {
             }
         }
         cv::remap(world, frame, map_x, map_y, cv::INTER_LINEAR, cv::BORDER_REFLECT);
-        // The navdata's rotation since the last frame, exact (mid-frame to mid-frame).
+        // The navdata's rotation since the last frame (mid-frame to mid-frame).
+        const auto nav_theta = [&](int k) { return theta(k * kDt) + nav_noise(k); };
         const cv::Matx33d nav =
             f == 0 ? cv::Matx33d::eye()
-                   : small_rotation_homography(c, {theta(tf) - theta(tf - kDt), 0, 0});
+                   : small_rotation_homography(c, {nav_theta(f) - nav_theta(f - 1), 0, 0});
         EgoPrior prior;
         prior.rotation = f > 0;
         t.update(frame, static_cast<std::int64_t>(std::llround(tf * 1e9)), 0, nav, prior);
-    }
-    double top = 0, bottom = 0;
-    int n_top = 0, n_bottom = 0;
-    for (const Trajectory& tr : t.tracks()) {
-        if (tr.history_size() < static_cast<std::size_t>(kFrames)) continue;
-        const double moved = static_cast<double>(tr.at_back(0).derot.y) -
-                             static_cast<double>(tr.at_back(kFrames - 1).derot.y);
-        const float y0 = tr.at_back(kFrames - 1).stab.y;
-        if (y0 < 120) {
-            top += moved;
-            ++n_top;
-        } else if (y0 >= 240) {
-            bottom += moved;
-            ++n_bottom;
+        if (f == 0) continue;
+        double top = 0, bottom = 0;
+        int n_top = 0, n_bottom = 0;
+        for (const Trajectory& tr : t.tracks()) {
+            if (tr.history_size() < static_cast<std::size_t>(f + 1)) continue;
+            const double moved = static_cast<double>(tr.at_back(0).derot.y) -
+                                 static_cast<double>(tr.at_back(f).derot.y);
+            const float y0 = tr.at_back(f).stab.y;
+            if (y0 < 120) {
+                top += moved;
+                ++n_top;
+            } else if (y0 >= 240) {
+                bottom += moved;
+                ++n_bottom;
+            }
         }
+        EXPECT_GE(n_top, 10);
+        EXPECT_GE(n_bottom, 10);
+        out.push_back(n_top > 0 && n_bottom > 0 ? bottom / n_bottom - top / n_top : 1e9);
     }
-    EXPECT_GE(n_top, 10);
-    EXPECT_GE(n_bottom, 10);
-    return n_top > 0 && n_bottom > 0 ? bottom / n_bottom - top / n_top : 1e9;
+    return out;
+}
+
+// The camera pitching faster and faster (theta = alpha t^2 / 2, 300 deg/s^2: 60 deg/s after
+// 0.2 s), the navdata exact: the stretch over the 6 frames.
+double stretch_after_pitching(double readout_ms, double deadband_dps = 0,
+                              double calib_readout_ms = gs::kUnknown) {
+    constexpr double kAlpha = 300 * CV_PI / 180;
+    return shutter_stretch(
+               readout_ms, deadband_dps, [](double t) { return 0.5 * kAlpha * t * t; },
+               [](int) { return 0.0; }, calib_readout_ms)
+        .back();
 }
 }  // namespace
 
@@ -348,4 +368,51 @@ TEST(TrackerShutter, APitchThatSpeedsUpStretchesNothingOnceTheRowsAreUnrolled) {
         global, unrolled);
     EXPECT_GT(std::abs(global), 3.0) << "the scene no longer shows the shutter's stretch";
     EXPECT_LT(std::abs(unrolled), 0.1 * std::abs(global));
+}
+
+TEST(TrackerShutter, ADeadbandUnrollsAManoeuvreButNotTheNavdatasNoise) {
+    // With a deadband of 10 deg/s per axis the rate is unrolled less 10 deg/s: the pitch that
+    // speeds up to 60 deg/s (above) is still mostly unrolled ...
+    const double global = stretch_after_pitching(0);
+    const double banded = stretch_after_pitching(25, 10);
+    std::printf("speeding pitch: %.2f px uncorrected, %.2f px with a 10 deg/s deadband\n", global,
+                banded);
+    EXPECT_LT(std::abs(banded), 0.4 * std::abs(global));
+    // ... while a steady camera whose navdata pitch jitters by up to 0.15 degrees a sample (rates
+    // up to 9 deg/s between frames, a real estimator's noise) is left exactly as a global
+    // shutter leaves it. Unrolled with that noise, its rows shift against each other each frame.
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> u(-0.15, 0.15);
+    std::array<double, 7> noise{};
+    for (double& n : noise) n = u(rng) * CV_PI / 180;
+    const auto still = [](double) { return 0.0; };
+    const auto nav = [&](int k) { return noise[static_cast<std::size_t>(k)]; };
+    const std::vector<double> plain = shutter_stretch(0, 0, still, nav);
+    const std::vector<double> unrolled = shutter_stretch(25, 0, still, nav);
+    const std::vector<double> band = shutter_stretch(25, 10, still, nav);
+    double worst_unrolled = 0;
+    for (std::size_t i = 0; i < plain.size(); ++i) {
+        EXPECT_EQ(band[i], plain[i]) << "frame " << i + 1;
+        worst_unrolled = std::max(worst_unrolled, std::abs(unrolled[i] - plain[i]));
+    }
+    std::printf(
+        "steady camera, noisy navdata: unrolled without a deadband moves the thirds by "
+        "up to %.2f px\n",
+        worst_unrolled);
+    EXPECT_GT(worst_unrolled, 0.1) << "the noise no longer reaches the unrolled rows";
+}
+
+TEST(TrackerShutter, TheReadoutIsTheCamerasUnlessTheParameterSaysOtherwise) {
+    // track.readout_ms -1 ("flow"'s default) takes the calibration's readout: a camera stated
+    // global (the virtual drone's clean renders) is not unrolled, one stated at 25 ms is, and one
+    // that states nothing is taken for the AR.Drone 2 front camera (25 ms). A readout given as
+    // a parameter (0 or more) wins over the calibration's.
+    const double global = stretch_after_pitching(0);
+    const double unrolled = stretch_after_pitching(25);
+    EXPECT_EQ(stretch_after_pitching(-1, 0, 0), global);
+    EXPECT_EQ(stretch_after_pitching(-1, 0, 25), unrolled);
+    EXPECT_EQ(stretch_after_pitching(-1, 0), unrolled);
+    EXPECT_EQ(stretch_after_pitching(0, 0, 25), global);
+    EXPECT_EQ(stretch_after_pitching(25, 0, 0), unrolled);
+    EXPECT_GT(std::abs(global), 3 * std::abs(unrolled));
 }
