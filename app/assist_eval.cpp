@@ -61,9 +61,10 @@ Expected<AssistFlightResult, std::string> fly_assist_flight(const AssistFlightSp
         return Unexpected(spec.name + ": speed out of range");
 
     const sim::Scene& scene = spec.scene;
-    const CameraCalibration calib = builtin_calibration(CameraId::Front);
     const sim::RealismOptions& fx = opt.realism;
     if (auto e = fx.check()) return Unexpected("realism: " + *e);
+    // Its shutter too: the classifier unrolls what the camera has (track.readout_ms).
+    const CameraCalibration calib = sim::rendered_front_camera(fx);
     // What the camera sees: the scene with the realism layer's scene effects (plain walls, a
     // glossy floor); the flight and its collisions keep the scene itself.
     sim::Scene seen = scene;

@@ -102,7 +102,10 @@ void Session::open_sim(const StartSim& s) {
     c.link = std::move(l);
     c.frames = c.link->subscribe_frames(opts_.frame_queue);
     odometry_.set_calibration(bottom_calibration());
-    use_calibration(front_calibration(), "virtual drone camera (assets default)");
+    // The virtual drone renders with a global shutter: nothing to unroll (track.readout_ms).
+    CameraCalibration front = front_calibration();
+    front.readout_ms = 0;
+    use_calibration(front, "virtual drone camera (assets default, global shutter)");
     reset_vision();
     publish_source();
     publish_replay();

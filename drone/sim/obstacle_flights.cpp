@@ -220,7 +220,7 @@ Expected<ObstacleFlightSummary, std::string> write_obstacle_flight(const fs::pat
     if (auto e = p.realism.check()) return Unexpected(*e);
     // The realism layer's scene effects (plain walls ...): what the camera sees, not the flight.
     const SceneEffects scene_fx = apply_scene_effects(scene, p.realism, mix_seed(p.seed, 0x5ce4e));
-    const CameraCalibration calib = builtin_calibration(CameraId::Front);
+    const CameraCalibration calib = rendered_front_camera(p.realism);
     auto renderer = Renderer::create(scene, calib, CameraKind::Front, render_options(p.realism));
     if (!renderer) return Unexpected("renderer: " + to_string(renderer.error()));
     video::H264EncoderConfig ec_cfg;

@@ -132,6 +132,12 @@ RenderOptions render_options(const RealismOptions& o) {
     return r;
 }
 
+CameraCalibration rendered_front_camera(const RealismOptions& o) {
+    CameraCalibration c = builtin_calibration(CameraId::Front);
+    c.readout_ms = o.rolling_shutter_ms;
+    return c;
+}
+
 SceneEffects apply_scene_effects(Scene& scene, const RealismOptions& o, std::uint64_t seed) {
     SceneEffects out;
     Room& r = scene.room;

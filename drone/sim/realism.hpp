@@ -218,6 +218,10 @@ struct SceneEffects {
 
 // The renderer's options for the scene effects of `o` (the glossy floor).
 RenderOptions render_options(const RealismOptions& o);
+// The front camera the virtual drone films with under `o`: the AR.Drone 2 calibration, its
+// readout the layer's rolling shutter (0 without one: the renderer's own shutter is global). It
+// goes with the frames (flight.json, the classifier), so that only a shutter there is unrolled.
+CameraCalibration rendered_front_camera(const RealismOptions& o);
 
 // Applies the scene effects of `o` to `scene` (deterministic for the seed).
 SceneEffects apply_scene_effects(Scene& scene, const RealismOptions& o, std::uint64_t seed);

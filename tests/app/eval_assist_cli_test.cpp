@@ -159,6 +159,11 @@ TEST(EvalAssistCli, RealismFliesTheCameraLinkAndEstimatorOfARealDrone) {
     ASSERT_TRUE(flight.contains("realism"));
     EXPECT_EQ(flight["realism"]["video_bitrate_kbps"], 1000.0);
     EXPECT_GE(flight["realism"]["slices_lost"].get<int>(), 1);
+    // The camera's shutter goes with its frames: the layer's rolling shutter, and the clean
+    // render's global one, so that a replay unrolls only what the camera did.
+    EXPECT_EQ(flight["calibration"]["readout_ms"], 25.0);
+    std::ifstream cfj(clean / "flight.json");
+    EXPECT_EQ(nlohmann::json::parse(cfj)["calibration"]["readout_ms"], 0.0);
     EXPECT_LT(fs::file_size(real / "video.h264"), fs::file_size(clean / "video.h264"));
     // Heading error of the navdata against the ground truth, mean over the flight.
     const auto yaw_error = [](const fs::path& dir) {
