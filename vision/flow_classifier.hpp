@@ -52,6 +52,13 @@ struct FlowParams : TrackerParams {
         // An exposure step is compensated, on the frames it happens only: 13 % darker in one
         // frame made the tiled floor's points slip a tile and brake the assist in open space.
         step_gain_min = 0.05;
+        // The AR.Drone 2 front camera's rolling shutter, unrolled in manoeuvres only: a pitch
+        // into forward flight stretches each frame more than the last and static points part
+        // as if they loomed (the realism closed loop's take-off brakes), while in cruise the
+        // navdata's rate is mostly its noise, and unrolling by it shifts the rows against each
+        // other by up to a pixel a frame (tests/vision/tracker_test.cpp, TrackerShutter).
+        readout_ms = -1;  // the camera's (its calibration's), else the AR.Drone 2's 25 ms
+        readout_deadband_dps = 10;
     }
     double centre_band_px = 80;        // same regions as the thesis
     int velocity_window = 10;          // frames for each trajectory's image velocity fit
