@@ -23,10 +23,7 @@ bool inside(cv::Point2f p, float w, float h, float m) {
 void TrajectoryTracker::configure(const CameraCalibration& calib, const TrackerParams& p) {
     calib_ = calib;
     p_ = p;
-    // The readout in use: the parameter's, or (negative) the camera's, else the AR.Drone's.
-    readout_s_ = 1e-3 * (p_.readout_ms >= 0                ? p_.readout_ms
-                         : std::isfinite(calib.readout_ms) ? calib.readout_ms
-                                                           : TrackerParams::kArDroneReadoutMs);
+    update_readout();
     centre_ = p_.rotate_about_principal_point
                   ? cv::Point2f(static_cast<float>(calib.cx), static_cast<float>(calib.cy))
                   : cv::Point2f(static_cast<float>(calib.width - 1) / 2.f,
@@ -185,7 +182,15 @@ cv::Point2f TrajectoryTracker::to_track(cv::Point2f p) const {
 
 void TrajectoryTracker::set_params(const TrackerParams& p) {
     p_ = p;
+    update_readout();
     nav_error_.set_params(rate_error_params());
+}
+
+void TrajectoryTracker::update_readout() {
+    // The parameter's, or (negative) the camera's, else the AR.Drone 2 front camera's.
+    readout_s_ = 1e-3 * (p_.readout_ms >= 0                 ? p_.readout_ms
+                         : std::isfinite(calib_.readout_ms) ? calib_.readout_ms
+                                                            : TrackerParams::kArDroneReadoutMs);
 }
 
 RateErrorParams TrajectoryTracker::rate_error_params() const {

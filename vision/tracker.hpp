@@ -314,6 +314,8 @@ public:
     // one's; 1: none).
     int exposure_steps() const { return steps_found_; }
     double exposure_step() const { return std::exp(step_log_); }
+    // The rolling shutter's readout in use (s): track.readout_ms, or the camera's (-1).
+    double readout_s() const { return readout_s_; }
     int ended_last_frame() const { return ended_; }
     int added_last_frame() const { return added_; }
     const TrackerTimings& timings() const { return timings_; }
@@ -334,6 +336,7 @@ private:
     void own_grey_track(const cv::Mat& image);  // before changing grey_track_ in place
     // Moves undistorted points (rows from their raw positions) to mid-frame (readout_ms).
     void unroll_shutter(const std::vector<cv::Point2f>& raw, std::vector<cv::Point2f>& und) const;
+    void update_readout();  // readout_s_ from readout_ms and the calibration
 
     CameraCalibration calib_;
     TrackerParams p_;

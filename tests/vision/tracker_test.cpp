@@ -416,3 +416,30 @@ TEST(TrackerShutter, TheReadoutIsTheCamerasUnlessTheParameterSaysOtherwise) {
     EXPECT_EQ(stretch_after_pitching(25, 0, 0), unrolled);
     EXPECT_GT(std::abs(global), 3 * std::abs(unrolled));
 }
+
+TEST(TrackerShutter, AReadoutSetWhileRunningIsTheOneInUse) {
+    // Parameters changed on a running tracker (`replay --set`, the window's tuning) go through
+    // set_params, not configure: the readout in use follows them there too.
+    CameraCalibration c = CameraCalibration::ideal(640, 360, 60);
+    c.readout_ms = 25;
+    TrackerParams p;
+    p.readout_ms = -1;
+    TrajectoryTracker t;
+    t.configure(c, p);
+    EXPECT_DOUBLE_EQ(t.readout_s(), 0.025);
+    p.readout_ms = 0;
+    t.set_params(p);
+    EXPECT_EQ(t.readout_s(), 0.0);
+    p.readout_ms = 12;
+    t.set_params(p);
+    EXPECT_DOUBLE_EQ(t.readout_s(), 0.012);
+    p.readout_ms = -1;
+    t.set_params(p);
+    EXPECT_DOUBLE_EQ(t.readout_s(), 0.025);
+    c.readout_ms = gs::kUnknown;
+    t.configure(c, p);
+    EXPECT_DOUBLE_EQ(t.readout_s(), 0.025);  // stated nowhere: the AR.Drone 2's
+    c.readout_ms = 0;
+    t.configure(c, p);
+    EXPECT_EQ(t.readout_s(), 0.0);
+}
