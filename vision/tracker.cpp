@@ -23,7 +23,6 @@ bool inside(cv::Point2f p, float w, float h, float m) {
 void TrajectoryTracker::configure(const CameraCalibration& calib, const TrackerParams& p) {
     calib_ = calib;
     p_ = p;
-    update_readout();
     centre_ = p_.rotate_about_principal_point
                   ? cv::Point2f(static_cast<float>(calib.cx), static_cast<float>(calib.cy))
                   : cv::Point2f(static_cast<float>(calib.width - 1) / 2.f,
@@ -182,15 +181,14 @@ cv::Point2f TrajectoryTracker::to_track(cv::Point2f p) const {
 
 void TrajectoryTracker::set_params(const TrackerParams& p) {
     p_ = p;
-    update_readout();
     nav_error_.set_params(rate_error_params());
 }
 
-void TrajectoryTracker::update_readout() {
+double TrajectoryTracker::readout_s() const {
     // The parameter's, or (negative) the camera's, else the AR.Drone 2 front camera's.
-    readout_s_ = 1e-3 * (p_.readout_ms >= 0                 ? p_.readout_ms
-                         : std::isfinite(calib_.readout_ms) ? calib_.readout_ms
-                                                            : TrackerParams::kArDroneReadoutMs);
+    return 1e-3 * (p_.readout_ms >= 0                 ? p_.readout_ms
+                   : std::isfinite(calib_.readout_ms) ? calib_.readout_ms
+                                                      : TrackerParams::kArDroneReadoutMs);
 }
 
 RateErrorParams TrajectoryTracker::rate_error_params() const {
@@ -431,8 +429,8 @@ void TrajectoryTracker::update(const cv::Mat& image, std::int64_t t_ns, double r
 
 void TrajectoryTracker::unroll_shutter(const std::vector<cv::Point2f>& raw,
                                        std::vector<cv::Point2f>& und) const {
-    if (!(readout_s_ > 0) || shutter_rate_ == cv::Vec3d(0, 0, 0) || calib_.height <= 0) return;
-    const double readout_s = readout_s_;
+    const double readout_s = this->readout_s();
+    if (!(readout_s > 0) || shutter_rate_ == cv::Vec3d(0, 0, 0) || calib_.height <= 0) return;
     for (std::size_t i = 0; i < und.size(); ++i) {
         // The row's delay after mid-frame; the camera turned by rate x delay since then.
         const double delay_s =

@@ -69,13 +69,12 @@ struct TrackerParams {
     // default): the camera's, from its calibration (CameraCalibration::readout_ms: the virtual
     // drone states 0 for its clean renders, the realism layer's readout for its own), and where
     // the calibration does not say, the AR.Drone 2 front camera's, kArDroneReadoutMs. The rate
-    // is unrolled less readout_deadband_dps on each axis (a continuous
-    // deadband, no step where a rate crosses it): in cruise the navdata's rate between frames
-    // is mostly its noise (2-13 deg/s at the 99th percentile on the realism suites), and
-    // unrolling by it shifts the rows against each other by up to a pixel a frame; a pitch
-    // into forward flight (60-100 deg/s) is unrolled nearly whole. Without a deadband, on the
-    // realism suites it cut three take-off brakes of the closed loop but raised as many
-    // elsewhere (README, Realism suite).
+    // is unrolled less readout_deadband_dps on each axis (a continuous deadband, no step where
+    // a rate crosses it): in cruise the navdata's rate between frames is mostly its noise (2-13
+    // deg/s at the 99th percentile on the realism suites), and unrolling by it shifts the rows
+    // against each other by up to a pixel a frame; a pitch into forward flight (60-100 deg/s) is
+    // unrolled nearly whole. Without a deadband, on the realism suites it cut three take-off brakes
+    // of the closed loop but raised as many elsewhere (README, Realism suite).
     double readout_ms = 0;
     static constexpr double kArDroneReadoutMs = 25;
     double readout_deadband_dps = 0;
@@ -315,7 +314,7 @@ public:
     int exposure_steps() const { return steps_found_; }
     double exposure_step() const { return std::exp(step_log_); }
     // The rolling shutter's readout in use (s): track.readout_ms, or the camera's (-1).
-    double readout_s() const { return readout_s_; }
+    double readout_s() const;
     int ended_last_frame() const { return ended_; }
     int added_last_frame() const { return added_; }
     const TrackerTimings& timings() const { return timings_; }
@@ -336,7 +335,6 @@ private:
     void own_grey_track(const cv::Mat& image);  // before changing grey_track_ in place
     // Moves undistorted points (rows from their raw positions) to mid-frame (readout_ms).
     void unroll_shutter(const std::vector<cv::Point2f>& raw, std::vector<cv::Point2f>& und) const;
-    void update_readout();  // readout_s_ from readout_ms and the calibration
 
     CameraCalibration calib_;
     TrackerParams p_;
@@ -368,7 +366,6 @@ private:
     EgoMotionEstimator ego_;
     cv::Vec3d last_rotation_rad_{0, 0, 0};  // whole camera rotation of the last frame
     cv::Vec3d shutter_rate_{0, 0, 0};       // this frame's rotation rate (rad/s), for readout_ms
-    double readout_s_ = 0;                  // the readout in use (s): readout_ms, or the camera's
     NavdataRateError nav_error_;            // the navdata rotation's error, followed over frames
     bool have_rotation_ = false;
     double image_roll_deg_ = 0;
