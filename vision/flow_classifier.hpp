@@ -60,7 +60,6 @@ struct FlowParams : TrackerParams {
         readout_ms = -1;  // the camera's (its calibration's), else the AR.Drone 2's 25 ms
         readout_deadband_dps = 10;
     }
-    double centre_band_px = 80;        // same regions as the thesis
     int velocity_window = 10;          // frames for each trajectory's image velocity fit
     int min_track_length = 6;          // fewer points: no rate
     double min_foe_distance_px = 30;   // the rate is ill-conditioned near the FOE

@@ -22,10 +22,9 @@ struct ThesisParams : TrackerParams {
         predict_rotation = false;  // LK searches from where the point was, as the thesis did
     }
 
-    double centre_band_px = 80;  // centre region: |x - width/2| <= this (§3.2.4)
-    int slope_window = 30;       // slope over the last n points, only with >= n points
-    double edge_scale = 3;       // position scale at the image edges (fig. 3.26)
-    double centre_scale = 1;     // ... and at the image centre
+    int slope_window = 30;    // slope over the last n points, only with >= n points
+    double edge_scale = 3;    // position scale at the image edges (fig. 3.26)
+    double centre_scale = 1;  // ... and at the image centre
     // The thesis says the slope "is scaled" without saying how. Multiplying is the reading that
     // reproduces its reported detection distances (left/right ~2.7 m at ~1 m/s, 25 fps, f ~560 px:
     // an obstacle 0.5 m to the side reaches 3.5 at ~2.3 m when multiplied, only at ~1.1 m when

@@ -415,8 +415,11 @@ void TrajectoryTracker::update(const cv::Mat& image, std::int64_t t_ns, double r
 
     if (frame_ % std::max(1, p_.detect_interval) == 0) {
         t0 = StageClock::now();
+        mark_centre_reserve();
         if (grid_on()) balance_grid();
-        if (static_cast<int>(tracks_.size()) < p_.max_tracks) detect(roll_used_deg_);
+        if (static_cast<int>(tracks_.size()) - reserved_ < p_.max_tracks ||
+            p_.centre_min_tracks > 0)
+            detect(roll_used_deg_);
         timings_.detect_ms = ms_since(t0);
     }
 
@@ -455,11 +458,59 @@ int TrajectoryTracker::cell_quota() const {
     return std::max(1, (p_.max_tracks + cells - 1) / cells);
 }
 
+TrajectoryTracker::BandGrid TrajectoryTracker::band_grid() const {
+    // Cells of about kBandCellPx x 1.5 kBandCellPx (full-size px) over the band's raw columns
+    // (roll and distortion move the band little near the centre).
+    constexpr double kBandCellPx = 40;
+    BandGrid g;
+    g.x0 = calib_.width / 2.0 - p_.centre_band_px;
+    g.cols = std::max(1, static_cast<int>(std::lround(2 * p_.centre_band_px / kBandCellPx)));
+    g.rows = std::max(1, static_cast<int>(std::lround(calib_.height / (1.5 * kBandCellPx))));
+    g.cw = 2 * p_.centre_band_px / g.cols;
+    g.ch = static_cast<double>(calib_.height) / g.rows;
+    g.quota = std::max(1, (p_.centre_min_tracks + g.cols * g.rows - 1) / (g.cols * g.rows));
+    return g;
+}
+
+int TrajectoryTracker::BandGrid::cell(cv::Point2f raw) const {
+    const int cx = std::clamp(static_cast<int>(std::floor((static_cast<double>(raw.x) - x0) / cw)),
+                              0, cols - 1);
+    const int cy =
+        std::clamp(static_cast<int>(std::floor(static_cast<double>(raw.y) / ch)), 0, rows - 1);
+    return cy * cols + cx;
+}
+
+void TrajectoryTracker::mark_centre_reserve() {
+    // In each cell of the centre band the longest trajectories (ties: older id first), up to the
+    // cell's share of centre_min_tracks, are the band's reserve: kept whatever their grid cell
+    // holds, and counted neither toward a grid cell's share nor toward max_tracks.
+    reserve_.assign(tracks_.size(), 0);
+    reserved_ = 0;
+    if (p_.centre_min_tracks <= 0) return;
+    const BandGrid g = band_grid();
+    order_.resize(tracks_.size());
+    for (std::size_t i = 0; i < tracks_.size(); ++i) order_[i] = i;
+    std::sort(order_.begin(), order_.end(), [&](std::size_t a, std::size_t b) {
+        if (tracks_[a].length != tracks_[b].length) return tracks_[a].length > tracks_[b].length;
+        return tracks_[a].id < tracks_[b].id;
+    });
+    band_count_.assign(static_cast<std::size_t>(g.cols * g.rows), 0);
+    for (std::size_t i : order_) {
+        if (!in_centre_band(tracks_[i])) continue;
+        int& n = band_count_[static_cast<std::size_t>(g.cell(tracks_[i].raw))];
+        if (n >= g.quota) continue;
+        ++n;
+        reserve_[i] = 1;
+        ++reserved_;
+    }
+}
+
 void TrajectoryTracker::balance_grid() {
     const auto cells = static_cast<std::size_t>(p_.grid_cols * p_.grid_rows);
     const int quota = cell_quota();
     cell_count_.assign(cells, 0);
-    for (const Trajectory& t : tracks_) ++cell_count_[static_cast<std::size_t>(cell_of(t.raw))];
+    for (std::size_t i = 0; i < tracks_.size(); ++i)
+        if (!reserve_[i]) ++cell_count_[static_cast<std::size_t>(cell_of(tracks_[i].raw))];
     bool crowded = false;
     for (int n : cell_count_) crowded = crowded || n > quota;
     if (!crowded) return;
@@ -473,6 +524,7 @@ void TrajectoryTracker::balance_grid() {
     drop_.assign(tracks_.size(), 0);
     cell_count_.assign(cells, 0);
     for (std::size_t i : order_) {
+        if (reserve_[i]) continue;
         int& n = cell_count_[static_cast<std::size_t>(cell_of(tracks_[i].raw))];
         if (n >= quota)
             drop_[i] = 1;
@@ -482,9 +534,13 @@ void TrajectoryTracker::balance_grid() {
     std::size_t m = 0;
     for (std::size_t i = 0; i < tracks_.size(); ++i) {
         if (drop_[i]) continue;
-        if (m != i) tracks_[m] = tracks_[i];
+        if (m != i) {
+            tracks_[m] = tracks_[i];
+            reserve_[m] = reserve_[i];
+        }
         ++m;
     }
+    reserve_.resize(m);
     ended_ += static_cast<int>(tracks_.size() - m);
     tracks_.resize(m);
 }
@@ -519,10 +575,100 @@ void TrajectoryTracker::detect(double roll) {
                 cv::Point(static_cast<int>(std::lround(q.x)), static_cast<int>(std::lround(q.y))),
                 r, cv::Scalar(0), cv::FILLED);
         }
-    const int want = p_.max_tracks - static_cast<int>(tracks_.size());
-    cv::goodFeaturesToTrack(grey_track_, corners_, want, p_.quality_level,
-                            std::max(1.0, p_.min_corner_distance_px * p_.track_scale), mask_,
-                            p_.block_size);
+    const int want = p_.max_tracks - (static_cast<int>(tracks_.size()) - reserved_);
+    if (want > 0) {
+        cv::goodFeaturesToTrack(grey_track_, corners_, want, p_.quality_level,
+                                std::max(1.0, p_.min_corner_distance_px * p_.track_scale), mask_,
+                                p_.block_size);
+        add_corners(false);
+    }
+    if (p_.centre_min_tracks > 0) top_up_centre_band();
+}
+
+void TrajectoryTracker::top_up_centre_band() {
+    if (p_.centre_min_tracks <= 0) return;
+    // Each cell of the band is topped up to its share with the strongest corners in it: the
+    // band's strongest are mostly the background beside a near obstacle, the cells spread them
+    // over the obstacle. A corner must be as strong, relative to the image's strongest, as the
+    // main detection asks (quality_level): a plain surface's noise is not a corner.
+    const BandGrid g = band_grid();
+    const int x0 =
+        std::clamp(static_cast<int>(std::floor(g.x0 * p_.track_scale)), 0, mask_base_.cols);
+    const int x1 =
+        std::clamp(static_cast<int>(std::ceil((g.x0 + 2 * p_.centre_band_px) * p_.track_scale)), x0,
+                   mask_base_.cols);
+    if (x1 <= x0 || mask_base_.rows <= 0) return;
+    band_count_.assign(static_cast<std::size_t>(g.cols * g.rows), 0);
+    for (const Trajectory& t : tracks_)
+        if (in_centre_band(t)) ++band_count_[static_cast<std::size_t>(g.cell(t.raw))];
+
+    // No new corner where a trajectory is (new_point_min_distance_px), nor off the valid image.
+    band_mask_.create(mask_base_.size(), mask_base_.type());
+    band_mask_.setTo(cv::Scalar(0));
+    const cv::Rect band(x0, 0, x1 - x0, mask_base_.rows);
+    mask_base_(band).copyTo(band_mask_(band));
+    const int r = static_cast<int>(std::lround(p_.new_point_min_distance_px * p_.track_scale));
+    if (r > 0)
+        for (const Trajectory& t : tracks_) {
+            const cv::Point2f q = to_track(t.raw);
+            cv::circle(
+                band_mask_,
+                cv::Point(static_cast<int>(std::lround(q.x)), static_cast<int>(std::lround(q.y))),
+                r, cv::Scalar(0), cv::FILLED);
+        }
+    cv::cornerMinEigenVal(grey_track_, eig_, p_.block_size, 3);
+    double strongest = 0;
+    cv::minMaxLoc(eig_, nullptr, &strongest, nullptr, nullptr, mask_base_);
+    const auto floor_eig = static_cast<float>(p_.quality_level * strongest);
+    if (!(floor_eig > 0)) return;
+
+    // Candidates: local maxima (3 x 3) over the floor in cells below their share, strongest first.
+    band_candidates_.clear();
+    for (int y = 1; y + 1 < eig_.rows; ++y) {
+        const float* up = eig_.ptr<float>(y - 1);
+        const float* e = eig_.ptr<float>(y);
+        const float* dn = eig_.ptr<float>(y + 1);
+        const std::uint8_t* m = band_mask_.ptr<std::uint8_t>(y);
+        for (int x = std::max(1, x0); x < std::min(x1, eig_.cols - 1); ++x) {
+            const float v = e[x];
+            if (!m[x] || v < floor_eig) continue;
+            if (v < e[x - 1] || v < e[x + 1] || v < up[x - 1] || v < up[x] || v < up[x + 1] ||
+                v < dn[x - 1] || v < dn[x] || v < dn[x + 1])
+                continue;
+            band_candidates_.push_back(
+                {v, cv::Point2f(static_cast<float>(x), static_cast<float>(y))});
+        }
+    }
+    std::sort(band_candidates_.begin(), band_candidates_.end(),
+              [](const BandCandidate& a, const BandCandidate& b) {
+                  if (a.eig != b.eig) return a.eig > b.eig;
+                  return a.at.y != b.at.y ? a.at.y < b.at.y : a.at.x < b.at.x;
+              });
+    const float min_d =
+        static_cast<float>(std::max(1.0, p_.min_corner_distance_px * p_.track_scale));
+    corners_.clear();
+    for (const BandCandidate& c : band_candidates_) {
+        int& n = band_count_[static_cast<std::size_t>(g.cell(to_full(c.at)))];
+        if (n >= g.quota) continue;
+        bool near = false;
+        for (const cv::Point2f& q : corners_) {
+            const cv::Point2f d = q - c.at;
+            near = near || d.dot(d) < min_d * min_d;
+        }
+        if (near) continue;
+        corners_.push_back(c.at);
+        ++n;
+    }
+    add_corners(true);
+}
+
+bool TrajectoryTracker::in_centre_band(const Trajectory& t) const {
+    if (t.length == 0) return false;
+    return std::abs(static_cast<double>(t.at_back(0).stab.x) - calib_.width / 2.0) <=
+           p_.centre_band_px;
+}
+
+void TrajectoryTracker::add_corners(bool centre_band_only) {
     if (corners_.empty()) return;
     raw_.resize(corners_.size());
     for (std::size_t i = 0; i < corners_.size(); ++i) raw_[i] = to_full(corners_[i]);
@@ -534,6 +680,9 @@ void TrajectoryTracker::detect(double roll) {
     for (std::size_t i = 0; i < raw_.size(); ++i) {
         const cv::Point2f s = stab_.apply(und_[i]);
         if (!inside(s, w, h, 0)) continue;  // the mask is conservative, this is exact
+        if (centre_band_only &&
+            std::abs(static_cast<double>(s.x) - calib_.width / 2.0) > p_.centre_band_px)
+            continue;
         Trajectory& t = tracks_.emplace_back();
         t.id = next_id_++;
         t.first_frame = frame_;

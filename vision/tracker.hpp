@@ -124,6 +124,17 @@ struct TrackerParams {
     // way, and new corners go to cells below their share. Without it the strongest corners of a
     // far, slow background take every slot and keep them, and an obstacle gets none.
     int grid_cols = 0, grid_rows = 0;
+    // The centre region (|stabilised x - width/2| <= centre_band_px: the classifiers' own,
+    // thesis §3.2.4) decides a brake, and the grid's cells are shared with the sides: a far,
+    // textured background beside a near, faintly textured obstacle (a concrete pillar filling
+    // the centre) keeps those cells full with the strongest corners, and the obstacle gets no
+    // trajectory. With centre_min_tracks > 0 the band is split into cells of about 40 x 60 px,
+    // each holding its share of centre_min_tracks: a cell below its share is topped up with its
+    // own strongest corners (as strong, relative to the image's strongest, as quality_level asks
+    // of any: a plain surface's noise is no corner), and each cell's longest trajectories up to
+    // its share are kept whatever their grid cell holds, outside max_tracks. 0 = off.
+    double centre_band_px = 80;
+    int centre_min_tracks = 0;
     double border_margin_px = 4;      // keep corners this far inside the stabilised image
     double mask_roll_step_deg = 0.5;  // recompute the detection mask when roll moves this much
     bool rotate_about_principal_point = false;  // thesis: rotates about the image centre
@@ -221,6 +232,9 @@ void describe_tracker_params(ParamTable<P>& t) {
         .add("track.grid_cols", &P::grid_cols, 0, 32,
              "spread trajectories over this many columns of cells (0 = off)")
         .add("track.grid_rows", &P::grid_rows, 0, 32, "... and this many rows (0 = off)")
+        .add("track.centre_min_tracks", &P::centre_min_tracks, 0, 500,
+             "keep at least this many trajectories in the centre band, whatever its grid cells "
+             "hold (0 = off)")
         .add("track.border_margin_px", &P::border_margin_px, 0, 50,
              "keep corners this far inside the stabilised image", true)
         .add("track.mask_roll_step_deg", &P::mask_roll_step_deg, 0.05, 10,
@@ -327,6 +341,16 @@ private:
     bool grid_on() const { return p_.grid_cols > 0 && p_.grid_rows > 0; }
     int cell_of(cv::Point2f raw) const;
     int cell_quota() const;
+    bool in_centre_band(const Trajectory& t) const;
+    void mark_centre_reserve();
+    struct BandGrid {  // the centre band's cells (top_up_centre_band), full-size raw pixels
+        double x0 = 0, cw = 1, ch = 1;
+        int cols = 1, rows = 1, quota = 1;
+        int cell(cv::Point2f raw) const;
+    };
+    BandGrid band_grid() const;
+    void top_up_centre_band();
+    void add_corners(bool centre_band_only);  // corners_ as new trajectories
     void balance_grid();
     void compensate_gain();
     // Finds an exposure step against the last frame (step_gain_min): step_log_.
@@ -363,6 +387,15 @@ private:
     std::vector<int> cell_count_;
     std::vector<std::size_t> order_;
     std::vector<std::uint8_t> drop_;
+    std::vector<std::uint8_t> reserve_;  // per track: in the centre band's reserve
+    int reserved_ = 0;
+    cv::Mat band_mask_, eig_;  // top_up_centre_band
+    struct BandCandidate {
+        float eig;
+        cv::Point2f at;  // tracked-image pixels
+    };
+    std::vector<BandCandidate> band_candidates_;
+    std::vector<int> band_count_;
     EgoMotionEstimator ego_;
     cv::Vec3d last_rotation_rad_{0, 0, 0};  // whole camera rotation of the last frame
     cv::Vec3d shutter_rate_{0, 0, 0};       // this frame's rotation rate (rad/s), for readout_ms

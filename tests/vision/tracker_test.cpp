@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -48,6 +49,74 @@ TEST(TrackerGrid, ABusyBackgroundCannotTakeEverySlot) {
             EXPECT_GE(lower_tracks, 30);              // the bottom row's four cells fill up
         } else {
             EXPECT_LT(lower_tracks, 10) << "the test scene should starve the lower half";
+        }
+    }
+}
+
+TEST(TrackerGrid, TheCentreBandIsToppedUpWhateverItsCellsHold) {
+    // A faintly textured obstacle (a concrete pillar) filling most of the middle of the view in
+    // front of a busy background: the grid's middle cells fill up with the background's strong
+    // corners beside it, and the pillar, where a brake is decided, gets few trajectories. With
+    // centre_min_tracks each cell of the centre band (40 x 60 px) holds its share of them, the
+    // pillar's cells too, and keeps them.
+    const CameraCalibration c = CameraCalibration::ideal(640, 360, 60);
+    cv::Mat img = gs::vision::make_texture(640, 360, 5);
+    const cv::Rect pillar(250, 0, 140, 360);  // most of the band, |x - 320| <= 80
+    cv::Mat strip = img(pillar);
+    strip.convertTo(strip, -1, 0.2, 102);  // low contrast: far weaker corners
+    auto in_band = [](const Trajectory& t) { return std::abs(t.raw.x - 320.f) <= 80.f; };
+    auto on_pillar = [&](const Trajectory& t) { return pillar.contains(cv::Point(t.raw)); };
+    for (const int reserve : {0, 48}) {
+        TrackerParams p;
+        p.max_tracks = 120;
+        p.detect_interval = 1;
+        p.grid_cols = 4;
+        p.grid_rows = 3;
+        p.centre_band_px = 80;
+        p.centre_min_tracks = reserve;
+        TrajectoryTracker t;
+        t.configure(c, p);
+        std::vector<std::uint32_t> pillar_ids;  // on frame 3
+        for (int f = 0; f < 12; ++f) {
+            t.update(img, f * 40'000'000LL, 0, cv::Matx33d::eye());
+            if (f == 3)
+                for (const Trajectory& tr : t.tracks())
+                    if (on_pillar(tr)) pillar_ids.push_back(tr.id);
+        }
+        int on = 0;
+        std::vector<int> band_cell(24, 0), grid_cell(12, 0);
+        for (const Trajectory& tr : t.tracks()) {
+            on += on_pillar(tr) ? 1 : 0;
+            if (in_band(tr)) {
+                const int cx = std::clamp(static_cast<int>((tr.raw.x - 240.f) / 40.f), 0, 3);
+                const int cy = std::min(5, static_cast<int>(tr.raw.y / 60.f));
+                ++band_cell[static_cast<std::size_t>(cy * 4 + cx)];
+            } else {
+                const int cx = std::min(3, static_cast<int>(tr.raw.x / 160));
+                const int cy = std::min(2, static_cast<int>(tr.raw.y / 120));
+                ++grid_cell[static_cast<std::size_t>(cy * 4 + cx)];
+            }
+        }
+        if (reserve == 0) {
+            EXPECT_LT(on, 8) << "the test scene should starve the pillar";
+            continue;
+        }
+        // The band's two middle columns of cells lie on the pillar: each holds its share,
+        // ceil(48 / 24), of the pillar's own corners.
+        for (int cy = 0; cy < 6; ++cy)
+            for (int cx : {1, 2})
+                EXPECT_GE(band_cell[static_cast<std::size_t>(cy * 4 + cx)], 2)
+                    << "band cell " << cx << "," << cy;
+        EXPECT_GE(on, 24);
+        // Beside the band the grid keeps its shares: ceil(120 / 12) trajectories a cell at most.
+        for (int n : grid_cell) EXPECT_LE(n, 10);
+        // What the pillar's cells hold they keep (the scene is still: nothing ends unless it is
+        // dropped), so its trajectories grow old enough to be rated.
+        ASSERT_FALSE(pillar_ids.empty());
+        for (std::uint32_t id : pillar_ids) {
+            bool alive = false;
+            for (const Trajectory& tr : t.tracks()) alive = alive || tr.id == id;
+            EXPECT_TRUE(alive) << "pillar trajectory " << id << " was dropped";
         }
     }
 }
