@@ -458,6 +458,28 @@ int TrajectoryTracker::cell_quota() const {
     return std::max(1, (p_.max_tracks + cells - 1) / cells);
 }
 
+void TrajectoryTracker::mask_live_tracks(cv::Mat& mask) const {
+    // No new corner this close to a live trajectory (new_point_min_distance_px).
+    const int r = static_cast<int>(std::lround(p_.new_point_min_distance_px * p_.track_scale));
+    if (r <= 0) return;
+    for (const Trajectory& t : tracks_) {
+        const cv::Point2f q = to_track(t.raw);
+        cv::circle(
+            mask, cv::Point(static_cast<int>(std::lround(q.x)), static_cast<int>(std::lround(q.y))),
+            r, cv::Scalar(0), cv::FILLED);
+    }
+}
+
+void TrajectoryTracker::order_by_length() {
+    // order_: indices of tracks_, longest first (ties: older id first).
+    order_.resize(tracks_.size());
+    for (std::size_t i = 0; i < tracks_.size(); ++i) order_[i] = i;
+    std::sort(order_.begin(), order_.end(), [&](std::size_t a, std::size_t b) {
+        if (tracks_[a].length != tracks_[b].length) return tracks_[a].length > tracks_[b].length;
+        return tracks_[a].id < tracks_[b].id;
+    });
+}
+
 TrajectoryTracker::BandGrid TrajectoryTracker::band_grid() const {
     // Cells of about kBandCellPx x 1.5 kBandCellPx (full-size px) over the band's raw columns
     // (roll and distortion move the band little near the centre).
@@ -488,12 +510,7 @@ void TrajectoryTracker::mark_centre_reserve() {
     reserved_ = 0;
     if (p_.centre_min_tracks <= 0) return;
     const BandGrid g = band_grid();
-    order_.resize(tracks_.size());
-    for (std::size_t i = 0; i < tracks_.size(); ++i) order_[i] = i;
-    std::sort(order_.begin(), order_.end(), [&](std::size_t a, std::size_t b) {
-        if (tracks_[a].length != tracks_[b].length) return tracks_[a].length > tracks_[b].length;
-        return tracks_[a].id < tracks_[b].id;
-    });
+    order_by_length();
     band_count_.assign(static_cast<std::size_t>(g.cols * g.rows), 0);
     for (std::size_t i : order_) {
         if (!in_centre_band(tracks_[i])) continue;
@@ -515,12 +532,7 @@ void TrajectoryTracker::balance_grid() {
     for (int n : cell_count_) crowded = crowded || n > quota;
     if (!crowded) return;
     // In each crowded cell the longest trajectories keep their place (ties: older id first).
-    order_.resize(tracks_.size());
-    for (std::size_t i = 0; i < tracks_.size(); ++i) order_[i] = i;
-    std::sort(order_.begin(), order_.end(), [&](std::size_t a, std::size_t b) {
-        if (tracks_[a].length != tracks_[b].length) return tracks_[a].length > tracks_[b].length;
-        return tracks_[a].id < tracks_[b].id;
-    });
+    order_by_length();
     drop_.assign(tracks_.size(), 0);
     cell_count_.assign(cells, 0);
     for (std::size_t i : order_) {
@@ -566,15 +578,7 @@ void TrajectoryTracker::detect(double roll) {
             cv::rectangle(mask_, a, b, cv::Scalar(0), cv::FILLED);
         }
     }
-    const int r = static_cast<int>(std::lround(p_.new_point_min_distance_px * p_.track_scale));
-    if (r > 0)
-        for (const Trajectory& t : tracks_) {
-            const cv::Point2f q = to_track(t.raw);
-            cv::circle(
-                mask_,
-                cv::Point(static_cast<int>(std::lround(q.x)), static_cast<int>(std::lround(q.y))),
-                r, cv::Scalar(0), cv::FILLED);
-        }
+    mask_live_tracks(mask_);
     const int want = p_.max_tracks - (static_cast<int>(tracks_.size()) - reserved_);
     if (want > 0) {
         cv::goodFeaturesToTrack(grey_track_, corners_, want, p_.quality_level,
@@ -602,20 +606,12 @@ void TrajectoryTracker::top_up_centre_band() {
     for (const Trajectory& t : tracks_)
         if (in_centre_band(t)) ++band_count_[static_cast<std::size_t>(g.cell(t.raw))];
 
-    // No new corner where a trajectory is (new_point_min_distance_px), nor off the valid image.
+    // No new corner where a trajectory is, nor off the valid image.
     band_mask_.create(mask_base_.size(), mask_base_.type());
     band_mask_.setTo(cv::Scalar(0));
     const cv::Rect band(x0, 0, x1 - x0, mask_base_.rows);
     mask_base_(band).copyTo(band_mask_(band));
-    const int r = static_cast<int>(std::lround(p_.new_point_min_distance_px * p_.track_scale));
-    if (r > 0)
-        for (const Trajectory& t : tracks_) {
-            const cv::Point2f q = to_track(t.raw);
-            cv::circle(
-                band_mask_,
-                cv::Point(static_cast<int>(std::lround(q.x)), static_cast<int>(std::lround(q.y))),
-                r, cv::Scalar(0), cv::FILLED);
-        }
+    mask_live_tracks(band_mask_);
     cv::cornerMinEigenVal(grey_track_, eig_, p_.block_size, 3);
     double strongest = 0;
     cv::minMaxLoc(eig_, nullptr, &strongest, nullptr, nullptr, mask_base_);

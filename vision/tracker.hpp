@@ -343,6 +343,8 @@ private:
     int cell_quota() const;
     bool in_centre_band(const Trajectory& t) const;
     void mark_centre_reserve();
+    void mask_live_tracks(cv::Mat& mask) const;
+    void order_by_length();
     struct BandGrid {  // the centre band's cells (top_up_centre_band), full-size raw pixels
         double x0 = 0, cw = 1, ch = 1;
         int cols = 1, rows = 1, quota = 1;
