@@ -590,7 +590,6 @@ void TrajectoryTracker::detect(double roll) {
 }
 
 void TrajectoryTracker::top_up_centre_band() {
-    if (p_.centre_min_tracks <= 0) return;
     // Each cell of the band is topped up to its share with the strongest corners in it: the
     // band's strongest are mostly the background beside a near obstacle, the cells spread them
     // over the obstacle. A corner must be as strong, relative to the image's strongest, as the
@@ -658,10 +657,12 @@ void TrajectoryTracker::top_up_centre_band() {
     add_corners(true);
 }
 
+bool TrajectoryTracker::in_centre_band(cv::Point2f stab) const {
+    return std::abs(static_cast<double>(stab.x) - calib_.width / 2.0) <= p_.centre_band_px;
+}
+
 bool TrajectoryTracker::in_centre_band(const Trajectory& t) const {
-    if (t.length == 0) return false;
-    return std::abs(static_cast<double>(t.at_back(0).stab.x) - calib_.width / 2.0) <=
-           p_.centre_band_px;
+    return t.length > 0 && in_centre_band(t.at_back(0).stab);
 }
 
 void TrajectoryTracker::add_corners(bool centre_band_only) {
@@ -676,9 +677,7 @@ void TrajectoryTracker::add_corners(bool centre_band_only) {
     for (std::size_t i = 0; i < raw_.size(); ++i) {
         const cv::Point2f s = stab_.apply(und_[i]);
         if (!inside(s, w, h, 0)) continue;  // the mask is conservative, this is exact
-        if (centre_band_only &&
-            std::abs(static_cast<double>(s.x) - calib_.width / 2.0) > p_.centre_band_px)
-            continue;
+        if (centre_band_only && !in_centre_band(s)) continue;
         Trajectory& t = tracks_.emplace_back();
         t.id = next_id_++;
         t.first_frame = frame_;

@@ -341,6 +341,7 @@ private:
     bool grid_on() const { return p_.grid_cols > 0 && p_.grid_rows > 0; }
     int cell_of(cv::Point2f raw) const;
     int cell_quota() const;
+    bool in_centre_band(cv::Point2f stab) const;  // |stab.x - width/2| <= centre_band_px
     bool in_centre_band(const Trajectory& t) const;
     void mark_centre_reserve();
     void mask_live_tracks(cv::Mat& mask) const;
