@@ -149,11 +149,19 @@ const ParamTable<FlowParams>& FlowParams::table() {
             .add("side_min_support", &P::side_min_support, 1, 100,
                  "side score is the k-th largest corridor point rate")
             .add("centre_inv_ttc_threshold", &P::centre_inv_ttc_threshold, 0, 20,
-                 "centre unsafe above this expansion rate (points or homography, 1/s)")
+                 "centre unsafe above this expansion rate (points, homography or outline, 1/s)")
             .add("centre_min_support", &P::centre_min_support, 1, 100,
                  "centre point score is the k-th largest corridor point rate")
             .add("centre_homography", &P::centre_homography, 0, 1,
                  "also read the centre band's homography expansion rate")
+            .add("centre_silhouette", &P::centre_silhouette, 0, 1,
+                 "also read the widening of the plain run around the FOE whose ends are a near "
+                 "surface's outline (a plain obstacle)")
+            .add("silhouette_step_grey", &P::silhouette_step_grey, 1, 100,
+                 "outline: a brightness step this large (grey levels) ends the plain run")
+            .add("silhouette_own_px", &P::silhouette_own_px, 0, 20,
+                 "outline: an end that moved outward over the texture beside it this far (px, "
+                 "over its last 10 px of path) is a near surface's")
             .add("homography_ransac_px", &P::homography_ransac_px, 0.1, 20,
                  "centre homography RANSAC reprojection threshold")
             .add("homography_min_points", &P::homography_min_points, 4, 500,
@@ -196,6 +204,7 @@ FlowClassifier::FlowClassifier(const CameraCalibration& calib, const FlowParams&
     : TrackingClassifier(calib), p_(p) {
     s_centre_points_ = add_series("centre.points_rate");
     s_centre_hom_ = add_series("centre.homography_rate");
+    s_centre_sil_ = add_series("centre.outline_rate");
     s_scale_raw_ = add_series("centre.scale_raw");
     s_rate_raw_ = add_series("centre.rate_raw");
     s_rejected_ = add_series("centre.rejected");
@@ -222,6 +231,7 @@ FlowClassifier::FlowClassifier(const CameraCalibration& calib, const FlowParams&
 }
 
 void FlowClassifier::on_reset() {
+    silhouette_.reset();
     centre_rates_.clear();
     class_.clear();
     metric_ = false;
@@ -564,6 +574,7 @@ void FlowClassifier::classify(const FrameInput& in) {
     plot(s_foe_x_, foe_known ? static_cast<double>(foe_.x) : kUnknown);
     plot(s_foe_y_, foe_known ? static_cast<double>(foe_.y) : kUnknown);
     plot(s_foe_sigma_, foe_known ? foe_sigma_px_ : kUnknown);
+    const double outline = outline_rate(in, foe_known);
     if (!known) {
         const auto& tracks = tracker_.tracks();
         class_.assign(tracks.size(), PointClass::Unrated);
@@ -639,8 +650,9 @@ void FlowClassifier::classify(const FrameInput& in) {
         if (centre) {
             plot(s_centre_points_, score);
             plot(s_centre_hom_, hom);
-            if (!std::isnan(hom)) {
-                score = std::isnan(score) ? hom : std::max(score, hom);
+            for (double channel : {hom, outline}) {
+                if (std::isnan(channel)) continue;
+                score = std::isnan(score) ? channel : std::max(score, channel);
                 raw = score > d.threshold;
             }
         }
@@ -651,6 +663,25 @@ void FlowClassifier::classify(const FrameInput& in) {
         confirm(r, raw);
     }
     plot(s_hazards_, hazards);
+}
+
+double FlowClassifier::outline_rate(const FrameInput& in, bool foe_known) {
+    if (!p_.centre_silhouette || !foe_known || tracker_.grey().empty()) {
+        silhouette_.lose();
+        plot(s_centre_sil_, kUnknown);
+        return kUnknown;
+    }
+    SilhouetteParams sp;
+    sp.step_grey = p_.silhouette_step_grey;
+    sp.own_min_px = p_.silhouette_own_px;
+    sp.window = p_.velocity_window;
+    silhouette_.set_params(sp);
+    const SilhouetteResult& r = silhouette_.update(tracker_.grey(), calib_, foe_, derot_,
+                                                   static_cast<double>(in.t_ns) * 1e-9);
+    // Damaged pictures are not read (their outline is the decoder's guess).
+    const double rate = damaged_ ? kUnknown : r.rate;
+    plot(s_centre_sil_, rate);
+    return rate;
 }
 
 const std::vector<FlowClassifier::WindowFit>& FlowClassifier::window_fits() {
@@ -1364,6 +1395,16 @@ void FlowClassifier::add_overlay_points() {
             o.points.push_back({t.raw, 1.5f, kYellow, true});
     if (foe_source_ == FoeSource::Images || foe_source_ == FoeSource::Navdata)
         o.points.push_back({calib_.distort_point(foe_), 7, kWhite, false});
+    // The outline channel's plain run through the FOE: coloured by its rate when it reads as a
+    // near surface's outline, grey while it is only followed, with a tick at each end.
+    const SilhouetteResult& run = silhouette_.last();
+    if (p_.centre_silhouette && run.run) {
+        const Rgb c = std::isnan(run.rate) ? kGrey : blue_to_red(run.rate / p_.colour_max);
+        const cv::Point2f l(run.left, run.row), r(run.right, run.row);
+        o.lines.push_back({l, r, c, 2});
+        for (const cv::Point2f& e : {l, r})
+            o.lines.push_back({e + cv::Point2f(0, -8), e + cv::Point2f(0, 8), c, 2});
+    }
 }
 
 }  // namespace gs::vision

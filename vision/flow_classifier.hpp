@@ -34,6 +34,7 @@
 //    a few frames.
 
 #include "vision/classifier.hpp"
+#include "vision/silhouette.hpp"
 
 namespace gs::vision {
 
@@ -242,6 +243,13 @@ struct FlowParams : TrackerParams {
     // corridor points missed, and with the camera pitched forward in flight the floor's plane
     // reads as expansion (open-space peaks 0.29/s against 0.20/s without it).
     bool centre_homography = false;
+    // Centre outline channel (vision/silhouette.hpp): a plain surface on the flight line gives
+    // the points nothing to track, but the plain run of pixels around the FOE widens at 1/TTC
+    // when its ends are the surface's outline (they cover the texture beside them). The centre
+    // score is then the largest of the channels. Its window is velocity_window.
+    bool centre_silhouette = false;
+    double silhouette_step_grey = 10;  // a brightness step this large ends the plain run
+    double silhouette_own_px = 1.5;    // an end's outward motion over its outside in the window
     double homography_ransac_px = 2;
     int homography_min_points = 8;
     double min_inlier_ratio = 0.5;  // fewer inliers: reject the scale sample
@@ -369,6 +377,8 @@ private:
     };
     Aperture aperture(const Trajectory& t, double rx, double ry) const;
     double homography_rate(const FrameInput& in);
+    // The outline channel's rate this frame (updates it; NaN when off or not measured).
+    double outline_rate(const FrameInput& in, bool foe_known);
     void confirm(Region r, bool raw);
     double recent_median(double now_s);
 
@@ -460,6 +470,8 @@ private:
     std::vector<double> scratch_;
     std::array<int, 3> streak_{};
     int rejections_ = 0;
+    std::size_t s_centre_sil_ = 0;
+    SilhouetteCue silhouette_;
     std::size_t s_centre_points_, s_centre_hom_, s_scale_raw_, s_rate_raw_, s_rejected_, s_hazards_;
     std::size_t s_residual_yaw_, s_residual_pitch_, s_foe_sigma_, s_prior_rejected_, s_moving_;
     std::size_t s_image_yaw_, s_image_pitch_, s_lag_allowance_, s_exposure_step_;

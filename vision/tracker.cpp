@@ -256,6 +256,7 @@ void TrajectoryTracker::update(const cv::Mat& image, std::int64_t t_ns, double r
         cv::cvtColor(image, grey_full_, cv::COLOR_BGR2GRAY);
         grey = &grey_full_;
     }
+    grey_ = *grey;
     if (p_.track_scale != 1.0) {
         const cv::Size ts(static_cast<int>(std::lround(calib_.width * p_.track_scale)),
                           static_cast<int>(std::lround(calib_.height * p_.track_scale)));

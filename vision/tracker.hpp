@@ -319,6 +319,9 @@ public:
     RateErrorParams rate_error_params() const;
 
     const std::vector<Trajectory>& tracks() const { return tracks_; }
+    // The last update()'s image in grey at full size (a header: the caller's image when it was
+    // grey already, valid until the next update).
+    const cv::Mat& grey() const { return grey_; }
     const CameraCalibration& calibration() const { return calib_; }
     const RollStabiliser& stabiliser() const { return stab_; }
     cv::Point2f centre() const { return centre_; }
@@ -374,6 +377,7 @@ private:
     double now_s_ = 0;
 
     cv::Mat grey_full_, grey_track_, grey_own_, local_mean_;
+    cv::Mat grey_;  // header: grey_full_ or the caller's grey image
     std::vector<double> row_mean_, band_mean_, band_ref_, row_gain_;  // compensate_gain
     cv::Mat thumb_, thumb_prev_;                                      // find_step
     std::vector<float> step_ratio_;

@@ -634,3 +634,34 @@ TEST(SyntheticFlight, TheLagAllowanceLeavesACruisesPitchWobbleAlone) {
     ASSERT_GE(first_off, 0);
     EXPECT_EQ(first_on, first_off);
 }
+
+TEST(SyntheticFlight, APlainBoardAheadIsSeenByItsOutlineOnly) {
+    // FloorObstacle with its board narrowed to 0.6 m and painted one grey: nothing on it for a
+    // point to follow. The centre's points see only the far wall and the floor; the outline
+    // channel (centre_silhouette) reads the board's ends parting over the wall behind it.
+    Flight f = make_flight(Motion::FloorObstacle);
+    TexturedPlane& board = f.planes.back();
+    board = make_plane({0, -0.15, 5}, {1, 0, 0}, {0, 1, 0}, 0.6, 1.5, 0.01, 15);
+    board.texture.setTo(200);
+    int first_with = -1;
+    for (const bool outline : {false, true}) {
+        auto c = make_classifier("flow", synthetic_calibration());
+        ASSERT_EQ(c->set_param("centre_silhouette", outline ? 1 : 0), ParamStatus::Ok);
+        const auto rec = fly(f, *c);
+        const int first = first_unsafe(rec, Region::Centre);
+        if (!outline) {
+            // The points alone: never before 1.5 m (the board's corners, if at all).
+            if (first >= 0) {
+                EXPECT_LT(rec[static_cast<std::size_t>(first)].distance_m, 1.5);
+            }
+            continue;
+        }
+        ASSERT_GE(first, 0);
+        first_with = first;
+        // 3.3 m at the threshold; the outline's fit window, its 2-sigma margin and the
+        // confirmation take some of it.
+        EXPECT_GT(rec[static_cast<std::size_t>(first)].distance_m, 2.3);
+        for (int i = 0; i < first; ++i) EXPECT_FALSE(rec[static_cast<std::size_t>(i)].unsafe[1]);
+    }
+    EXPECT_GE(first_with, 0);
+}
