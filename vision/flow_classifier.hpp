@@ -246,10 +246,12 @@ struct FlowParams : TrackerParams {
     // Centre outline channel (vision/silhouette.hpp): a plain surface on the flight line gives
     // the points nothing to track, but the plain run of pixels around the FOE widens at 1/TTC
     // when its ends are the surface's outline (they cover the texture beside them). The centre
-    // score is then the largest of the channels. Its window is velocity_window.
+    // score is then the largest of the channels. Its window is velocity_window. Off by default:
+    // in closed loop it braked for seed 7's plain target but kept neither that collision nor
+    // seed 11's away, and on the clean suite it braked once in open space (README, session 37).
     bool centre_silhouette = false;
     double silhouette_step_grey = 10;  // a brightness step this large ends the plain run
-    double silhouette_own_px = 1.5;    // an end's outward motion over its outside in the window
+    double silhouette_own_px = 1.5;    // an end moved out over the texture beside it this far
     double homography_ransac_px = 2;
     int homography_min_points = 8;
     double min_inlier_ratio = 0.5;  // fewer inliers: reject the scale sample
