@@ -18,7 +18,6 @@ void SilhouetteCue::reset() {
 }
 
 void SilhouetteCue::lose() {
-    have_prev_ = false;
     hist_.clear();
     r_ = {};
 }
@@ -213,12 +212,14 @@ const SilhouetteResult& SilhouetteCue::update(const cv::Mat& grey, const CameraC
         lose();
         return r_;
     }
+    // The run followed so far ends at the last sample (none: no run).
+    const bool had = !hist_.empty();
+    const Sample last = had ? hist_.back() : Sample{};
     // The strip follows the FOE's row slowly while a run is followed: the FOE's estimate jitters
     // by more than an outline's ends may move between frames.
     const int foe_row = static_cast<int>(std::lround(foe_raw.y));
     const int row =
-        have_prev_ ? prev_row_ + std::clamp(foe_row - prev_row_, -p_.row_step_px, p_.row_step_px)
-                   : foe_row;
+        had ? last.row + std::clamp(foe_row - last.row, -p_.row_step_px, p_.row_step_px) : foe_row;
     const int col = static_cast<int>(std::lround(foe_raw.x));
     if (row < 0 || row >= grey.rows || col < 0 || col >= grey.cols ||
         !read_profile(grey, row, col)) {
@@ -241,9 +242,9 @@ const SilhouetteResult& SilhouetteCue::update(const cv::Mat& grey, const CameraC
     }
     // The same run: both ends near where they were, and its width not changed by more than an
     // approach can change it in a frame (an end that jumped to another step is a new run).
-    const bool follows = have_prev_ && std::abs(left - prev_left_) <= p_.max_jump_px &&
-                         std::abs(right - prev_right_) <= p_.max_jump_px &&
-                         std::abs(width - prev_width_) <= 1.5 + p_.max_width_step * prev_width_;
+    const bool follows = had && std::abs(left - last.left) <= p_.max_jump_px &&
+                         std::abs(right - last.right) <= p_.max_jump_px &&
+                         std::abs(width - last.width) <= 1.5 + p_.max_width_step * last.width;
     if (!follows) hist_.clear();
     Sample s{t_s,
              std::log(width),
@@ -254,17 +255,20 @@ const SilhouetteResult& SilhouetteCue::update(const cv::Mat& grey, const CameraC
              width,
              left,
              right,
+             ends[0],
+             ends[1],
+             row,
              x0_,
              0};
     if (follows) {
         // Where the last frame's ends are now for the rotation alone.
-        s.d_left = static_cast<double>(ends[0].x - apply_homography(rotation, prev_left_u_).x);
-        s.d_right = static_cast<double>(ends[1].x - apply_homography(rotation, prev_right_u_).x);
+        s.d_left = static_cast<double>(ends[0].x - apply_homography(rotation, last.left_u).x);
+        s.d_right = static_cast<double>(ends[1].x - apply_homography(rotation, last.right_u).x);
     }
     // An end that moved, rotation aside, further than any approach moves it (an end at distance
     // a from the FOE moves a * rate * dt, give or take the FOE's error) jumped to another step:
     // a new run.
-    const double dt = hist_.empty() ? 0.0 : t_s - hist_.back().t_s;
+    const double dt = had ? t_s - last.t_s : 0.0;
     const auto plausible = [&](double d, double a) {
         return std::abs(d) <=
                p_.end_noise_px + p_.max_end_rate * (std::abs(a) + p_.foe_error_px) * dt;
@@ -284,13 +288,6 @@ const SilhouetteResult& SilhouetteCue::update(const cv::Mat& grey, const CameraC
     next_slot_ = (next_slot_ + 1) % cap;
     pool_[s.slot].assign(profile_.begin(), profile_.end());
     hist_.push_back(s);
-    prev_left_ = left;
-    prev_right_ = right;
-    prev_left_u_ = ends[0];
-    prev_right_u_ = ends[1];
-    prev_row_ = row;
-    prev_width_ = width;
-    have_prev_ = true;
     r_ = {};
     r_.run = true;
     r_.row = static_cast<float>(row);

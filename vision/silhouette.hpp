@@ -86,7 +86,6 @@ struct SilhouetteResult {
 class SilhouetteCue {
 public:
     SilhouetteCue() = default;
-    explicit SilhouetteCue(const SilhouetteParams& p) : p_(p) {}
     // New values take effect on the next update (the run followed so far is kept).
     void set_params(const SilhouetteParams& p);
     void reset();
@@ -108,8 +107,10 @@ private:
         double a_left, a_right;  // the ends' distance from the FOE (undistorted px, signed)
         double width;            // undistorted px
         float left, right;       // raw px
-        int x0;                  // image column of its profile's index 0
-        std::size_t slot;        // its profile in pool_
+        cv::Point2f left_u, right_u;  // undistorted
+        int row;                      // the strip's centre row (raw px)
+        int x0;                       // image column of its profile's index 0
+        std::size_t slot;             // its profile in pool_
     };
     bool read_profile(const cv::Mat& grey, int row, int centre_col);
     bool find_run(int c0, double& left, double& right) const;
@@ -128,14 +129,9 @@ private:
     std::vector<float> median_, profile_, prefix_;  // per column of the strip
     std::vector<std::vector<float>> pool_;          // the followed samples' profiles
     std::size_t next_slot_ = 0;
-    int x0_ = 0;  // image column of profile index 0
-    bool have_prev_ = false;
-    float prev_left_ = 0, prev_right_ = 0;    // raw
-    cv::Point2f prev_left_u_, prev_right_u_;  // undistorted
+    int x0_ = 0;                // image column of profile index 0
     std::vector<Sample> hist_;  // the followed run, oldest first, at most capacity() - 1
     std::vector<double> ts_, ys_, scores_, stretched_;
-    int prev_row_ = 0;
-    double prev_width_ = 0;
 };
 
 }  // namespace gs::vision
