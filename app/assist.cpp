@@ -49,6 +49,9 @@ const vision::ParamTable<AssistParams>& assist_param_table() {
             .add("forget_after_clear_s", &P::forget_after_clear_s, 0, 10,
                  "the remembered obstacle is forgotten after the centre read clear this long (s) "
                  "while in sight")
+            .add("clear_while_braking", &P::clear_while_braking, 0, 1,
+                 "a clear centre read during a brake counts toward forgetting the obstacle (0: "
+                 "readings made in the manoeuvre prove nothing)")
             .add("detect_ttc_s", &P::detect_ttc_s, 0, 20,
                  "in sight: the remembered obstacle's time to contact at the present speed under "
                  "this (s)")
@@ -412,7 +415,8 @@ AssistOutput Assist::step_as_given(const AssistInput& in, vision::Region acted_f
         // often cannot judge the centre); only an unsafe reading starts it again.
         if (centre == RegionState::Unsafe) {
             st_.clear_seen_s = 0;
-        } else if (centre == RegionState::Clear && in_sight) {
+        } else if (centre == RegionState::Clear && in_sight &&
+                   (p_.clear_while_braking || st_.phase != Phase::Braking)) {
             st_.clear_seen_s += dt;
         }
         const bool forgotten = st_.clear_seen_s >= p_.forget_after_clear_s;

@@ -108,12 +108,14 @@ TEST(Assist, CentreUnsafeWhileMovingForwardBrakesThenHoldsUntilClear) {
         o = a.step(in);
     }
     EXPECT_EQ(o.action, AssistAction::Holding);
-    // Backed away 1.5 m, then flown toward it at 0.8 m/s with the centre clear: the classifier
+    // Backed away 2.25 m, then flown toward it at 0.8 m/s with the centre clear: the classifier
     // would have seen it (time to contact under 3.3 s) and did not: forgotten once it has read
     // clear for 0.7 s on frames flown at that speed, the first 0.35 s of flight toward it
-    // (evidence_window_s, the classifier's fit window) proving nothing.
+    // (evidence_window_s, the classifier's fit window) proving nothing. (Backed away only 1.5 m,
+    // the room to approach runs out first: braked again, and a clear reading while braking
+    // counts for nothing.)
     double t = 3.1;
-    for (int i = 0; i < 20; ++i) {
+    for (int i = 0; i < 30; ++i) {
         in.t_s = t += 0.1;
         in.vx_mps = -0.75;
         a.step(in);
@@ -131,6 +133,70 @@ TEST(Assist, CentreUnsafeWhileMovingForwardBrakesThenHoldsUntilClear) {
     EXPECT_EQ(o.action, AssistAction::Watching);
     EXPECT_EQ(o.reason, "watching");
     EXPECT_EQ(o.command, forward());
+}
+
+TEST(Assist, ClearReadingsWhileBrakingDoNotForgetTheObstacle) {
+    // Seed 7's clutter-target-2.0-57 in closed loop (realism on, the outline channel on): the
+    // centre read unsafe for 4 frames 2.7 m from a plain target at 1.9 m/s, then clear all through
+    // the brake (the target's few points and its outline lost as the view pitched up). Those
+    // readings, made in the manoeuvre, forgot the target as the drone slowed through 0.18 m/s; the
+    // pilot flew on into it. Readings made while braking no longer count as clear: held.
+    // The trace's own rows (t, forward speed, centre, time to contact, age), step by step.
+    constexpr RegionState C = RegionState::Clear, U = RegionState::Unsafe;
+    struct Row {
+        double t, vx;
+        RegionState centre;
+        double ttc, age;
+    };
+    const Row rows[] = {
+        {6.505, 1.63337, C, kUnknown, 0.125},  {6.535, 1.65927, C, kUnknown, 0.155},
+        {6.565, 1.68344, C, kUnknown, 0.15},   {6.595, 1.70569, C, kUnknown, 0.145},
+        {6.625, 1.7263, C, kUnknown, 0.145},   {6.655, 1.74555, C, kUnknown, 0.14},
+        {6.685, 1.76351, C, kUnknown, 0.135},  {6.715, 1.78026, C, kUnknown, 0.135},
+        {6.745, 1.79599, C, kUnknown, 0.13},   {6.775, 1.81074, C, kUnknown, 0.125},
+        {6.805, 1.82458, C, kUnknown, 0.125},  {6.835, 1.83745, C, kUnknown, 0.155},
+        {6.865, 1.8492, C, kUnknown, 0.15},    {6.895, 1.85988, C, 2.88622, 0.145},
+        {6.925, 1.87005, U, 2.1624, 0.145},    {6.955, 1.87938, U, 1.79746, 0.14},
+        {6.985, 1.8745, U, 1.62914, 0.135},    {7.015, 1.85033, U, 1.61709, 0.135},
+        {7.045, 1.81153, C, kUnknown, 0.13},   {7.075, 1.76164, C, kUnknown, 0.125},
+        {7.105, 1.7034, C, kUnknown, 0.125},   {7.135, 1.63893, C, kUnknown, 0.155},
+        {7.165, 1.56991, C, kUnknown, 0.15},   {7.195, 1.49763, C, kUnknown, 0.145},
+        {7.225, 1.4231, C, kUnknown, 0.145},   {7.255, 1.34711, C, kUnknown, 0.14},
+        {7.285, 1.27028, C, kUnknown, 0.135},  {7.315, 1.19308, C, kUnknown, 0.135},
+        {7.345, 1.11588, C, kUnknown, 0.13},   {7.375, 1.03896, C, kUnknown, 0.125},
+        {7.405, 0.96253, C, kUnknown, 0.125},  {7.435, 0.886755, C, kUnknown, 0.155},
+        {7.465, 0.811758, C, kUnknown, 0.15},  {7.495, 0.737629, C, kUnknown, 0.145},
+        {7.525, 0.664432, C, kUnknown, 0.145}, {7.555, 0.592217, C, kUnknown, 0.14},
+        {7.585, 0.521014, C, 1.78561, 0.135},  {7.615, 0.450845, C, kUnknown, 0.135},
+        {7.645, 0.381722, C, kUnknown, 0.13},  {7.675, 0.31365, C, 2.76388, 0.125},
+        {7.705, 0.246628, C, kUnknown, 0.125}, {7.735, 0.180654, C, kUnknown, 0.155},
+        {7.765, 0.132625, C, kUnknown, 0.15},  {7.795, 0.109147, C, 4.13082, 0.145},
+        {7.825, 0.104343, C, kUnknown, 0.145}, {7.855, 0.113834, C, kUnknown, 0.14},
+        {7.885, 0.134272, C, kUnknown, 0.135},
+    };
+    for (const bool count_while_braking : {false, true}) {
+        SCOPED_TRACE(count_while_braking ? "the rule before" : "now");
+        AssistParams p;
+        p.clear_while_braking = count_while_braking;
+        Assist a(p);
+        AssistOutput o;
+        bool braked = false;
+        for (const Row& r : rows) {
+            AssistInput in = flying_forward(r.vx, {r.centre, r.age, r.ttc});
+            in.t_s = r.t;
+            in.pilot = forward(-1.0f);
+            o = a.step(in);
+            braked = braked || o.action == AssistAction::Braking;
+        }
+        ASSERT_TRUE(braked);
+        if (count_while_braking) {
+            EXPECT_EQ(o.action, AssistAction::Watching) << o.reason;
+        } else {
+            EXPECT_EQ(o.action, AssistAction::Holding) << o.reason;
+            EXPECT_TRUE(known(o.obstacle_m));
+            EXPECT_FALSE(o.command.progressive && o.command.pitch < 0) << "no forward command";
+        }
+    }
 }
 
 TEST(Assist, AClearCentreWhileCreepingSlowerThanTheClassifierJudgesIsNoEvidence) {
@@ -670,11 +736,21 @@ TEST(Assist, AClearFlickerRightAfterTheAlarmDoesNotGiveTheProbeTheNearerGap) {
     // 0.6 m ahead, remembered 0.97 m), it read clear for 0.12 s right after, on frames flown at
     // speed before the brake, then unknown. Counted as the probe's proof of a clear way
     // (probe_seen_s 0.1), the blind probe that followed took the nearer gap and came within
-    // 0.17 m; at 0.3 s, a flicker that short is not proof: it keeps probe_blind_gap_m.
-    for (const double seen_s : {0.1, AssistParams{}.probe_seen_s}) {
-        SCOPED_TRACE(seen_s);
+    // 0.17 m. Either rule alone keeps probe_blind_gap_m: at probe_seen_s 0.3 a flicker that
+    // short is not proof, and a clear reading made while braking counts for nothing.
+    struct Case {
+        double seen_s;
+        bool clear_while_braking;
+    };
+    const AssistParams d;
+    for (const Case c : {Case{0.1, true}, Case{d.probe_seen_s, true}, Case{0.1, false},
+                         Case{d.probe_seen_s, d.clear_while_braking}}) {
+        SCOPED_TRACE(testing::Message() << "probe_seen_s " << c.seen_s << ", clear_while_braking "
+                                        << c.clear_while_braking);
+        const double seen_s = c.seen_s;
         AssistParams p;
         p.probe_seen_s = seen_s;
+        p.clear_while_braking = c.clear_while_braking;
         p.probe_blind_gap_m = 0.75;  // as then: a blind probe from the cap (now not probed)
         p.confirm_s = 0;             // braking at once
         Assist a(p);
@@ -705,7 +781,7 @@ TEST(Assist, AClearFlickerRightAfterTheAlarmDoesNotGiveTheProbeTheNearerGap) {
         // A blind probe at 0.35 m/s: the centre unknown all the way.
         const ProbeEnd e = probe_at_035(a, in, t, o, unknown());
         const double last_remaining = e.last_remaining_m, stop = e.stop_m;
-        if (seen_s < 0.12)
+        if (seen_s < 0.12 && c.clear_while_braking)
             EXPECT_LT(last_remaining, p.probe_blind_gap_m + stop - 0.1) << "the rule before";
         else
             EXPECT_GE(last_remaining, p.probe_blind_gap_m + stop - 0.011) << "came nearer";
@@ -957,8 +1033,10 @@ TEST(Assist, AFalseAlarmFromHoverIsHeldUntilThePilotBacksOffAndFliesOnWithARunUp
     // is not probed (the blind gap is the cap: AStopTheCapPlacedIsNotProbedBlind) and the drone
     // is held, saying so, until the pilot turns away, backs off or overrides. (With those readings
     // counted, the 2.0 s case was probed and forgotten: a probe fooled in the same way came within
-    // 0.17 m of seed 11's pillar.) A pilot who backs off 1.5 s and flies on gives the classifier
-    // the run-up it needs: forgotten.
+    // 0.17 m of seed 11's pillar.) A pilot who backs off for 5 s (about 2 m) and flies on gives
+    // the classifier the run-up it needs: forgotten on the way. (Backing off 3 s, about 1.2 m,
+    // the room to approach ran out first: braked again at 1.2 m/s, and what is read while
+    // braking counts for nothing: held.)
     const Case cases[] = {Case{4, 0.75, 3.1}, Case{14, 0.8, 2.0}, Case{14, 0.75, 3.1}};
     for (const Case c : cases) {
         for (const bool back_off : {false, true}) {
@@ -983,7 +1061,7 @@ TEST(Assist, AFalseAlarmFromHoverIsHeldUntilThePilotBacksOffAndFliesOnWithARunUp
                         else if (held_since < 0)
                             held_since = t;
                         else if (t - held_since >= 2.0)
-                            back_until = t + 3.0;
+                            back_until = t + 5.0;
                     }
                     return t < back_until ? forward(0.4f) : forward(-0.4f);
                 });
