@@ -205,10 +205,13 @@ TEST(PilotPath, StaleDecisionsNeitherBrakeForeverNorCountAsClear) {
     const auto last = p.last().command;
     EXPECT_FALSE(last.progressive && last.pitch != 0.0f);
     // A fresh clear decision with the drone moving again releases the hold after
-    // forget_after_clear_s (the unit's rule), so the hold is not forever either.
+    // forget_after_clear_s (the unit's rule), so the hold is not forever either. Moving toward
+    // the obstacle with no room first brakes again, and what is read while braking does not
+    // count: the navdata's speed here never falls, so that brake ends at max_brake_s.
     const TimeNs t0 = end + 5'100 * kPpMs;
     p.on_navdata(pp_flying_at(0.5));
-    for (TimeNs t = t0; t <= t0 + 2'500 * kPpMs; t += 30 * kPpMs) {
+    const double release_s = AssistParams{}.max_brake_s + AssistParams{}.forget_after_clear_s + 0.8;
+    for (TimeNs t = t0; t <= t0 + static_cast<TimeNs>(release_s * 1e9); t += 30 * kPpMs) {
         p.on_output(pp_decision(RegionState::Clear, t, 10 + t / kPpMs));
         c = p.step(kPpForward, t + kPpMs);
     }
