@@ -246,10 +246,14 @@ struct FlowParams : TrackerParams {
     // Centre outline channel (vision/silhouette.hpp): a plain surface on the flight line gives
     // the points nothing to track, but the plain run of pixels around the FOE widens at 1/TTC
     // when its ends are the surface's outline (they cover the texture beside them). The centre
-    // score is then the largest of the channels. Its window is velocity_window. Off by default:
-    // in closed loop it braked for seed 7's plain target but kept neither that collision nor
-    // seed 11's away, and on the clean suite it braked once in open space (README, session 37).
-    bool centre_silhouette = false;
+    // score is then the largest of the channels. Its window is velocity_window. On by default
+    // since session 38: in closed loop it brakes for seed 7's plain target at 2.0 m/s, which the
+    // points never flag, and with the assist no longer forgetting an obstacle on what it reads
+    // while braking, that flight stops 2.2 m short; offline it reads the centre earlier with no
+    // open-space alarm added. It costs a brake in open space on one clean flight (seed 7's
+    // open-none-1.0-31: a paler blotch on a far blotchy wall) and 0.07 ms a frame (README,
+    // sessions 37 and 38).
+    bool centre_silhouette = true;
     double silhouette_step_grey = 10;  // a brightness step this large ends the plain run
     double silhouette_own_px = 1.5;    // an end moved out over the texture beside it this far
     double homography_ransac_px = 2;
