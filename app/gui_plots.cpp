@@ -78,14 +78,16 @@ void plot_series(const vision::FrameResult& r, double fit_window,
     if (!scores.series.empty()) plots.push_back(std::move(scores));
 
     ui::PlotData scale{"center_scale", "Centre scale", "frame", "ratio", {}, {}};
-    // flow: the corridor points' expansion rate, and the homography's when that channel is on.
+    // flow: the corridor points' expansion rate, and the outline's and the homography's when
+    // those channels are on.
     const bool rates = find(r, "centre.points_rate") != nullptr;
     if (rates) {
         scale.title = "Centre expansion rate";
         scale.y_label = "1/s";
     }
-    for (const char* n : {"centre.scale_raw", "centre.scale_filtered", "centre.scale_fitted",
-                          "centre.points_rate", "centre.homography_rate", "centre.rate_raw"})
+    for (const char* n :
+         {"centre.scale_raw", "centre.scale_filtered", "centre.scale_fitted", "centre.points_rate",
+          "centre.outline_rate", "centre.homography_rate", "centre.rate_raw"})
         if (const auto* s = take(n); s && any_finite(*s))  // a channel switched off stays out
             scale.series.push_back(series_data(*s, std::string(n).substr(7)));
     // The centre threshold, where it shares the plot's units. The thesis classifier flags the

@@ -121,6 +121,9 @@ vision::Rgb series_colour(const std::string& name) {
     if (name.find("filtered") != std::string::npos) return {220, 40, 40};
     if (name.find("fitted") != std::string::npos) return {30, 160, 30};
     if (name.find("rejected") != std::string::npos) return {240, 140, 0};
+    // The centre's rate channels side by side: each its own colour.
+    if (name.find("outline_rate") != std::string::npos) return {0, 150, 150};
+    if (name.find("homography_rate") != std::string::npos) return {160, 110, 30};
     if (name.find("rate") != std::string::npos) return {130, 60, 200};
     return {30, 90, 220};
 }
@@ -299,13 +302,17 @@ std::optional<std::string> ReplayOutputs::write_plots(const fs::path& dir) const
     for (const char* name : {"centre.scale_raw", "centre.scale_filtered", "centre.scale_fitted"})
         if (const auto* l = find(name)) c.lines.push_back(*l);
     if (auto e = save("center_scale.png", c)) return e;
-    // The expansion rates (flow: the corridor points' and the homography's) against the
-    // threshold.
+    // The expansion rates (flow: the corridor points', the outline's and the homography's)
+    // against the threshold.
     vision::PlotSpec rs;
     rs.title = "center region: expansion rate (1/s)";
     rs.x_label = "frame";
-    for (const char* name : {"centre.points_rate", "centre.homography_rate", "centre.rate_raw"})
-        if (const auto* l = find(name)) rs.lines.push_back(*l);
+    // A channel switched off (no finite sample) stays out, as in the window.
+    for (const char* name :
+         {"centre.points_rate", "centre.outline_rate", "centre.homography_rate", "centre.rate_raw"})
+        if (const auto* l = find(name);
+            l && std::any_of(l->y.begin(), l->y.end(), [](double y) { return std::isfinite(y); }))
+            rs.lines.push_back(*l);
     if (!rs.lines.empty()) {
         if (const auto* thr = find("centre.threshold")) rs.lines.push_back(*thr);
         if (auto e = save("center_rate.png", rs)) return e;
