@@ -189,6 +189,40 @@ TEST(EvalAssistCli, RealismFliesTheCameraLinkAndEstimatorOfARealDrone) {
     EXPECT_FALSE(fs::exists(out / "bad" / "report.json"));
 }
 
+TEST(EvalAssistCli, ThePlainTargetAt2MpsIsHitWithTheAssistOffAndStoppedShortOfWithItOn) {
+    // Seed 7's clutter-target-2.0-57 under the realism layer, in lock-step closed loop: a pale
+    // green box with nothing on it that the points never flag. The outline channel (on by
+    // default) flags it 2.7 m out, the assist brakes, and the drone is held 2 m and more short of
+    // it. With what the centre reads while braking counted as clear (the rule before session
+    // 38), it read clear through the brake, forgot the target and flew on into it.
+    const fs::path out = scratch_dir("eval_assist_cli", "plain_target");
+    const auto fly = [&](const std::string& tag, const std::string& extra) {
+        const CmdResult r =
+            run_cli("eval-assist --seed 7 --realism --only clutter-target-2.0-57 -j 2 -q " + extra +
+                    " --out " + (out / tag).string());
+        EXPECT_EQ(r.exit_code, 0) << r.out;
+        return eval_rows(out / tag / "flights.csv");
+    };
+    const auto both = fly("default", "--assist both");
+    ASSERT_EQ(both.size(), 2u);
+    for (const auto& row : both) {
+        SCOPED_TRACE(row.at("assist"));
+        ASSERT_EQ(row.at("name"), "clutter-target-2.0-57");
+        if (row.at("assist") == "off") {
+            EXPECT_EQ(row.at("collided"), "1");
+            EXPECT_EQ(row.at("hit"), "target");
+        } else {
+            EXPECT_EQ(row.at("collided"), "0");
+            EXPECT_EQ(row.at("braked"), "1");
+            EXPECT_GT(std::stod(row.at("min_clearance_m")), 1.0);
+        }
+    }
+    const auto before = fly("before", "--assist on --assist-set clear_while_braking=1");
+    ASSERT_EQ(before.size(), 1u);
+    EXPECT_EQ(before[0].at("braked"), "1");
+    EXPECT_EQ(before[0].at("collided"), "1") << "the rule before: forgotten during the brake";
+}
+
 TEST(EvalAssistCli, AssistParametersAreSetByNameAndRecorded) {
     // --assist-set: the assist's own parameters, by the names `params --assist` lists, in
     // report.json (what was asked and every value flown) and in report.md's command line.
