@@ -32,6 +32,24 @@ LineFit fit_line(std::span<const double> x, std::span<const double> y) {
     return f;
 }
 
+double slope_standard_error(std::span<const double> x, std::span<const double> y,
+                            const LineFit& f) {
+    const std::size_t n = std::min(x.size(), y.size());
+    if (!f.ok || n < 3) return std::numeric_limits<double>::quiet_NaN();
+    double mx = 0;
+    for (std::size_t i = 0; i < n; ++i) mx += x[i];
+    mx /= static_cast<double>(n);
+    double sxx = 0, sr = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        const double dx = x[i] - mx;
+        const double res = y[i] - (f.intercept + f.slope * x[i]);
+        sxx += dx * dx;
+        sr += res * res;
+    }
+    return sxx > 0 ? std::sqrt(sr / static_cast<double>(n - 2) / sxx)
+                   : std::numeric_limits<double>::quiet_NaN();
+}
+
 LineFit fit_line_indexed(std::span<const double> y) {
     LineFit f;
     const std::size_t n = y.size();

@@ -18,6 +18,10 @@ struct LineFit {
 LineFit fit_line(std::span<const double> x, std::span<const double> y);
 // x = 0, 1, ..., n-1 (the frame index inside a window).
 LineFit fit_line_indexed(std::span<const double> y);
+// The standard error of `f`'s slope (fitted to these points) from the scatter of its residuals:
+// sqrt(sum r^2 / (n - 2) / sum (x - mean x)^2). NaN with fewer than 3 points, all x equal or no
+// fit.
+double slope_standard_error(std::span<const double> x, std::span<const double> y, const LineFit& f);
 
 // y = a x^2 + b x + c, with the thesis' closed form (centred sums). ok = false when singular.
 struct QuadFit {

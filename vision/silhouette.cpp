@@ -343,18 +343,7 @@ void SilhouetteCue::finish() {
     r_.width_rate = f.slope;
     // The slope's standard error from the fit's scatter: an end that wavers between two steps
     // scatters the width, and the cue reads the rate it is sure of, slope - k * error.
-    double tm = 0;
-    for (double t : ts_) tm += t;
-    tm /= static_cast<double>(w);
-    double sxx = 0, sr = 0;
-    for (std::size_t i = 0; i < w; ++i) {
-        const double dx = ts_[i] - tm;
-        const double res = ys_[i] - (f.intercept + f.slope * ts_[i]);
-        sxx += dx * dx;
-        sr += res * res;
-    }
-    r_.width_rate_se =
-        w > 2 && sxx > 0 ? std::sqrt(sr / static_cast<double>(w - 2) / sxx) : kUnknown;
+    r_.width_rate_se = slope_standard_error(ts_, ys_, f);
     // The run's motion less the rotation over the fit's window: each step's expansion about the
     // FOE is the width's growth over the width; what both ends still share is the unexplained
     // shift.

@@ -26,6 +26,21 @@ TEST(Fit, LineSlopeLeastSquaresByHand) {
     EXPECT_NEAR(g.slope, 0.6, 1e-12);
 }
 
+TEST(Fit, SlopeStandardErrorByHand) {
+    // The fit above: residuals 0 - 0.1, 1 - 0.7, 1 - 1.3, 2 - 1.9 = -0.1, 0.3, -0.3, 0.1; their
+    // squares sum to 0.2, over n - 2 = 2 and Sxx = 5: sqrt(0.02).
+    const std::vector<double> x{0, 1, 2, 3}, y{0, 1, 1, 2};
+    const LineFit f = fit_line(x, y);
+    EXPECT_NEAR(slope_standard_error(x, y, f), std::sqrt(0.02), 1e-12);
+    // An exact line has none; two points cannot say; no fit, no error.
+    const std::vector<double> exact{1, 3, 5, 7};
+    EXPECT_NEAR(slope_standard_error(x, exact, fit_line(x, exact)), 0.0, 1e-12);
+    const std::vector<double> x2{0, 1}, y2{0, 1};
+    EXPECT_TRUE(std::isnan(slope_standard_error(x2, y2, fit_line(x2, y2))));
+    const std::vector<double> same{2, 2, 2}, y3{1, 2, 3};
+    EXPECT_TRUE(std::isnan(slope_standard_error(same, y3, fit_line(same, y3))));
+}
+
 TEST(Fit, LineRejectsDegenerateInput) {
     const std::vector<double> one{4};
     EXPECT_FALSE(fit_line_indexed(one).ok);
