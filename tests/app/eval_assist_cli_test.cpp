@@ -39,6 +39,14 @@ std::vector<std::map<std::string, std::string>> eval_rows(const fs::path& f) {
     return rows;
 }
 
+// `eval-assist ARGS --out DIR`, which must succeed: DIR/flights.csv's rows.
+std::vector<std::map<std::string, std::string>> fly_eval(const fs::path& dir,
+                                                         const std::string& args) {
+    const CmdResult r = run_cli("eval-assist " + args + " --out " + dir.string());
+    EXPECT_EQ(r.exit_code, 0) << r.out;
+    return eval_rows(dir / "flights.csv");
+}
+
 TEST(EvalAssistCli, SmokeSuiteWritesReportsThatAgreeWithFlightsCsv) {
     const fs::path out = scratch_dir("eval_assist_cli", "smoke");
     const CmdResult r =
@@ -197,11 +205,8 @@ TEST(EvalAssistCli, ThePlainTargetAt2MpsIsHitWithTheAssistOffAndStoppedShortOfWi
     // 38), it read clear through the brake, forgot the target and flew on into it.
     const fs::path out = scratch_dir("eval_assist_cli", "plain_target");
     const auto fly = [&](const std::string& tag, const std::string& extra) {
-        const CmdResult r =
-            run_cli("eval-assist --seed 7 --realism --only clutter-target-2.0-57 -j 2 -q " + extra +
-                    " --out " + (out / tag).string());
-        EXPECT_EQ(r.exit_code, 0) << r.out;
-        return eval_rows(out / tag / "flights.csv");
+        return fly_eval(out / tag,
+                        "--seed 7 --realism --only clutter-target-2.0-57 -j 2 -q " + extra);
     };
     const auto both = fly("default", "--assist both");
     ASSERT_EQ(both.size(), 2u);
@@ -232,24 +237,16 @@ TEST(EvalAssistCli, TheStripedPillarAt2MpsIsStoppedShortOfByItsEdgesNormalFlow) 
     // drone stops short. Unrated (0.5, the rule before), the centre read the pillar 0.84 m out
     // and the drone hit it at 1 m/s.
     const fs::path out = scratch_dir("eval_assist_cli", "striped_pillar");
-    const auto fly = [&](const std::string& tag, const std::string& extra) {
-        const CmdResult r =
-            run_cli("eval-assist --seed 23 --realism --only clutter-target-2.0-57 --assist on -q " +
-                    extra + " --out " + (out / tag).string());
-        EXPECT_EQ(r.exit_code, 0) << r.out;
-        const auto rows = eval_rows(out / tag / "flights.csv");
-        EXPECT_EQ(rows.size(), 1u);
-        return rows.empty() ? std::map<std::string, std::string>{} : rows[0];
-    };
-    const auto now = fly("default", "");
-    ASSERT_FALSE(now.empty());
-    EXPECT_EQ(now.at("collided"), "0");
-    EXPECT_EQ(now.at("braked"), "1");
-    EXPECT_GT(std::stod(now.at("min_clearance_m")), 0.5);
-    const auto before = fly("before", "--set aperture_min_cos=0.5");
-    ASSERT_FALSE(before.empty());
-    EXPECT_EQ(before.at("collided"), "1") << "the rule before: the stripes' edges not rated";
-    EXPECT_EQ(before.at("hit"), "target");
+    const std::string flight = "--seed 23 --realism --only clutter-target-2.0-57 --assist on -q";
+    const auto now = fly_eval(out / "default", flight);
+    ASSERT_EQ(now.size(), 1u);
+    EXPECT_EQ(now[0].at("collided"), "0");
+    EXPECT_EQ(now[0].at("braked"), "1");
+    EXPECT_GT(std::stod(now[0].at("min_clearance_m")), 0.5);
+    const auto before = fly_eval(out / "before", flight + " --set aperture_min_cos=0.5");
+    ASSERT_EQ(before.size(), 1u);
+    EXPECT_EQ(before[0].at("collided"), "1") << "the rule before: the stripes' edges not rated";
+    EXPECT_EQ(before[0].at("hit"), "target");
 }
 
 TEST(EvalAssistCli, AssistParametersAreSetByNameAndRecorded) {
