@@ -1,7 +1,6 @@
 #include "drone/video/capture_clock.hpp"
 
 #include <algorithm>
-#include <cstdlib>
 
 namespace gs::video {
 
@@ -12,7 +11,8 @@ TimeNs CaptureClock::map(std::uint32_t drone_ms, TimeNs recv_ns) {
         const auto step_ms = static_cast<std::int32_t>(drone_ms - last_ms_);
         const TimeNs d_drone = static_cast<TimeNs>(step_ms) * kNsPerMs;
         const TimeNs d_recv = recv_ns - last_recv_ns_;
-        if (step_ms < 0 || std::llabs(d_drone - d_recv) > p_.max_jump_ns) {
+        // Late (d_recv beyond d_drone) is a delivery stall, not a clock jump: no re-anchor.
+        if (step_ms < 0 || d_drone - d_recv > p_.max_jump_ns) {
             anchor = true;
         } else {
             drone_ns_ += d_drone;

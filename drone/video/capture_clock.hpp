@@ -7,8 +7,11 @@
 // The PaVE header's timestamp is the drone's capture clock (ms). CaptureClock maps it onto the
 // receiver's monotonic clock by the smallest observed delay (the frame that came fastest tells the
 // offset best, as NTP and PX4's timesync do), allowed to creep up by a bounded clock skew so that
-// a drone clock running slow is followed; a timestamp going backwards or jumping away from the
-// receive time (a drone reboot, a new stream) re-anchors it, counted. Pure: times are arguments.
+// a drone clock running slow is followed; a timestamp going backwards or running ahead of the
+// receive time (a drone reboot, a new stream) re-anchors it, counted. A frame that arrives late
+// (the air or a queue held it back, however long) does not: it is as old as its timestamp says,
+// and a decision made on it must know that (re-anchored on it, a frame held up 1.5 s by a Wi-Fi
+// stall would read as captured when it arrived). Pure: times are arguments.
 #include "drone/core/clock.hpp"
 
 #include <cstdint>
@@ -19,7 +22,8 @@ struct CaptureClockParams {
     // How fast the offset may grow (drone clock slower than ours): 200 µs per second (200 ppm,
     // ten times a crystal's tolerance).
     double max_skew_ppm = 200;
-    // A drone time step this far from the receive time step re-anchors (reboot, stall, wrap).
+    // A drone time step this far ahead of the receive time step re-anchors (a new stream, a
+    // clock set forward); a step back always does (a reboot).
     TimeNs max_jump_ns = 1'000'000'000;
 };
 

@@ -88,6 +88,28 @@ TEST(CaptureClock, TheMillisecondCounterWrapsWithoutAJump) {
     EXPECT_NEAR(static_cast<double>(prev - (frames.back().capture_ns + 20 * kMs)), 0.0, 0.05e6);
 }
 
+TEST(CaptureClock, AFrameHeldBackByAStallIsAsOldAsItsTimestamp) {
+    // Steady frames (20 ms floor, no jitter), then the air stalls: the next frame arrives 1.5 s
+    // late, the frames the drone queued behind it follow in a burst 2 ms apart until delivery
+    // has caught up, and then arrive on time again. Each is mapped to its capture (plus the
+    // floor): the first frame after the stall is 1.5 s old when it arrives, not new.
+    CaptureClock c;
+    const TimeNs floor = 20 * kMs, stall = 1'500 * kMs;
+    auto capture = [](int i) { return 1'000 * kMs + i * 33 * kMs; };
+    auto drone_ms = [](int i) { return static_cast<std::uint32_t>(7'000 + i * 33); };
+    for (int i = 0; i < 30; ++i) c.map(drone_ms(i), capture(i) + floor);
+    const TimeNs burst = capture(30) + floor + stall;
+    int late = 0;
+    for (int i = 30; i < 120; ++i) {
+        const TimeNs recv = std::max(capture(i) + floor, burst + (i - 30) * 2 * kMs);
+        const TimeNs t = c.map(drone_ms(i), recv);
+        ASSERT_NEAR(static_cast<double>(t - (capture(i) + floor)), 0.0, 0.5e6) << i;
+        late += recv - t > 100 * kMs ? 1 : 0;
+    }
+    EXPECT_GE(late, 40) << "the burst's frames are mapped as old as they are";
+    EXPECT_EQ(c.anchors(), 1u) << "a stall is not a clock jump";
+}
+
 TEST(CaptureClock, ARebootOrAJumpReanchorsAndTimeNeverGoesBack) {
     CaptureClock c;
     TimeNs t = 0;
