@@ -25,8 +25,9 @@ std::array<RegionEvidence, 3> evidence_of(const vision::FrameResult& r, bool flo
 struct Intervention {
     TimeNs t_ns = 0;
     std::int64_t frame = -1;  // the newest classified frame then (-1: none yet)
-    // That frame's PaVE frame number (live) and receive time (the link's clock; 0: none): a
-    // recording maps them to its own frame index (app/session_recording.cpp).
+    // That frame's PaVE frame number (live) and capture time (the link's clock: the drone's
+    // timestamp mapped onto it; 0: none): a recording maps the number to its own frame index
+    // (app/session_recording.cpp), and the capture time is that frame's t_ms there.
     std::optional<std::uint32_t> pave_frame;
     TimeNs decision_ns = 0;
     AssistAction action = AssistAction::Watching;

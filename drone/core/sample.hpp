@@ -40,6 +40,11 @@ struct FrameSample {
     std::int64_t index = 0;  // 0-based index in this stream (display order)
     TimeNs t_ns = 0;         // capture time from the start of the flight
     TimeNs recv_ns = 0;  // when its last byte arrived (monotonic clock of the receiver), 0 if n/a
+    // When it was captured, on the same clock: the drone's frame timestamp mapped onto it
+    // (drone/video/capture_clock.hpp), never after recv_ns; 0 if n/a. recv_ns - capture_ns is
+    // the time the frame spent in the drone's encoder, the air and the queues beyond the
+    // fastest frame's: what a decision made on it is older than its arrival says.
+    TimeNs capture_ns = 0;
     // PaVE frame_number and timestamp (the drone's clock, ms, arbitrary origin) when it came
     // from a drone.
     std::optional<std::uint32_t> frame_number;

@@ -776,6 +776,7 @@ void DroneLink::video_loop() {
                 FrameSample fs;
                 fs.index = index++;
                 fs.recv_ns = u->recv_ns;
+                fs.capture_ns = u->capture_ns;
                 fs.t_ns = t_ns;
                 fs.frame_number = u->frame_number;
                 fs.pave_timestamp_ms = u->pave_timestamp_ms;

@@ -127,6 +127,7 @@ struct Recorder::State {
     struct TapFrame {
         std::int64_t index;
         TimeNs recv_ns;
+        TimeNs capture_ns;
         std::uint32_t frame_number;
         cv::Mat image;
     };
@@ -307,7 +308,8 @@ void Recorder::run() {
         const std::int64_t index = s.next_index++;
         if (truth_ != nullptr) s.frame_capture_ns.push_back(e.capture_ns);
         if (tap_) {
-            s.tap_pending.push_back({index, e.recv_ns, e.frame_number, std::move(image)});
+            s.tap_pending.push_back(
+                {index, e.recv_ns, e.capture_ns, e.frame_number, std::move(image)});
             if (s.tap_pending.size() > kTapPending) {
                 s.tap_pending.pop_front();
                 ++s.tap_lost;
@@ -369,6 +371,7 @@ void Recorder::run() {
             fs.index = row->frame;
             fs.t_ns = row->nav.t_ns;
             fs.recv_ns = t.recv_ns;
+            fs.capture_ns = t.capture_ns;
             fs.frame_number = t.frame_number;
             fs.image = std::move(t.image);
             fs.nav = row->nav;

@@ -76,7 +76,8 @@ PillarFlight fly_at_the_pillar(bool assist_on) {
             if (!f) continue;
             got = f->frame_number.value_or(got);
             const vision::FrameResult& r = pipeline.process(*f);
-            gate.on_decision(r, f->recv_ns != 0 ? f->recv_ns : t, true);
+            // Aged from the frame's capture, as the window's path does (app/pilot_path.cpp).
+            gate.on_decision(r, f->capture_ns != 0 ? f->capture_ns : t, true);
         }
         if (auto n = link.navdata().latest())
             gate.on_navdata(n->state, n->data.header.drone_state.fly());

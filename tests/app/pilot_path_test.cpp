@@ -220,6 +220,42 @@ TEST(PilotPath, StaleDecisionsNeitherBrakeForeverNorCountAsClear) {
     EXPECT_FLOAT_EQ(p.last().command.pitch, -0.3f) << "forward passes again";
 }
 
+// A decision is as old as its frame's capture, not its arrival: a frame the air or a queue held
+// back (here 0.45 s, a Wi-Fi stall) shows the obstacle where it stood then. Just after it
+// arrives it is still fresh enough to brake on; once stale_after_s has passed since its capture
+// (not since its arrival) it is stale, and says so.
+TEST(PilotPath, ADecisionIsAsOldAsItsFramesCaptureNotItsArrival) {
+    const double stale_s = AssistParams{}.stale_after_s;
+    const TimeNs capture = 1'000 * kPpMs, held = 450 * kPpMs;
+    const TimeNs arrival = capture + held;
+    ASSERT_LT(held, static_cast<TimeNs>(stale_s * 1e9)) << "the test needs a fresh arrival";
+    // Stepped 100 ms after it arrived: 0.55 s after its capture, stale; by its arrival
+    // 0.1 s old.
+    const TimeNs now = arrival + 100 * kPpMs;
+    ASSERT_GT(now - capture, static_cast<TimeNs>(stale_s * 1e9));
+    for (const bool has_capture : {true, false}) {
+        PilotPath p;
+        p.on_navdata(pp_flying_at(1.0));
+        PipelineOutput o = pp_decision(RegionState::Unsafe, arrival, 0);
+        o.frame.capture_ns = has_capture ? capture : 0;
+        p.on_output(o);
+        // At its arrival it is 0.45 s old either way (or 0): fresh, it brakes.
+        PilotPath q;
+        q.on_navdata(pp_flying_at(1.0));
+        q.on_output(o);
+        EXPECT_GT(pp_move(q.step(kPpForward, arrival + 10 * kPpMs)).pitch, 0.0f) << has_capture;
+        auto c = p.step(kPpForward, now);
+        ASSERT_TRUE(pp_is_move(c));
+        if (has_capture) {
+            EXPECT_FLOAT_EQ(pp_move(c).pitch, -0.3f) << "stale: no brake on it";
+            EXPECT_EQ(p.status().line, "UNKNOWN: classifier stale, no evidence ahead, not braking");
+        } else {
+            // A source without a capture clock: the arrival is all that is known.
+            EXPECT_GT(pp_move(c).pitch, 0.0f);
+        }
+    }
+}
+
 TEST(PilotPath, OffAndOverridePassThePilotsCommandUnchanged) {
     PilotPath p;
     p.on_navdata(pp_flying_at(1.2));

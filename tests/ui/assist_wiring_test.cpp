@@ -16,6 +16,9 @@
 
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <string>
+#include <vector>
 
 namespace gs::ui::test {
 namespace {
@@ -88,6 +91,18 @@ TEST_F(AssistWiring, ForwardAtTheCentrePillarIsBrakedOverrideAndToggleOffPassEme
     ASSERT_TRUE(session->request(app::RecordStop{}));
     ASSERT_TRUE(
         run_until([&] { return !snap.recording.active && fs::exists(rec / "assist.csv"); }, 10s));
+    // frames.csv's capture time of each frame (frame,t_ms,...).
+    std::map<std::string, double> capture_ms;
+    {
+        std::ifstream in(rec / "frames.csv");
+        std::string line;
+        ASSERT_TRUE(std::getline(in, line));
+        while (std::getline(in, line)) {
+            const auto a = line.find(','), b = line.find(',', a + 1);
+            if (a == std::string::npos || b == std::string::npos) continue;
+            capture_ms[line.substr(0, a)] = std::stod(line.substr(a + 1, b - a - 1));
+        }
+    }
     {
         std::ifstream in(rec / "assist.csv");
         std::string header, row;
@@ -104,6 +119,18 @@ TEST_F(AssistWiring, ForwardAtTheCentrePillarIsBrakedOverrideAndToggleOffPassEme
             EXPECT_TRUE(brake || hold) << row;
             EXPECT_NE(row.find(",1,0.000,-0.300,0.000,0.000,"), std::string::npos) << row;
             EXPECT_NE(row.substr(row.find(',') + 1, 1), ",") << "frame column empty: " << row;
+            // The decision's age runs from its frame's capture (frames.csv's t_ms of that
+            // frame), not from when the frame arrived: t_ms, frame, pave_frame, decision_ms.
+            std::vector<std::string> cells;
+            for (std::size_t at = 0, k = 0; k < 4; ++k) {
+                const std::size_t end = row.find(',', at);
+                cells.push_back(row.substr(at, end - at));
+                at = end + 1;
+            }
+            const auto frame = capture_ms.find(cells[1]);
+            ASSERT_NE(frame, capture_ms.end()) << "frame " << cells[1] << " not in frames.csv";
+            EXPECT_NEAR(std::stod(cells[3]), frame->second, 0.002) << row;
+            EXPECT_LE(std::stod(cells[3]), std::stod(cells[0])) << row;
         }
         EXPECT_GE(rows, 1) << "no intervention recorded";
     }
