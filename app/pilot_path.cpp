@@ -34,19 +34,20 @@ void PilotPath::reset() {
     taken_ = gate_.intervention_count();
 }
 
-void PilotPath::on_output(const PipelineOutput& out) {
+void PilotPath::on_output(const PipelineOutput& out, bool replay) {
     if (out.camera != CameraId::Front) return;
     // The age of a decision is measured from its frame's capture: the obstacle stood where the
     // frame shows it then, and the drone has flown on since. Live: the capture time on the link's
     // clock (the drone's timestamp mapped onto it), so a frame the air or a queue held back
     // arrives as old as it is (and goes stale while it waited, not only after it arrived); its
     // arrival when the source has no capture clock; replay: the frame's own time (the dry
-    // run's clock).
-    const TimeNs t = out.frame.capture_ns > 0 ? out.frame.capture_ns
-                     : out.frame.recv_ns > 0  ? out.frame.recv_ns
-                                              : out.frame.t_ns;
+    // run's clock; a replayed frame's receive time is the replay's pacing, on another clock).
+    replay = replay || out.frame.recv_ns <= 0;
+    const TimeNs t = replay                     ? out.frame.t_ns
+                     : out.frame.capture_ns > 0 ? out.frame.capture_ns
+                                                : out.frame.recv_ns;
     gate_.on_decision(out.result, t, out.classifier == "flow", out.frame.frame_number);
-    if (out.frame.recv_ns <= 0) replay_now_ns_ = out.frame.t_ns;
+    if (replay) replay_now_ns_ = out.frame.t_ns;
 }
 
 void PilotPath::on_navdata(const NavState& nav) {

@@ -11,11 +11,14 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <limits>
 #include <sstream>
+#include <string>
 #include <variant>
+#include <vector>
 
 namespace gs::app {
 namespace {
@@ -308,6 +311,39 @@ TEST(PilotPath, ReplayDryRunShowsTheBrakeAndSendsNothing) {
     EXPECT_EQ(p.moves(), 0u);
     EXPECT_EQ(p.hovers(), 0u);
     EXPECT_EQ(p.take_new().size(), 1u);
+}
+
+// A replay as the window plays it (dataset/dataset_source.cpp): each frame carries a receive
+// time, the replay's pacing on the wall clock, and its own capture time. The dry run's clock is
+// the frames' time, so its timers run: a centre alarm with time to spare is confirmed, then
+// brakes once it has held confirm_s. Timed by the pacing clock instead, the dry run's clock never
+// moved and the alarm stayed "confirming" for as long as it held.
+TEST(PilotPath, AReplaysDryRunRunsOnTheFramesOwnClock) {
+    PilotPath p;
+    NavState n = pp_flying_at(1.1);
+    n.drone_state.reset();
+    p.on_navdata(n);
+    const TimeNs frame_ns = 33 * kPpMs, pacing0 = 5'000'000 * kPpMs;
+    std::vector<std::string> actions;
+    for (int k = 0; k < 20; ++k) {
+        PipelineOutput o = pp_decision(RegionState::Unsafe, 0, k);
+        o.classifier = "flow";                         // the score is 1/TTC
+        o.result.regions[1].score = 0.4;               // 2.5 s: 2.1 m ahead at 1.1 m/s
+        o.frame.t_ns = 2'000 * kPpMs + k * frame_ns;   // the dataset's time
+        o.frame.recv_ns = pacing0 + k * 4 * frame_ns;  // played at a quarter of its speed
+        o.frame.frame_number.reset();
+        p.on_output(o, true);
+        p.dry_run(std::nullopt);
+        actions.push_back(p.status().action);
+    }
+    EXPECT_EQ(actions.front(), "CONFIRMING") << "2.1 m ahead leaves time to confirm";
+    const auto braking = std::find(actions.begin(), actions.end(), "BRAKING");
+    ASSERT_NE(braking, actions.end()) << "the dry run's clock never moved: " << actions.back();
+    // confirm_s (0.25 s) of the alarm is 8 frames of 33 ms, within the time it may wait.
+    const auto at = braking - actions.begin();
+    EXPECT_GE(at, 7);
+    EXPECT_LE(at, 9);
+    EXPECT_EQ(p.moves(), 0u) << "a dry run sends nothing";
 }
 
 TEST(PilotPath, AssistCsvMapsEachInterventionToTheDatasetFrame) {
