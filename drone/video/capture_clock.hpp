@@ -25,6 +25,10 @@ struct CaptureClockParams {
     // A drone time step this far ahead of the receive time step re-anchors (a new stream, a
     // clock set forward); a step back always does (a reboot).
     TimeNs max_jump_ns = 1'000'000'000;
+    // A drone timestamp that stands still this long while frames keep arriving (a camera clock
+    // advances every frame): the clock says nothing, and each frame is taken as captured when it
+    // arrived, counted, until it runs again (then anchored anew).
+    TimeNs frozen_after_ns = 200'000'000;
 };
 
 class CaptureClock {
@@ -34,10 +38,15 @@ public:
     // The capture time of a frame stamped `drone_ms` by the drone and received at `recv_ns`:
     // never after `recv_ns`, never before the previous result.
     TimeNs map(std::uint32_t drone_ms, TimeNs recv_ns);
-    void reset() { have_ = false; }
+    void reset() {
+        have_ = false;
+        frozen_ = false;
+    }
 
     std::uint64_t anchors() const { return anchors_; }  // re-anchorings, the first one included
-    TimeNs offset_ns() const { return offset_ns_; }     // receiver time - drone time
+    // Frames taken as captured when they arrived because the drone's timestamp stood still.
+    std::uint64_t frozen_frames() const { return frozen_frames_; }
+    TimeNs offset_ns() const { return offset_ns_; }  // receiver time - drone time
 
 private:
     CaptureClockParams p_;
@@ -47,7 +56,10 @@ private:
     TimeNs last_recv_ns_ = 0;
     TimeNs last_out_ns_ = 0;
     TimeNs offset_ns_ = 0;
+    TimeNs advanced_recv_ns_ = 0;  // receive time of the last frame whose drone time advanced
+    bool frozen_ = false;
     std::uint64_t anchors_ = 0;
+    std::uint64_t frozen_frames_ = 0;
 };
 
 }  // namespace gs::video

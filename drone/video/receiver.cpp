@@ -72,6 +72,7 @@ std::optional<ReceivedUnit> VideoReceiver::next() {
         u.bytes = frame->payload;
         ++stats_.units;
         stats_.clock_anchors = clock_.anchors();
+        stats_.clock_frozen = clock_.frozen_frames();
         if (h.video_codec != protocol::PaveCodec::H264) {
             u.fate = UnitFate::NotH264;
             ++stats_.not_h264;

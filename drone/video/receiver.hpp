@@ -84,7 +84,8 @@ struct ReceiverStats {
     std::uint64_t bytes_skipped = 0;
     std::uint64_t pool_exhausted = 0;  // pictures that could not get a pooled buffer
     std::uint64_t clock_anchors = 0;   // capture clock re-anchorings (reboots, jumps)
-    std::string last_error;            // the last unit that did not produce a picture, and why
+    std::uint64_t clock_frozen = 0;  // frames timed by their arrival: the drone's clock stood still
+    std::string last_error;          // the last unit that did not produce a picture, and why
 };
 
 struct ReceiverOptions {

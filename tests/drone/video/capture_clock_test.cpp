@@ -110,6 +110,43 @@ TEST(CaptureClock, AFrameHeldBackByAStallIsAsOldAsItsTimestamp) {
     EXPECT_EQ(c.anchors(), 1u) << "a stall is not a clock jump";
 }
 
+TEST(CaptureClock, AClockThatStandsStillFallsBackToTheArrivalCounted) {
+    // A drone (or a tool writing PaVE) whose timestamp stands still while frames keep coming
+    // every 33 ms: held on its last value, every frame would get the same capture time (no time
+    // passes between frames for the classifier, every decision looks as old as the first).
+    // After frozen_after_ns each frame is taken as captured when it arrived, counted; once the
+    // clock runs again it is anchored anew and followed.
+    CaptureClock c;
+    const TimeNs floor = 20 * kMs;
+    auto capture = [](int i) { return 1'000 * kMs + i * 33 * kMs; };
+    for (int i = 0; i < 10; ++i)
+        c.map(static_cast<std::uint32_t>(500 + i * 33), capture(i) + floor);
+    TimeNs prev = 0;
+    int frozen_from = -1;
+    for (int i = 10; i < 70; ++i) {  // 2 s stuck at the last value
+        const TimeNs recv = capture(i) + floor;
+        const TimeNs t = c.map(500 + 9 * 33, recv);
+        EXPECT_LE(t, recv);
+        EXPECT_GE(t, prev);
+        prev = t;
+        if (t == recv && frozen_from < 0) frozen_from = i;
+    }
+    // 200 ms is six frames: from the seventh on, each frame is its arrival.
+    EXPECT_EQ(frozen_from, 16);
+    EXPECT_EQ(c.frozen_frames(), 70u - 16u);
+    EXPECT_EQ(c.anchors(), 1u);
+    // The clock runs again (from where it stood): anchored anew, then followed frame by frame.
+    for (int i = 70; i < 80; ++i) {
+        const TimeNs recv = capture(i) + floor;
+        const TimeNs t = c.map(static_cast<std::uint32_t>(500 + 9 * 33 + (i - 69) * 33), recv);
+        EXPECT_EQ(t, recv) << i;
+        EXPECT_GE(t, prev);
+        prev = t;
+    }
+    EXPECT_EQ(c.anchors(), 2u);
+    EXPECT_EQ(c.frozen_frames(), 70u - 16u);
+}
+
 TEST(CaptureClock, ARebootOrAJumpReanchorsAndTimeNeverGoesBack) {
     CaptureClock c;
     TimeNs t = 0;
