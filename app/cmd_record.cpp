@@ -90,7 +90,8 @@ std::string stats_json(const record::RecorderStatus& st, const link::LinkStatus&
                  {"video_concealed", ls.video.concealed},
                  {"video_repaired", ls.video.repaired},
                  {"video_idr_waits", ls.video.idr_waits},
-                 {"video_cut_by_reset", ls.video.cut_by_reset}};
+                 {"video_cut_by_reset", ls.video.cut_by_reset},
+                 {"video_clock_frozen", ls.video.clock_frozen}};
     return j.dump(2) + "\n";
 }
 

@@ -685,6 +685,7 @@ void DroneLink::video_loop() {
         stats.repaired = r.repaired;
         stats.no_picture = r.no_picture;
         stats.cut_by_reset = r.cut_by_reset;
+        stats.clock_frozen = r.clock_frozen;
         stats.decode_errors = d.decode_errors;
         stats.idr_waits = r.waiting_idr;
         stats.frame_gaps = d.frame_gaps;

@@ -151,6 +151,7 @@ struct VideoStats {
     std::uint64_t repaired = 0;      // intra frames that replaced concealed damage (they jump)
     std::uint64_t no_picture = 0;    // access units that gave no picture (damaged beyond repair)
     std::uint64_t cut_by_reset = 0;  // frames a connection ended inside (never joined to the next)
+    std::uint64_t clock_frozen = 0;  // frames timed by their arrival: the drone's clock stood still
     std::uint64_t nav_interpolated = 0;  // frames whose attitude lies between two samples
     std::uint64_t nav_nearest = 0;       // frames captured past the newest sample (or before the
                                          // oldest): the nearest one is used
