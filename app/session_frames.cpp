@@ -55,10 +55,7 @@ void Session::process(FrameSample& f, TimeNs recv_ns) {
         out->result = pipeline_.process(f);
     }
     const TimeNs now = clock_.now_ns();
-    // The video's age: from the frame's capture (the drone's timestamp mapped onto our clock)
-    // when the source has one, else from its arrival.
-    out->latency_ms =
-        recv_ns > 0 ? ns_to_ms(now - (f.capture_ns > 0 ? f.capture_ns : recv_ns)) : kUnknown;
+    out->latency_ms = recv_ns > 0 ? ns_to_ms(now - recv_ns) : kUnknown;
     if (c.rate_n == 0) c.rate_t0 = now;
     ++c.rate_n;
     if (now - c.rate_t0 >= ms_to_ns(1000)) {
