@@ -114,6 +114,16 @@ const vision::ParamTable<AssistParams>& assist_param_table() {
             .add("side_shift_max_m", &P::side_shift_max_m, 0, 5,
                  "the roll away from one side's obstacle ends after this much sideways movement "
                  "(m)")
+            .add("side_settle_decel_mps2", &P::side_settle_decel_mps2, 0.1, 10,
+                 "after a push away from a side: the sideways deceleration a counter-roll of "
+                 "side_nudge is taken to give (m/s^2; the push ends while the drone can stop "
+                 "within side_shift_max_m)")
+            .add("side_settle_mps", &P::side_settle_mps, 0, 2,
+                 "after a push away from a side: the counter-roll stops the drift until it is "
+                 "under this (m/s)")
+            .add("side_settle_yield_roll", &P::side_settle_yield_roll, 0, 1,
+                 "after a push away from a side: a pilot's roll on away from it beyond this "
+                 "(fraction of the maximum tilt) ends the counter-roll")
             .add("default_side_m", &P::default_side_m, 0, 20,
                  "where a side obstacle is assumed to be ahead when its time to contact is "
                  "unknown (m)")
@@ -318,6 +328,7 @@ AssistOutput Assist::step_as_given(const AssistInput& in, vision::Region acted_f
         st_.stopped_clear_s = 0;
         st_.side_left_m = {kUnknown, kUnknown};
         st_.side_shift_m = {0, 0};
+        st_.side_pushed = {false, false};
         st_.pending = false;
         st_.last_unsafe_t_s = kUnknown;
         keep_speed(in.t_s, in.vx_mps);
@@ -600,11 +611,22 @@ AssistOutput Assist::step_as_given(const AssistInput& in, vision::Region acted_f
     // (side_nudge 0: no steering at all, only the limits; never a STEERING line that pushes
     // nothing.)
     const bool may_nudge = p_.side_nudge > 0 && moving_forward && known(in.vy_mps);
-    // Only toward a side that reads clear, and no farther than side_shift_max_m for one obstacle.
+    // The sideways speed away from side i (right is +vy), and how far the drone drifts on at it
+    // before a counter-roll stops it.
+    const auto away_mps = [&](std::size_t i) {
+        return known(in.vy_mps) ? (i == 0 ? in.vy_mps : -in.vy_mps) : 0.0;
+    };
+    const auto drift_m = [&](std::size_t i) {
+        const double v = std::max(0.0, away_mps(i));
+        return v * p_.react_s + v * v / (2 * p_.side_settle_decel_mps2);
+    };
+    // Only toward a side that reads clear, and no farther than side_shift_max_m for one obstacle,
+    // the drift the push leaves included.
     const auto may_push_away_from = [&](std::size_t i) {
         const std::size_t other = 1 - i;
         return may_nudge && still_ahead(static_cast<int>(i)) && !limited[other] &&
-               side_state[other] == RegionState::Clear && st_.side_shift_m[i] < p_.side_shift_max_m;
+               side_state[other] == RegionState::Clear &&
+               st_.side_shift_m[i] + drift_m(i) < p_.side_shift_max_m;
     };
     const bool nudge_right = may_push_away_from(0) && in.vy_mps < p_.side_away_mps;
     const bool nudge_left = may_push_away_from(1) && -in.vy_mps < p_.side_away_mps;
@@ -616,7 +638,45 @@ AssistOutput Assist::step_as_given(const AssistInput& in, vision::Region acted_f
         if (!cmd.progressive) cmd = FlightCommand{true, 0, 0, 0, 0};
         cmd.roll = nudge_right ? std::max(cmd.roll, nudge) : std::min(cmd.roll, -nudge);
     }
-    if (st_.phase == Phase::Free && (limit_left || limit_right || nudge_left || nudge_right)) {
+    // The budget spent ends the push for this obstacle: resumed as the drift slows, it would
+    // alternate with the counter-roll below.
+    for (std::size_t i = 0; i < 2; ++i)
+        if (st_.side_pushed[i] && st_.side_shift_m[i] + drift_m(i) >= p_.side_shift_max_m)
+            st_.side_shift_m[i] = std::max(st_.side_shift_m[i], p_.side_shift_max_m);
+    if (nudge_right) st_.side_pushed[0] = true;
+    if (nudge_left) st_.side_pushed[1] = true;
+    // A push ended: the drift it left is stopped by a roll against it (never past a stop: in
+    // proportion to the speed, hold_gain per m/s, at most side_nudge), unless the pilot rolls
+    // away from the side more than side_settle_yield_roll; that, or a drift under
+    // side_settle_mps, leaves the drone to the pilot.
+    bool settle_left = false, settle_right = false;
+    for (std::size_t i = 0; i < 2; ++i) {
+        // Not while the push may go on (held back only by side_away_mps, it resumes as the
+        // drift slows).
+        if (!st_.side_pushed[i] || may_push_away_from(i)) continue;
+        const double v = away_mps(i);
+        const double pilot_away = i == 0 ? in.pilot.roll : -in.pilot.roll;
+        if (pilot_away > p_.side_settle_yield_roll || !(v > p_.side_settle_mps)) {
+            st_.side_pushed[i] = false;
+            continue;
+        }
+        // Pushed away from the other side now; or hovering (a brake's end, the pilot's hands
+        // off), where the AR.Drone holds its position itself, the drift included.
+        if (nudge_right || nudge_left || !cmd.progressive) continue;
+        const auto r = static_cast<float>(std::min(p_.side_nudge, p_.hold_gain * v));
+        cmd.roll = i == 0 ? std::min(cmd.roll, -r) : std::max(cmd.roll, r);
+        (i == 0 ? settle_left : settle_right) = true;
+    }
+    if (st_.phase == Phase::Free && (settle_left || settle_right)) {
+        // Rolling toward the side the drone was pushed from, to stop the drift away from it.
+        const std::string from = settle_left ? "left" : "right";
+        out.action = settle_left ? AssistAction::SteerLeft : AssistAction::SteerRight;
+        out.region = settle_left ? vision::Region::Left : vision::Region::Right;
+        out.reason = "STEERING " + from + ": stopping the drift " +
+                     (settle_left ? "right" : "left") +
+                     " after the push away from the obstacle seen " + from;
+    } else if (st_.phase == Phase::Free &&
+               (limit_left || limit_right || nudge_left || nudge_right)) {
         const bool toward_left = nudge_right || (limit_left && !nudge_left);
         const int side = toward_left ? 0 : 2;
         out.region = toward_left ? vision::Region::Left : vision::Region::Right;

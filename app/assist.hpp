@@ -47,7 +47,14 @@
 //    zeroing alone leaves a drone that drifts or holds a line close to a pillar passing it at a
 //    few centimetres. With both sides unsafe (a corridor, a doorway) nothing is nudged; nor
 //    toward a side that does not read clear (unknown or stale: no evidence that the way is
-//    free), nor farther than `side_shift_max_m` sideways for one obstacle.
+//    free), nor farther than `side_shift_max_m` sideways for one obstacle, the drift the push
+//    leaves included: the push ends while the drone can still stop within that shift
+//    (`side_settle_decel_mps2`, after `react_s`), and then, while the pilot does not roll, the
+//    assist rolls against the sideways speed it gave until it is under `side_settle_mps` (unless
+//    the pilot rolls on away from it, `side_settle_yield_roll`). A level AR.Drone keeps most of its
+//    lateral speed for seconds: a 0.7 s push at 0.5 carried a drone 1.05 m sideways, twice
+//    side_shift_max_m, across the line of the obstacle it had not yet seen on the other side (seed
+//    41's side-person-left-0.6-06 under --realism).
 //  - Never limited: yaw, climb and descent, backing away (nose-up pitch), roll away from a side.
 //  - Unknown or stale regions (no evidence) never brake by themselves; the output says so.
 //  - Emergency and landing are not commands the assist sees: they go straight to the link. The
@@ -105,8 +112,10 @@ enum class AssistAction : std::uint8_t {
     LimitLeft,   // lateral command toward the left zeroed
     LimitRight,  // toward the right
     LimitSides,  // both
-    SteerLeft,   // rolling left, away from an obstacle on the right (and limiting toward it)
-    SteerRight,  // rolling right, away from one on the left
+    // Rolling left: away from an obstacle on the right (and limiting toward it), or stopping
+    // the drift right its push left away from one on the left.
+    SteerLeft,
+    SteerRight,  // rolling right: the mirror image
     // Held for an obstacle still remembered ahead but with room to stop short of it: the pilot's
     // commands pass unchanged (not an intervention; shown so the pilot knows it is remembered).
     Approaching,
@@ -247,6 +256,14 @@ struct AssistParams {
     // false side alarm, or one seen while braking (the drone then never flies past it), must not
     // carry the drone across the room.
     double side_shift_max_m = 0.5;
+    // After a push: stopping its sideways drift (see the rules above). The deceleration a roll of
+    // side_nudge gives the AR.Drone sideways, less its attitude lag (about 1 m/s^2 at 0.5 of a
+    // 12 degree limit), and the drift under which the drone is left to the pilot again.
+    double side_settle_decel_mps2 = 0.8;
+    double side_settle_mps = 0.1;
+    // A pilot rolling on away from the side beyond this (stick fraction) takes over; less is a
+    // held stick's wobble.
+    double side_settle_yield_roll = 0.1;
     double default_side_m = 1.5;
     double side_pass_margin_m = 0.8;
     // A side unsafe while the centre reads unknown counts as a centre alarm (confirmed, braked
@@ -320,6 +337,9 @@ private:
         std::array<double, 2> side_left_m{kUnknown, kUnknown};
         // Per side: how far the drone has moved away from that side's obstacle while pushed.
         std::array<double, 2> side_shift_m{0, 0};
+        // Per side: the drone was pushed away from that side's obstacle, and its drift away has
+        // not yet been stopped.
+        std::array<bool, 2> side_pushed{false, false};
         // A centre alarm being confirmed: unsafe and clear time so far, the time by which it
         // brakes whatever happens, and the last unsafe reading to brake for (at
         // last_unsafe_t_s).
