@@ -41,7 +41,7 @@ void PilotPath::on_output(const PipelineOutput& out, bool replay) {
     // clock (the drone's timestamp mapped onto it), so a frame the air or a queue held back
     // arrives as old as it is (and goes stale while it waited, not only after it arrived); its
     // arrival when the source has no capture clock; replay: the frame's own time (the dry
-    // run's clock; a replayed frame's receive time is the replay's pacing, on another clock).
+    // run's clock; a replayed frame has no receive time, FrameSample::recv_ns 0).
     replay = replay || out.frame.recv_ns <= 0;
     const TimeNs t = replay                     ? out.frame.t_ns
                      : out.frame.capture_ns > 0 ? out.frame.capture_ns

@@ -59,8 +59,8 @@ public:
     void reset();
 
     // The source's newest classifier output (front camera only; others are ignored) and navdata.
-    // `replay`: the output of a replayed dataset, whose frames' receive times are the replay's
-    // pacing, not a link's: the decision is timed by the frame's own time, the dry run's clock.
+    // `replay`: the output of a replayed dataset (its frames have no receive time either,
+    // recv_ns 0): the decision is timed by the frame's own time, the dry run's clock.
     void on_output(const PipelineOutput& out, bool replay = false);
     void on_navdata(const NavState& nav);
 

@@ -89,7 +89,7 @@ bool Session::replay_step(int delta) {
         return false;
     }
     replay_nav_.publish(f.nav);
-    process(f, f.recv_ns);
+    process(f, clock_.now_ns());  // handed over now: its latency is the processing's
     return true;
 }
 
@@ -106,7 +106,7 @@ bool Session::replay_tick(TimeNs& wait_ns) {
     const SourceStatus st = src.next(f);
     switch (st) {
         case SourceStatus::Sample:
-            process(f, f.recv_ns);
+            process(f, clock_.now_ns());  // handed over now: its latency is the processing's
             return true;
         case SourceStatus::NotYet:
             wait_ns = std::clamp<TimeNs>(src.wait_hint_ns(), 0, kIdleWaitNs);

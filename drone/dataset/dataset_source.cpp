@@ -49,7 +49,10 @@ SourceStatus DatasetSource::deliver(FrameSample& out) {
     }
     out.index = next_frame_;
     out.t_ns = row.nav.t_ns;
-    out.recv_ns = clock_.now_ns();
+    // A recording has no receive time (FrameSample: 0, not applicable): its frames are timed by
+    // their capture alone, t_ns; the pacing clock says when it was played, not when it arrived.
+    out.recv_ns = 0;
+    out.capture_ns = 0;
     out.frame_number.reset();
     out.image = image_;
     out.nav = row.nav;
