@@ -672,9 +672,8 @@ AssistOutput Assist::step_as_given(const AssistInput& in, vision::Region acted_f
         const std::string from = settle_left ? "left" : "right";
         out.action = settle_left ? AssistAction::SteerLeft : AssistAction::SteerRight;
         out.region = settle_left ? vision::Region::Left : vision::Region::Right;
-        out.reason = "STEERING " + from + ": stopping the drift " +
-                     (settle_left ? "right" : "left") +
-                     " after the push away from the obstacle seen " + from;
+        out.reason =
+            "STEERING " + from + ": stopping the drift away from the obstacle seen " + from;
     } else if (st_.phase == Phase::Free &&
                (limit_left || limit_right || nudge_left || nudge_right)) {
         const bool toward_left = nudge_right || (limit_left && !nudge_left);

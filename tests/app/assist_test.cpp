@@ -523,9 +523,7 @@ TEST(Assist, TheSideNudgeNeverPushesTowardASideWithoutEvidenceNorFartherThanItsS
     // zeroed: the counter-roll replaces it), ...
     EXPECT_FLOAT_EQ(o.command.roll, static_cast<float>(p.side_nudge));
     EXPECT_EQ(o.action, AssistAction::SteerRight);
-    EXPECT_EQ(o.reason,
-              "STEERING right: stopping the drift left after the push away from the obstacle seen "
-              "right");
+    EXPECT_EQ(o.reason, "STEERING right: stopping the drift away from the obstacle seen right");
     // ... until it has stopped: still limited toward the obstacle, no more pushed.
     in.vy_mps = 0;
     in.t_s = t += 0.03;
@@ -573,8 +571,7 @@ TEST(Assist, ASidePushEndsWithinItsShiftAndStopsTheDriftItLeaves) {
         if (o.action == AssistAction::SteerRight) {
             ++settle_steps;
             ASSERT_EQ(o.reason,
-                      "STEERING right: stopping the drift left after the push away from the "
-                      "obstacle seen right");
+                      "STEERING right: stopping the drift away from the obstacle seen right");
         }
         roll_now += (static_cast<double>(o.command.roll) - roll_now) * 0.03 / lag_s;
         vy += accel_per_roll * roll_now * 0.03;
