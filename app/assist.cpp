@@ -113,7 +113,7 @@ const vision::ParamTable<AssistParams>& assist_param_table() {
                  "the roll away stops above this lateral speed away (m/s)")
             .add("side_shift_max_m", &P::side_shift_max_m, 0, 5,
                  "the roll away from one side's obstacle ends after this much sideways movement "
-                 "(m)")
+                 "since the side last read unsafe (m)")
             .add("side_settle_decel_mps2", &P::side_settle_decel_mps2, 0.1, 10,
                  "after a push away from a side: the sideways deceleration a counter-roll of "
                  "side_nudge is taken to give (m/s^2; the push ends while the drone can stop "
@@ -592,9 +592,13 @@ AssistOutput Assist::step_as_given(const AssistInput& in, vision::Region acted_f
             ahead = kUnknown;  // past it (or no velocity to know: only what is seen counts)
         }
         limited[i] = side_state[i] == RegionState::Unsafe || known(ahead);
-        // Movement away from this side since its obstacle was first seen (right is +vy).
+        // Movement away from this side since its obstacle was last seen (right is +vy): a side
+        // that still reads unsafe holds an obstacle in the flight corridor, however far the
+        // drone has moved already (seed 41's ahead-doorway-right-1.5-35: a wall whose edge
+        // stood 0.2 m inside the path read unsafe for the last 1.4 m while the spent push held
+        // the roll at zero, and the drone flew into the edge).
         double& shift = st_.side_shift_m[i];
-        if (!limited[i])
+        if (!limited[i] || side_state[i] == RegionState::Unsafe)
             shift = 0;
         else if (known(in.vy_mps))
             shift += std::max(0.0, i == 0 ? in.vy_mps : -in.vy_mps) * dt;
@@ -620,8 +624,8 @@ AssistOutput Assist::step_as_given(const AssistInput& in, vision::Region acted_f
         const double v = std::max(0.0, away_mps(i));
         return v * p_.react_s + v * v / (2 * p_.side_settle_decel_mps2);
     };
-    // Only toward a side that reads clear, and no farther than side_shift_max_m for one obstacle,
-    // the drift the push leaves included.
+    // Only toward a side that reads clear, and no farther than side_shift_max_m past where the
+    // side last read unsafe, the drift the push leaves included.
     const auto may_push_away_from = [&](std::size_t i) {
         const std::size_t other = 1 - i;
         return may_nudge && still_ahead(static_cast<int>(i)) && !limited[other] &&

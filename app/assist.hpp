@@ -47,7 +47,8 @@
 //    zeroing alone leaves a drone that drifts or holds a line close to a pillar passing it at a
 //    few centimetres. With both sides unsafe (a corridor, a doorway) nothing is nudged; nor
 //    toward a side that does not read clear (unknown or stale: no evidence that the way is
-//    free), nor farther than `side_shift_max_m` sideways for one obstacle, the drift the push
+//    free), nor farther than `side_shift_max_m` sideways past where the side last read unsafe
+//    (a side that reads unsafe again still holds its obstacle in the corridor), the drift the push
 //    leaves included: the push ends while the drone can still stop within that shift
 //    (`side_settle_decel_mps2`, after `react_s`), and then, while the pilot does not roll, the
 //    assist rolls against the sideways speed it gave until it is under `side_settle_mps` (unless
@@ -252,9 +253,9 @@ struct AssistParams {
     // centimetres in that time; eval-assist, README "Collision assist").
     double side_nudge = 0.5;
     double side_away_mps = 0.4;
-    // The push away from one side's obstacle ends after this much sideways movement (m): a brief
-    // false side alarm, or one seen while braking (the drone then never flies past it), must not
-    // carry the drone across the room.
+    // The push away from one side's obstacle ends after this much sideways movement (m) since
+    // the side last read unsafe: a brief false side alarm, or one seen while braking (the drone
+    // then never flies past it), must not carry the drone across the room.
     double side_shift_max_m = 0.5;
     // After a push: stopping its sideways drift (see the rules above). The deceleration a roll of
     // side_nudge gives the AR.Drone sideways, less its attitude lag (about 1 m/s^2 at 0.5 of a

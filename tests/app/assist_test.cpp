@@ -499,12 +499,17 @@ TEST(Assist, TheSideNudgeNeverPushesTowardASideWithoutEvidenceNorFartherThanItsS
     in.t_s = 0.03;
     o = a.step(in);
     EXPECT_FLOAT_EQ(o.command.roll, 0.0f);  // stale is no evidence either
-    // The left reads clear: pushed left, until the drone has moved side_shift_max_m away.
+    // The left reads clear: pushed left, until the drone has moved side_shift_max_m away from
+    // where the right last read unsafe (one frame's alarm here).
     Assist b;
     in = flying_forward(1.0, clear());
     in.regions[2] = unsafe(5.0);  // far enough ahead not to be abreast within the run
     in.vy_mps = -0.3;             // drifting left at 0.3 m/s, under side_away_mps
     in.pilot.roll = 0.3f;
+    in.t_s = -0.03;
+    o = b.step(in);
+    EXPECT_EQ(o.action, AssistAction::SteerLeft);
+    in.regions[2] = clear();
     // The push ends while the drift at 0.3 m/s can still be stopped within the shift.
     const AssistParams& p = b.params();
     const double drift = 0.3 * p.react_s + 0.3 * 0.3 / (2 * p.side_settle_decel_mps2);
@@ -530,6 +535,17 @@ TEST(Assist, TheSideNudgeNeverPushesTowardASideWithoutEvidenceNorFartherThanItsS
     o = b.step(in);
     EXPECT_FLOAT_EQ(o.command.roll, 0.0f);
     EXPECT_EQ(o.action, AssistAction::LimitRight);
+    // The right reads unsafe again: its obstacle is still in the corridor, pushed away anew.
+    in.regions[2] = unsafe(4.0);
+    in.t_s = t += 0.03;
+    o = b.step(in);
+    EXPECT_EQ(o.action, AssistAction::SteerLeft);
+    EXPECT_FLOAT_EQ(o.command.roll, -static_cast<float>(p.side_nudge));
+    in.regions[2] = clear();
+    for (int k = 0; k < 3; ++k) {
+        in.t_s = t += 0.03;
+        o = b.step(in);
+    }
     // Once the side reads clear and the drone is past it, a new alarm pushes again.
     in.regions[2] = clear();
     for (; t < 9.0; t += 0.03) {  // abreast 5.0 m after the last alarm, past 0.8 m later
