@@ -580,6 +580,10 @@ AssistOutput Assist::step_as_given(const AssistInput& in, vision::Region acted_f
     // and keep the roll toward it at zero until the drone is past it; push away while it is seen.
     const std::array<RegionState, 2> side_state{left, right};
     std::array<bool, 2> limited{false, false};
+    // The sideways speed away from side i (right is +vy; 0 unknown).
+    const auto away_mps = [&](std::size_t i) {
+        return known(in.vy_mps) ? (i == 0 ? in.vy_mps : -in.vy_mps) : 0.0;
+    };
     for (int i = 0; i < 2; ++i) {
         const RegionEvidence& e = in.regions[i == 0 ? 0 : 2];
         double& ahead = st_.side_left_m[i];
@@ -600,8 +604,8 @@ AssistOutput Assist::step_as_given(const AssistInput& in, vision::Region acted_f
         double& shift = st_.side_shift_m[i];
         if (!limited[i] || side_state[i] == RegionState::Unsafe)
             shift = 0;
-        else if (known(in.vy_mps))
-            shift += std::max(0.0, i == 0 ? in.vy_mps : -in.vy_mps) * dt;
+        else
+            shift += std::max(0.0, away_mps(static_cast<std::size_t>(i))) * dt;
     }
     // Roll > 0 is right: the left side (0) limits negative roll, the right (1) positive roll.
     // Push away from a side obstacle until the drone is abreast of where it was seen, not only
@@ -615,22 +619,19 @@ AssistOutput Assist::step_as_given(const AssistInput& in, vision::Region acted_f
     // (side_nudge 0: no steering at all, only the limits; never a STEERING line that pushes
     // nothing.)
     const bool may_nudge = p_.side_nudge > 0 && moving_forward && known(in.vy_mps);
-    // The sideways speed away from side i (right is +vy), and how far the drone drifts on at it
-    // before a counter-roll stops it.
-    const auto away_mps = [&](std::size_t i) {
-        return known(in.vy_mps) ? (i == 0 ? in.vy_mps : -in.vy_mps) : 0.0;
-    };
-    const auto drift_m = [&](std::size_t i) {
+    // The push's budget for side i is spent once the drone, drifting on at its speed away until
+    // a counter-roll stops it, would pass side_shift_max_m.
+    const auto budget_spent = [&](std::size_t i) {
         const double v = std::max(0.0, away_mps(i));
-        return v * p_.react_s + v * v / (2 * p_.side_settle_decel_mps2);
+        const double drift_m = v * p_.react_s + v * v / (2 * p_.side_settle_decel_mps2);
+        return st_.side_shift_m[i] + drift_m >= p_.side_shift_max_m;
     };
     // Only toward a side that reads clear, and no farther than side_shift_max_m past where the
     // side last read unsafe, the drift the push leaves included.
     const auto may_push_away_from = [&](std::size_t i) {
         const std::size_t other = 1 - i;
         return may_nudge && still_ahead(static_cast<int>(i)) && !limited[other] &&
-               side_state[other] == RegionState::Clear &&
-               st_.side_shift_m[i] + drift_m(i) < p_.side_shift_max_m;
+               side_state[other] == RegionState::Clear && !budget_spent(i);
     };
     const bool nudge_right = may_push_away_from(0) && in.vy_mps < p_.side_away_mps;
     const bool nudge_left = may_push_away_from(1) && -in.vy_mps < p_.side_away_mps;
@@ -645,7 +646,7 @@ AssistOutput Assist::step_as_given(const AssistInput& in, vision::Region acted_f
     // The budget spent ends the push for this obstacle: resumed as the drift slows, it would
     // alternate with the counter-roll below.
     for (std::size_t i = 0; i < 2; ++i)
-        if (st_.side_pushed[i] && st_.side_shift_m[i] + drift_m(i) >= p_.side_shift_max_m)
+        if (st_.side_pushed[i] && budget_spent(i))
             st_.side_shift_m[i] = std::max(st_.side_shift_m[i], p_.side_shift_max_m);
     if (nudge_right) st_.side_pushed[0] = true;
     if (nudge_left) st_.side_pushed[1] = true;

@@ -70,7 +70,7 @@ void GuiAdapter::fill_config(ui::GuiSnapshot& s) {
 // window shows of it. Decisions are fed here, once per new output; commands go in consume().
 void GuiAdapter::fill_assist(ui::GuiSnapshot& s) {
     if (out_ && out_gen_ != assist_out_gen_ && out_->source_id == source_.id) {
-        path_.on_output(*out_, source_.kind == SessionSource::Replay);
+        path_.on_output(*out_);
         assist_out_gen_ = out_gen_;
     }
     if (source_.kind == SessionSource::Replay) {

@@ -34,7 +34,7 @@ void PilotPath::reset() {
     taken_ = gate_.intervention_count();
 }
 
-void PilotPath::on_output(const PipelineOutput& out, bool replay) {
+void PilotPath::on_output(const PipelineOutput& out) {
     if (out.camera != CameraId::Front) return;
     // The age of a decision is measured from its frame's capture: the obstacle stood where the
     // frame shows it then, and the drone has flown on since. Live: the capture time on the link's
@@ -42,7 +42,7 @@ void PilotPath::on_output(const PipelineOutput& out, bool replay) {
     // arrives as old as it is (and goes stale while it waited, not only after it arrived); its
     // arrival when the source has no capture clock; replay: the frame's own time (the dry
     // run's clock; a replayed frame has no receive time, FrameSample::recv_ns 0).
-    replay = replay || out.frame.recv_ns <= 0;
+    const bool replay = out.frame.recv_ns <= 0;
     const TimeNs t = replay                     ? out.frame.t_ns
                      : out.frame.capture_ns > 0 ? out.frame.capture_ns
                                                 : out.frame.recv_ns;

@@ -59,9 +59,9 @@ public:
     void reset();
 
     // The source's newest classifier output (front camera only; others are ignored) and navdata.
-    // `replay`: the output of a replayed dataset (its frames have no receive time either,
-    // recv_ns 0): the decision is timed by the frame's own time, the dry run's clock.
-    void on_output(const PipelineOutput& out, bool replay = false);
+    // A replayed dataset's frames have no receive time (recv_ns 0): their decisions are timed by
+    // the frames' own time, the dry run's clock.
+    void on_output(const PipelineOutput& out);
     void on_navdata(const NavState& nav);
 
     void set_enabled(bool on) { gate_.set_enabled(on); }

@@ -313,26 +313,27 @@ TEST(PilotPath, ReplayDryRunShowsTheBrakeAndSendsNothing) {
     EXPECT_EQ(p.take_new().size(), 1u);
 }
 
-// A replay as the window plays it (dataset/dataset_source.cpp): each frame carries a receive
-// time, the replay's pacing on the wall clock, and its own capture time. The dry run's clock is
-// the frames' time, so its timers run: a centre alarm with time to spare is confirmed, then
-// brakes once it has held confirm_s. Timed by the pacing clock instead, the dry run's clock never
-// moved and the alarm stayed "confirming" for as long as it held.
+// A replay as the window plays it (dataset/dataset_source.cpp): its frames carry their capture
+// time and no receive time. The dry run's clock is the frames' time, so its timers run: a centre
+// alarm with time to spare is confirmed, then brakes once it has held confirm_s. When the source
+// stamped each frame with the replay's pacing as a receive time, the path timed decisions by
+// that while the dry run's clock never moved, and the alarm stayed "confirming" for as long as it
+// held (DatasetSource.RealtimePacingFollowsTheClock now checks there is none).
 TEST(PilotPath, AReplaysDryRunRunsOnTheFramesOwnClock) {
     PilotPath p;
     NavState n = pp_flying_at(1.1);
     n.drone_state.reset();
     p.on_navdata(n);
-    const TimeNs frame_ns = 33 * kPpMs, pacing0 = 5'000'000 * kPpMs;
+    const TimeNs frame_ns = 33 * kPpMs;
     std::vector<std::string> actions;
     for (int k = 0; k < 20; ++k) {
         PipelineOutput o = pp_decision(RegionState::Unsafe, 0, k);
-        o.classifier = "flow";                         // the score is 1/TTC
-        o.result.regions[1].score = 0.4;               // 2.5 s: 2.1 m ahead at 1.1 m/s
-        o.frame.t_ns = 2'000 * kPpMs + k * frame_ns;   // the dataset's time
-        o.frame.recv_ns = pacing0 + k * 4 * frame_ns;  // played at a quarter of its speed
+        o.classifier = "flow";                        // the score is 1/TTC
+        o.result.regions[1].score = 0.4;              // 2.5 s: 2.1 m ahead at 1.1 m/s
+        o.frame.t_ns = 2'000 * kPpMs + k * frame_ns;  // the dataset's time
+        o.frame.recv_ns = 0;                          // no receive time: a replay
         o.frame.frame_number.reset();
-        p.on_output(o, true);
+        p.on_output(o);
         p.dry_run(std::nullopt);
         actions.push_back(p.status().action);
     }
