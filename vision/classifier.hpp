@@ -78,6 +78,12 @@ struct RegionDecision {
     // obstacle standing ahead is not seen. Not "clear": "still" ("nothing approaching; what
     // stands ahead is not judged"). Only "flow" knows when its camera is still; false otherwise.
     bool approach_only = false;
+    // A side region's obstacle, how far it reaches across the flight line (metres, level frame,
+    // measured square to the direction of travel): its k-th innermost point among those rated
+    // faster than the threshold (k: the support the score needs), as its distance from the line
+    // toward the region's own side; negative: that far past the line. NaN: no metric corridor
+    // (no speed), too few such points, the centre region, or a classifier without depths.
+    double edge_m = kUnknown;
 };
 
 // What a decision says, in the order that decides it: no measured decision is unknown whatever

@@ -534,6 +534,7 @@ void FlowClassifier::all_unknown(UnknownReason why) {
         d.approach_only = false;
         d.unknown = why;
         d.support = 0;
+        d.edge_m = kUnknown;
         confirm(r, false);  // and not unsafe
     }
 }
@@ -628,6 +629,7 @@ void FlowClassifier::classify(const FrameInput& in) {
             continue;
         }
         hazard_[r].push_back(track_score_[i]);
+        hazard_lat_[r].push_back(i < lateral_m_.size() ? lateral_m_[i] : kUnknown);
     }
     plot(s_moving_, static_cast<double>(moving_idx_.size()));
     const double hom =
@@ -642,6 +644,7 @@ void FlowClassifier::classify(const FrameInput& in) {
         d.threshold = centre ? p_.centre_inv_ttc_threshold : p_.side_inv_ttc_threshold;
         d.support = static_cast<int>(hazard_[ri].size());
         hazards += d.support;
+        d.edge_m = centre ? kUnknown : region_edge(r, d.threshold, k);
         // Enough rated points to judge the region; fewer than k of them in the corridor: 0.
         const bool judged = rated_count_[ri] >= k;
         double score =
@@ -663,6 +666,22 @@ void FlowClassifier::classify(const FrameInput& in) {
         confirm(r, raw);
     }
     plot(s_hazards_, hazards);
+}
+
+double FlowClassifier::region_edge(Region r, double threshold, int k) {
+    // Before hazard_ is reordered by the score's selection. Distances toward the region's own
+    // side: the k-th smallest is the innermost edge that k of the points rated unsafe share.
+    const auto ri = static_cast<std::size_t>(r);
+    const double toward = r == Region::Right ? 1.0 : -1.0;
+    auto& v = edge_scratch_;
+    v.clear();
+    for (std::size_t j = 0; j < hazard_[ri].size() && j < hazard_lat_[ri].size(); ++j)
+        if (hazard_[ri][j] > threshold && std::isfinite(hazard_lat_[ri][j]))
+            v.push_back(toward * hazard_lat_[ri][j]);
+    if (k < 1 || static_cast<int>(v.size()) < k) return kUnknown;
+    const auto kth = v.begin() + (k - 1);
+    std::nth_element(v.begin(), kth, v.end());
+    return *kth;
 }
 
 double FlowClassifier::outline_rate(const FrameInput& in, bool foe_known) {
@@ -757,6 +776,8 @@ void FlowClassifier::rate_points(const cv::Matx33d& level, double floor_down) {
     ground_dx_.assign(tracks.size(), kUnknown);
     past_.assign(tracks.size(), Past{kUnknown, kUnknown, kUnknown, 0, 0, 0, 0});
     for (auto& v : hazard_) v.clear();
+    for (auto& v : hazard_lat_) v.clear();
+    lateral_m_.assign(tracks.size(), kUnknown);
     rated_count_.assign(3, 0);
     lost_.assign(tracks.size(), 0);
     lost_rated_ = {0, 0, 0};
@@ -877,7 +898,7 @@ void FlowClassifier::rate_points(const cv::Matx33d& level, double floor_down) {
             continue;
         }
         if (!(rate > 0)) continue;  // receding or still: never an obstacle
-        if (outside_corridor(mx, my, rate_then, level, floor_down, vscale)) {
+        if (outside_corridor(mx, my, rate_then, level, floor_down, vscale, &lateral_m_[i])) {
             class_[i] = PointClass::Outside;
             continue;
         }
@@ -888,7 +909,8 @@ void FlowClassifier::rate_points(const cv::Matx33d& level, double floor_down) {
 
 bool FlowClassifier::outside_corridor(double mx, double my, double rate_then,
                                       const cv::Matx33d& level, double floor_down,
-                                      double vertical_scale) const {
+                                      double vertical_scale, double* lateral) const {
+    if (lateral != nullptr) *lateral = kUnknown;
     if (!metric_) return false;
     // Depth along the optical axis from the time to contact and the forward speed, then the
     // point in the level frame: beside the corridor, floor, or overhead?
@@ -904,12 +926,12 @@ bool FlowClassifier::outside_corridor(double mx, double my, double rate_then,
         const double s = dn > 0 ? std::max(0.0, dn - p_.corridor_foe_k * foe_sigma_px_) / dn : 1.0;
         across = s * s;
     }
-    return outside_corridor(pc, level, floor_down, across, vertical_scale);
+    return outside_corridor(pc, level, floor_down, across, vertical_scale, lateral);
 }
 
 bool FlowClassifier::outside_corridor(const cv::Vec3d& pc, const cv::Matx33d& level,
-                                      double floor_down, double across,
-                                      double vertical_scale) const {
+                                      double floor_down, double across, double vertical_scale,
+                                      double* lateral) const {
     const cv::Vec3d pl = level * pc;
     // Across the path: measured from the flight line (the direction of travel).
     const cv::Vec3d dir_l = level * cam_velocity_;
@@ -917,6 +939,7 @@ bool FlowClassifier::outside_corridor(const cv::Vec3d& pc, const cv::Matx33d& le
     const double along = dnorm > 0 ? pl.dot(dir_l) / dnorm : 0.0;
     const cv::Vec3d off = dnorm > 0 ? pl - along * dir_l * (1.0 / dnorm) : pl;
     const bool beside = std::abs(off[1]) * across > p_.corridor_half_width_m;
+    if (lateral != nullptr) *lateral = off[1] * across;
     // Below or above the path: the point as far along its ray as its depth may be
     // (vertical_scale >= 1, lag_allowance_s: only for points below the principal point).
     const double down = pl[2] * vertical_scale;
@@ -987,8 +1010,9 @@ void FlowClassifier::rate_near_foe(const cv::Matx33d& level, double floor_down) 
             class_[a] = PointClass::Inconsistent;  // parting ever slower: not a surface neared
             continue;
         }
-        class_[a] = outside_corridor(w.mx, w.my, rate_then, level, floor_down) ? PointClass::Outside
-                                                                               : PointClass::Hazard;
+        class_[a] = outside_corridor(w.mx, w.my, rate_then, level, floor_down, 1, &lateral_m_[a])
+                        ? PointClass::Outside
+                        : PointClass::Hazard;
     }
 }
 
@@ -1258,12 +1282,13 @@ void FlowClassifier::rate_moving_points(const cv::Matx33d& level, double floor_d
         const double rate = looming_rate(a, true, 0, 0, p_.loom_radius_px);
         if (std::isnan(rate)) continue;
         track_score_[a] = rate;
+        double miss_lateral = kUnknown;  // where it crosses the camera's plane
         if (rate > 0 && fits != nullptr && (*fits)[a].ok) {
             const WindowFit& w = (*fits)[a];
             const double ttc = 1.0 / rate;
             const double z = cam_velocity_[2] * ttc;
             const cv::Vec3d miss(w.vx / calib_.fx * z * ttc, w.vy / calib_.fy * z * ttc, 0.0);
-            if (outside_corridor(miss, level, floor_down)) {
+            if (outside_corridor(miss, level, floor_down, 1, 1, &miss_lateral)) {
                 class_[a] = PointClass::Outside;
                 continue;
             }
@@ -1272,6 +1297,7 @@ void FlowClassifier::rate_moving_points(const cv::Matx33d& level, double floor_d
             const auto ri =
                 static_cast<std::size_t>(region_of(tracker_.tracks()[a].at_back(0).stab.x));
             hazard_[ri].push_back(rate);
+            hazard_lat_[ri].push_back(miss_lateral);
         }
     }
 }

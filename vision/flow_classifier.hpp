@@ -367,13 +367,20 @@ private:
     // The near-FOE points (near_foe_rows), after the others are rated.
     void rate_near_foe(const cv::Matx33d& level, double floor_down);
     // A point rated 1/TTC (then, at the fit window's mean time) at undistorted (mx, my): placed
-    // beside the corridor, on the floor or overhead (metric_ only).
+    // beside the corridor, on the floor or overhead (metric_ only). `lateral`, when given, gets
+    // its offset from the flight line (m, right positive; as tested: scaled by the FOE's error)
+    // or NaN without a metric corridor.
     bool outside_corridor(double mx, double my, double rate_then, const cv::Matx33d& level,
-                          double floor_down, double vertical_scale = 1) const;
+                          double floor_down, double vertical_scale = 1,
+                          double* lateral = nullptr) const;
     // The same for a point pc (m, camera frame): beside the flight line, floor or overhead.
     // `across` scales its offset from the flight line before the test.
     bool outside_corridor(const cv::Vec3d& pc, const cv::Matx33d& level, double floor_down,
-                          double across = 1, double vertical_scale = 1) const;
+                          double across = 1, double vertical_scale = 1,
+                          double* lateral = nullptr) const;
+    // How far region r's obstacle reaches across the flight line (RegionDecision::edge_m) from
+    // its hazards this frame.
+    double region_edge(Region r, double threshold, int k);
     void check_static_looming();
     void check_history();
     double odometer_at(double t_s) const;  // distance flown forward by then (m), NaN unknown
@@ -421,6 +428,9 @@ private:
     double foe_sigma_px_ = 0;  // standard error of the FOE used
     cv::Matx33d derot_ = cv::Matx33d::eye();
     std::vector<double> ts_, xs_, ys_, hazard_[3];
+    // Per region, each hazard's offset from the flight line (m, right positive; NaN unknown), in
+    // hazard_'s order; and per track, the offset its corridor test found.
+    std::vector<double> hazard_lat_[3], lateral_m_, edge_scratch_;
     // Per track, its derotated image velocity fitted over the last velocity_window frames
     // (window_fits): the velocity at the window's mean time, `lag` seconds before the newest
     // frame, where it was then (m: undistorted; d: derotated), and the newest frame's time.

@@ -197,6 +197,7 @@ std::vector<FrameRecord> fly(const Flight& f, ObstacleClassifier& c) {
             rec.unsafe[k] = r.regions[k].unsafe;
             rec.valid[k] = r.regions[k].valid;
             rec.score[k] = r.regions[k].score;
+            rec.edge_m[k] = r.regions[k].edge_m;
         }
         rec.distance_m = f.distance_at(i);
         if (const auto* flow = dynamic_cast<const FlowClassifier*>(&c)) {

@@ -33,7 +33,8 @@ struct FrameRecord {
     std::array<bool, 3> unsafe{};
     std::array<bool, 3> valid{};
     std::array<double, 3> score{};
-    double distance_m = 0;  // to the wall ahead (Approach) / along the wall (SidePass)
+    std::array<double, 3> edge_m{};  // RegionDecision::edge_m
+    double distance_m = 0;           // to the wall ahead (Approach) / along the wall (SidePass)
     // The flow classifier's FOE source for the frame (FlowClassifier::FoeSource), -1 for others.
     int foe_source = -1;
     double foe_x = 0;  // ... and the FOE it used (undistorted px; with a source)
