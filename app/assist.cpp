@@ -127,6 +127,13 @@ const vision::ParamTable<AssistParams>& assist_param_table() {
             .add("default_side_m", &P::default_side_m, 0, 20,
                  "where a side obstacle is assumed to be ahead when its time to contact is "
                  "unknown (m)")
+            .add("side_hull_half_m", &P::side_hull_half_m, 0, 2,
+                 "a side obstacle reaching into the path: the drone's half-width (m; 0: such a "
+                 "side never brakes)")
+            .add("side_reach_clear_m", &P::side_reach_clear_m, -1, 5,
+                 "a side obstacle reaching into the path brakes when its edge, less the "
+                 "half-width and the push that can still be made before it, would pass nearer "
+                 "than this (m)")
             .add("side_pass_margin_m", &P::side_pass_margin_m, 0, 10,
                  "the roll toward a side stays zeroed until this far past where it was seen (m)");
         return x;
@@ -278,39 +285,75 @@ bool Assist::confirm_centre(const AssistInput& in, RegionState centre, double dt
     return in.t_s >= st_.pending_deadline_s;
 }
 
+bool Assist::side_in_path(const AssistInput& in, std::size_t i) const {
+    const RegionEvidence& e = in.regions[i];
+    if (!(p_.side_hull_half_m > 0) || !known(e.edge_m) || effective(e) != RegionState::Unsafe ||
+        !known(in.vx_mps) || in.vx_mps <= p_.moving_forward_mps)
+        return false;
+    // The hull's clearance if the drone held its course (the edge is measured square to the
+    // direction of travel), and what a push away could add before the drone is there.
+    const double pass_m = e.edge_m - p_.side_hull_half_m;
+    const double age = known(e.age_s) ? std::max(e.age_s, 0.0) : 0.0;
+    const double left_s =
+        known(e.ttc_s) ? p_.ttc_trust * e.ttc_s - age : p_.default_side_m / in.vx_mps;
+    const double t = std::max(0.0, left_s - p_.react_s);
+    const RegionEvidence& other = in.regions[2 - i];
+    const bool may_push = p_.side_nudge > 0 && effective(other) == RegionState::Clear;
+    const double push_m =
+        may_push ? std::min(p_.side_shift_max_m, 0.5 * p_.side_settle_decel_mps2 * t * t) : 0.0;
+    return pass_m + push_m < p_.side_reach_clear_m;
+}
+
 AssistOutput Assist::step(const AssistInput& in) {
-    // A side unsafe beside a centre with no evidence is taken as the centre's alarm
-    // (side_blocks_unknown_centre): the nearer such side's reading stands in for the centre's.
+    // A side's reading stands in for the centre's (the nearer such side's when both):
+    //  - a side unsafe beside a centre with no evidence (side_blocks_unknown_centre);
+    //  - a side unsafe whose obstacle reaches into the path beyond what a push clears in time.
     int beside = -1;
-    if (p_.side_blocks_unknown_centre && in.enabled && !in.override && in.flying &&
-        effective(in.regions[1]) == RegionState::Unknown) {
+    StandIn why = StandIn::None;
+    if (in.enabled && !in.override && in.flying) {
+        const RegionState centre = effective(in.regions[1]);
+        const bool centre_unknown = centre == RegionState::Unknown;
         for (const int i : {0, 2}) {
-            if (effective(in.regions[static_cast<std::size_t>(i)]) != RegionState::Unsafe) continue;
-            const double ttc = in.regions[static_cast<std::size_t>(i)].ttc_s;
+            if (centre == RegionState::Unsafe) break;  // the centre's own alarm
+            const auto si = static_cast<std::size_t>(i);
+            if (effective(in.regions[si]) != RegionState::Unsafe) continue;
+            StandIn reason = StandIn::None;
+            if (side_in_path(in, si))
+                reason = StandIn::InThePath;
+            else if (p_.side_blocks_unknown_centre && centre_unknown)
+                reason = StandIn::CentreUnknown;
+            if (reason == StandIn::None) continue;
+            const double ttc = in.regions[si].ttc_s;
             const double best =
                 beside < 0 ? kUnknown : in.regions[static_cast<std::size_t>(beside)].ttc_s;
-            if (beside < 0 || (known(ttc) && (!known(best) || ttc < best))) beside = i;
+            if (beside < 0 || (known(ttc) && (!known(best) || ttc < best))) {
+                beside = i;
+                why = reason;
+            }
         }
     }
-    if (beside < 0) return step_as_given(in, vision::Region::Centre);
+    if (beside < 0) return step_as_given(in, vision::Region::Centre, StandIn::None);
     AssistInput taken = in;
     taken.regions[1] = in.regions[static_cast<std::size_t>(beside)];
     AssistOutput out =
-        step_as_given(taken, beside == 0 ? vision::Region::Left : vision::Region::Right);
-    out.centre = RegionState::Unknown;  // the centre itself read unknown
+        step_as_given(taken, beside == 0 ? vision::Region::Left : vision::Region::Right, why);
+    // The centre as it read (unknown, or clear beside an obstacle reaching into the path).
+    out.centre = effective(in.regions[1]);
     return out;
 }
 
-AssistOutput Assist::step_as_given(const AssistInput& in, vision::Region acted_for) {
+AssistOutput Assist::step_as_given(const AssistInput& in, vision::Region acted_for, StandIn why) {
     AssistOutput out;
-    // What the centre's actions are for: the centre's own alarm, or a side's standing in for a
-    // centre that reads unknown (then the record, the log and the banner name that side).
-    const bool stand_in = acted_for != vision::Region::Centre;
+    // What the centre's actions are for: the centre's own alarm, or a side's standing in for it
+    // (then the record, the log and the banner name that side, and why).
     const std::string side_name = acted_for == vision::Region::Left ? "left" : "right";
+    const std::string side_why = why == StandIn::InThePath       ? " reaching into the path"
+                                 : why == StandIn::CentreUnknown ? ", nothing seen ahead"
+                                                                 : "";
     const std::string obstacle =
-        stand_in ? "obstacle " + side_name + ", nothing seen ahead" : "obstacle ahead";
+        why != StandIn::None ? "obstacle " + side_name + side_why : "obstacle ahead";
     const std::string alarm_text =
-        stand_in ? side_name + " alarm, nothing seen ahead" : "centre alarm";
+        why != StandIn::None ? side_name + " alarm" + side_why : "centre alarm";
     out.command = in.pilot;
     using Phase = State::Phase;
     auto finish = [&](AssistOutput& o) -> AssistOutput {
@@ -390,6 +433,7 @@ AssistOutput Assist::step_as_given(const AssistInput& in, vision::Region acted_f
     if (alarm && (moving_forward || pilot_forward) &&
         (st_.phase == Phase::Free || (st_.phase == Phase::Holding && moving_forward))) {
         remember(alarm_evidence);
+        st_.braked_for = obstacle;
         st_.phase = moving_forward ? Phase::Braking : Phase::Holding;
         st_.since_s = in.t_s;
     } else if (centre == RegionState::Unsafe && st_.phase == Phase::Holding) {
@@ -510,9 +554,12 @@ AssistOutput Assist::step_as_given(const AssistInput& in, vision::Region acted_f
         out.action = AssistAction::Braking;
         // A time to contact only from an unsafe reading: a clear centre's (9 s on a replay's
         // dry run, whose drone never slows) is not the obstacle's.
-        out.reason = centre == RegionState::Unsafe ? "BRAKING: " + obstacle + contact_text(c)
-                                                   : "BRAKING: " + obstacle + " (centre now " +
-                                                         to_string(centre) + "), until stopped";
+        // Read no longer unsafe: what it braked for, not what this step's regions would say
+        // (a side's stand-in comes and goes with its reading).
+        out.reason = centre == RegionState::Unsafe
+                         ? "BRAKING: " + obstacle + contact_text(c)
+                         : "BRAKING: " + st_.braked_for + " (centre now " + to_string(centre) +
+                               "), until stopped";
     } else if (st_.phase == Phase::Holding && room_ahead) {
         char buf[96];
         std::snprintf(buf, sizeof buf, "APPROACHING: obstacle remembered %.1f m ahead", remaining);

@@ -36,6 +36,10 @@
 //    contact (`side_blocks_unknown_centre`): the side's unsafe points lie in the flight corridor,
 //    and nothing says the obstacle stops short of a centre with no evidence (a plain surface).
 //    The banner says so ("BRAKING: obstacle left, nothing seen ahead, contact in 2.2 s").
+//    So is a side unsafe whose obstacle reaches into the path (the classifier places its inner
+//    edge, `edge_m`) farther than the push away could clear in the time left before the drone
+//    gets there (`side_hull_half_m`, `side_reach_clear_m`): "BRAKING: obstacle right reaching
+//    into the path, contact in 0.9 s".
 //  - Left / right unsafe: the roll command toward that side is zeroed, and stays zeroed until the
 //    drone has flown past where the obstacle was seen (its time to contact x speed, plus
 //    `side_pass_margin_m`): the side of a pass goes out of the camera's view before the drone is
@@ -91,6 +95,9 @@ struct RegionEvidence {
     RegionState state = RegionState::Unknown;
     double age_s = kUnknown;  // since the frame it was made on
     double ttc_s = kUnknown;  // time to contact, when the classifier estimates one
+    // A side's obstacle: how far beside the flight line its inner edge is, toward that side (m;
+    // negative: across the line; vision::RegionDecision::edge_m), when the classifier places it.
+    double edge_m = kUnknown;
 };
 
 struct AssistInput {
@@ -275,6 +282,17 @@ struct AssistParams {
     // its left edge read unsafe (contact in 1.9-2.5 s); steered right but not braked, it passed
     // 0.08 m from it. A centre read clear (evidence of a free way) keeps the side rules alone.
     bool side_blocks_unknown_centre = true;
+    // A side unsafe whose obstacle reaches so far into the path (its edge_m) that the drone's hull
+    // would pass it nearer than side_reach_clear_m, even after the push away it could still make
+    // before getting there, counts as a centre alarm too (confirmed, braked for and held as one).
+    // The push can add, from rest, after react_s, at most side_settle_decel_mps2 x t^2 / 2 in the
+    // time t the side's time to contact (at ttc_trust) leaves, and never more than
+    // side_shift_max_m; nothing when the other side does not read clear. Seed 41's
+    // ahead-doorway-right-1.5-35: a wall whose edge stood 0.2 m inside the path read unsafe on
+    // the right only, 1.4 m before it, and the push carried the drone past it 0.23 m clear.
+    // 0 (side_hull_half_m): off.
+    double side_hull_half_m = 0.26;  // the AR.Drone 2's half-width with the indoor hull
+    double side_reach_clear_m = 0.2;
 };
 
 // Every AssistParams member by name, with its range and meaning: `eval-assist --assist-set
@@ -350,12 +368,18 @@ private:
         double pending_deadline_s = 0;
         RegionEvidence pending_evidence{};
         double last_unsafe_t_s = kUnknown;  // the centre's last unsafe reading (free flight)
+        std::string braked_for = "obstacle ahead";  // what the brake under way is for
     };
     // Whether a centre alarm in free flight brakes now (see the rules above).
     bool confirm_centre(const AssistInput& in, RegionState centre, double dt);
     // One step with the regions as given; `acted_for` is the region the centre's actions are for
     // (Centre, or the side whose alarm stands in for an unknown centre).
-    AssistOutput step_as_given(const AssistInput& in, vision::Region acted_for);
+    // Why a side's reading stands in for the centre's.
+    enum class StandIn : std::uint8_t { None, CentreUnknown, InThePath };
+    AssistOutput step_as_given(const AssistInput& in, vision::Region acted_for, StandIn why);
+    // Side region i (0 left, 2 right) unsafe with an obstacle that reaches into the path farther
+    // than a push can clear in time (side_hull_half_m, side_reach_clear_m).
+    bool side_in_path(const AssistInput& in, std::size_t i) const;
     RegionState effective(const RegionEvidence& e) const;
     // Where a reading's time to contact places its obstacle ahead (x ttc_trust, less what was
     // flown since its frame), or unknown (no time to contact, or too slow for one to mean a

@@ -15,6 +15,7 @@ std::array<RegionEvidence, 3> evidence_of(const vision::FrameResult& r, bool flo
                      : d.unsafe ? RegionState::Unsafe
                                 : RegionState::Clear;
         if (flow && d.valid && std::isfinite(d.score) && d.score > 0) e[i].ttc_s = 1.0 / d.score;
+        if (flow && d.valid) e[i].edge_m = d.edge_m;
     }
     return e;
 }

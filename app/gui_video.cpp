@@ -96,7 +96,7 @@ void classifier_output(const PipelineOutput& o, ui::ClassifierOutput& c, double 
         const vision::RegionDecision& d = r.regions[i];
         c.decisions.push_back({kRegionNames[i], d.valid && d.unsafe, d.score, d.threshold, d.valid,
                                d.valid ? std::string() : vision::to_string(d.unknown),
-                               d.valid && d.approach_only});
+                               d.valid && d.approach_only, d.valid ? d.edge_m : kUnknown});
     }
     c.cycle_ms = r.timings.total_ms;
 

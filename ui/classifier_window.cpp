@@ -125,11 +125,19 @@ void ClassifierWindow::draw(const GuiSnapshot& s, ViewState& v, Actions& a) {
         } else if (!measured)
             ImGui::TextColored(colors::v4(colors::kDim), "%s",
                                stale ? "video stale" : d.unknown_reason.c_str());
-        else if (known(d.score))
+        else if (known(d.score)) {
             ImGui::TextColored(colors::v4(colors::kDim), "%s / %s",
                                format_score(d.score, d.threshold).c_str(),
                                format_score(d.threshold, d.threshold).c_str());
-        else
+            if (d.flagged && known(d.edge_m)) {
+                ImGui::SameLine();
+                ImGui::TextColored(colors::v4(colors::kDim), "edge %+.2f m", d.edge_m);
+                if (ImGui::IsItemHovered())
+                    ImGui::SetTooltip(
+                        "How far beside the flight line the obstacle's inner edge is, toward "
+                        "this side (negative: across the line), from the points rated unsafe");
+            }
+        } else
             ImGui::TextColored(colors::v4(colors::kDim), "score -");
     }
     ImGui::Separator();

@@ -141,7 +141,14 @@ void make_demo_snapshot(GuiSnapshot& s, int frame, const DemoOptions& opt) {
     c.decisions.clear();
     c.overlay = Overlay{};
     for (int i = 0; i < 3; ++i) {
-        c.decisions.push_back({names[i], flags[i], scores[i], 1.0, true, {}});
+        c.decisions.push_back({names[i],
+                               flags[i],
+                               scores[i],
+                               1.0,
+                               true,
+                               {},
+                               false,
+                               i != 1 && flags[i] ? 0.31 : kUnknown});
         c.overlay.regions.push_back({names[i],
                                      third * static_cast<float>(i),
                                      third * static_cast<float>(i + 1),

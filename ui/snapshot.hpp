@@ -197,6 +197,9 @@ struct RegionDecision {
     bool known = true;           // measured this frame
     std::string unknown_reason;  // why not ("too few tracked points", "video stale" ...)
     bool still = false;          // measured for approaching things only (RegionBar::still)
+    // A flagged side's obstacle: how far beside the flight line its inner edge is (m; negative:
+    // across it), when the classifier places it.
+    double edge_m = kUnknown;
 };
 
 // Generic tunable parameter, so the window needs no knowledge of a classifier's internals.

@@ -953,6 +953,71 @@ TEST(Assist, ASideAlarmBesideAnUnknownCentreIsTakenAsTheCentres) {
     }
 }
 
+TEST(Assist, ASideObstacleReachingIntoThePathBrakesWhenNoPushClearsItInTime) {
+    // Seed 41's ahead-doorway-right-1.5-35: a wall whose edge stood 0.2 m inside the path read
+    // unsafe on the right only, 1.4 m before it, the centre clear, and the push away carried the
+    // drone past it 0.23 m clear. With the edge placed (edge_m), a side whose obstacle the hull
+    // (0.26 m) would pass nearer than 0.2 m, even after the push it can still make, is braked
+    // for as the centre's alarm; with time to push, or the edge well beside, or not placed,
+    // or the rule off, the side rules alone. The push counts only toward a side that reads
+    // clear.
+    struct Case {
+        const char* what;
+        double ttc_s, edge_m;
+        RegionEvidence left;
+        bool rule;
+        bool brakes;
+    };
+    for (const Case c : {
+             Case{"into the hull, 0.6 s away", 0.9, 0.05, clear(), true, true},
+             Case{"into the hull, time to push", 3.0, 0.05, clear(), true, false},
+             Case{"beside the hull by 0.24 m", 0.9, 0.5, clear(), true, false},
+             Case{"not placed", 0.9, kUnknown, clear(), true, false},
+             Case{"rule off", 0.9, 0.05, clear(), false, false},
+             Case{"near the hull, time to push", 3.0, 0.35, clear(), true, false},
+             Case{"near the hull, no push (left unknown)", 3.0, 0.35, unknown(), true, true},
+         }) {
+        SCOPED_TRACE(c.what);
+        AssistParams p;
+        if (!c.rule) p.side_hull_half_m = 0;
+        Assist a(p);
+        AssistInput in = flying_forward(1.5, clear());
+        in.regions[0] = c.left;
+        in.regions[2] = RegionEvidence{RegionState::Unsafe, 0.05, c.ttc_s, c.edge_m};
+        AssistOutput o = a.step(in);
+        bool braked = o.action == AssistAction::Braking;
+        const AssistOutput first = o;
+        for (double t = 0.03; t < 1.0 && !braked; t += 0.03) {
+            in.t_s = t;
+            o = a.step(in);
+            braked = o.action == AssistAction::Braking;
+        }
+        EXPECT_EQ(braked, c.brakes) << o.reason;
+        if (!c.brakes) {
+            EXPECT_NE(o.action, AssistAction::Holding) << o.reason;
+            continue;
+        }
+        char contact[32];
+        std::snprintf(contact, sizeof contact, "contact in %.1f s", c.ttc_s);
+        EXPECT_EQ(o.reason,
+                  std::string("BRAKING: obstacle right reaching into the path, ") + contact);
+        EXPECT_EQ(o.region, vision::Region::Right) << "the region it acted for, as recorded";
+        EXPECT_EQ(o.centre, RegionState::Clear) << "the centre as read";
+        EXPECT_GT(o.command.pitch, 0.0f);
+        // No time to spare: braked on the first reading; with time, confirmed first.
+        EXPECT_EQ(first.action, c.ttc_s < 1 ? AssistAction::Braking : AssistAction::Confirming)
+            << first.reason;
+        // The side no longer reads unsafe: still braking, and still saying what for.
+        in.regions[2] = clear();
+        in.t_s += 0.03;
+        o = a.step(in);
+        EXPECT_EQ(o.action, AssistAction::Braking) << o.reason;
+        EXPECT_EQ(o.reason,
+                  "BRAKING: obstacle right reaching into the path (centre now clear), until "
+                  "stopped");
+    }
+}
+
 TEST(Assist, ASideAlarmStandingInForTheCentreIsNamedInEveryPhase) {
     // At 1.5 m/s a right side unsafe at 3 s to contact, the centre and the left unknown (nothing
     // to steer into, so the side rules do nothing): 3.4 m ahead (x 0.75), time to confirm
