@@ -33,6 +33,18 @@ RegionEvidence unknown(double age_s = 0.05) {
     return {RegionState::Unknown, age_s, kUnknown};
 }
 
+// Steps `in` every 30 ms from t = 0 until the assist brakes or 1 s has passed; the last output
+// (and, when asked, the first).
+AssistOutput step_until_braking(Assist& a, AssistInput& in, AssistOutput* first = nullptr) {
+    AssistOutput o = a.step(in);
+    if (first != nullptr) *first = o;
+    for (double t = 0.03; t < 1.0 && o.action != AssistAction::Braking; t += 0.03) {
+        in.t_s = t;
+        o = a.step(in);
+    }
+    return o;
+}
+
 AssistInput flying_forward(double vx, RegionEvidence centre) {
     AssistInput in;
     in.pilot = forward();
@@ -907,13 +919,8 @@ TEST(Assist, ASideAlarmBesideAnUnknownCentreIsTakenAsTheCentres) {
         AssistInput in = flying_forward(0.6, c.centre);
         in.regions[0] = unsafe(2.2);
         // 0.97 m ahead (ttc_trust): no time to confirm (confirm_gap_m), braked at once.
-        AssistOutput o = a.step(in);
-        bool braked = o.action == AssistAction::Braking;
-        for (double t = 0.03; t < 1.0 && !braked; t += 0.03) {
-            in.t_s = t;
-            o = a.step(in);
-            braked = o.action == AssistAction::Braking;
-        }
+        AssistOutput o = step_until_braking(a, in);
+        const bool braked = o.action == AssistAction::Braking;
         EXPECT_EQ(braked, c.brakes) << o.reason;
         if (!c.brakes) {
             EXPECT_NE(o.action, AssistAction::Holding) << o.reason;
@@ -984,14 +991,9 @@ TEST(Assist, ASideObstacleReachingIntoThePathBrakesWhenNoPushClearsItInTime) {
         AssistInput in = flying_forward(1.5, clear());
         in.regions[0] = c.left;
         in.regions[2] = RegionEvidence{RegionState::Unsafe, 0.05, c.ttc_s, c.edge_m};
-        AssistOutput o = a.step(in);
-        bool braked = o.action == AssistAction::Braking;
-        const AssistOutput first = o;
-        for (double t = 0.03; t < 1.0 && !braked; t += 0.03) {
-            in.t_s = t;
-            o = a.step(in);
-            braked = o.action == AssistAction::Braking;
-        }
+        AssistOutput first;
+        AssistOutput o = step_until_braking(a, in, &first);
+        const bool braked = o.action == AssistAction::Braking;
         EXPECT_EQ(braked, c.brakes) << o.reason;
         if (!c.brakes) {
             EXPECT_NE(o.action, AssistAction::Holding) << o.reason;
