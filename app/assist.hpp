@@ -292,7 +292,7 @@ struct AssistParams {
     // the right only, 1.4 m before it, and the push carried the drone past it 0.23 m clear.
     // 0 (side_hull_half_m): off.
     double side_hull_half_m = 0.26;  // the AR.Drone 2's half-width with the indoor hull
-    double side_reach_clear_m = 0.2;
+    double side_reach_clear_m = 0.3;  // the clearance the assist aims for (issue 16)
 };
 
 // Every AssistParams member by name, with its range and meaning: `eval-assist --assist-set

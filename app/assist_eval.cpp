@@ -140,7 +140,8 @@ Expected<AssistFlightResult, std::string> fly_assist_flight(const AssistFlightSp
     if (!opt.trace_path.empty()) {
         trace.open(opt.trace_path);
         trace << "t_s,x_m,y_m,vx_mps,clearance_m,left,centre,right,centre_ttc_s,age_s,action,"
-                 "pilot_pitch,sent_pitch,sent_roll,reason\n";
+                 "pilot_pitch,sent_pitch,sent_roll,reason,left_ttc_s,left_edge_m,right_ttc_s,"
+                 "right_edge_m,vy_mps\n";
     }
     // Recording: every encoded access unit, with a frames.csv row of what the classifier was
     // given.
@@ -228,7 +229,8 @@ Expected<AssistFlightResult, std::string> fly_assist_flight(const AssistFlightSp
                       << ',' << to_string(ai.regions[2].state) << ',' << ai.regions[1].ttc_s << ','
                       << ai.regions[1].age_s << ',' << to_string(out.action) << ',' << pilot.pitch
                       << ',' << out.command.pitch << ',' << out.command.roll << ",\"" << out.reason
-                      << "\"\n";
+                      << "\"," << ai.regions[0].ttc_s << ',' << ai.regions[0].edge_m << ','
+                      << ai.regions[2].ttc_s << ',' << ai.regions[2].edge_m << ',' << vy << '\n';
             const std::string d = send_text(seq, out.command);
             core.on_at({reinterpret_cast<const std::uint8_t*>(d.data()), d.size()}, from, t);
         }

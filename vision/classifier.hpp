@@ -81,7 +81,10 @@ struct RegionDecision {
     // A side region's obstacle, how far it reaches across the flight line (metres, level frame,
     // measured square to the direction of travel): its k-th innermost point among those rated
     // faster than the threshold (k: the support the score needs), as its distance from the line
-    // toward the region's own side; negative: that far past the line. NaN: no metric corridor
+    // toward the region's own side; negative: that far past the line. A best estimate: the
+    // points as placed, without the corridor test's allowance for the FOE's error, which brings
+    // them nearer the line (with it, the edges read 0.1-0.25 m too near, and the assist braked
+    // for side passes that went 0.5-0.7 m clear: README, session 42). NaN: no metric corridor
     // (no speed), too few such points, the centre region, or a classifier without depths.
     double edge_m = kUnknown;
 };

@@ -939,7 +939,7 @@ bool FlowClassifier::outside_corridor(const cv::Vec3d& pc, const cv::Matx33d& le
     const double along = dnorm > 0 ? pl.dot(dir_l) / dnorm : 0.0;
     const cv::Vec3d off = dnorm > 0 ? pl - along * dir_l * (1.0 / dnorm) : pl;
     const bool beside = std::abs(off[1]) * across > p_.corridor_half_width_m;
-    if (lateral != nullptr) *lateral = off[1] * across;
+    if (lateral != nullptr) *lateral = off[1];
     // Below or above the path: the point as far along its ray as its depth may be
     // (vertical_scale >= 1, lag_allowance_s: only for points below the principal point).
     const double down = pl[2] * vertical_scale;

@@ -368,8 +368,8 @@ private:
     void rate_near_foe(const cv::Matx33d& level, double floor_down);
     // A point rated 1/TTC (then, at the fit window's mean time) at undistorted (mx, my): placed
     // beside the corridor, on the floor or overhead (metric_ only). `lateral`, when given, gets
-    // its offset from the flight line (m, right positive; as tested: scaled by the FOE's error)
-    // or NaN without a metric corridor.
+    // its offset from the flight line (m, right positive; as placed, before the test's allowance
+    // for the FOE's error) or NaN without a metric corridor.
     bool outside_corridor(double mx, double my, double rate_then, const cv::Matx33d& level,
                           double floor_down, double vertical_scale = 1,
                           double* lateral = nullptr) const;
