@@ -134,6 +134,9 @@ const vision::ParamTable<AssistParams>& assist_param_table() {
                  "a side obstacle reaching into the path brakes when its edge, less the "
                  "half-width and the push that can still be made before it, would pass nearer "
                  "than this (m)")
+            .add("side_reach_confirm_s", &P::side_reach_confirm_s, 0, 5,
+                 "a side obstacle reaching into the path brakes only once the side has read "
+                 "unsafe this long without a break (s)")
             .add("side_pass_margin_m", &P::side_pass_margin_m, 0, 10,
                  "the roll toward a side stays zeroed until this far past where it was seen (m)");
         return x;
@@ -287,8 +290,10 @@ bool Assist::confirm_centre(const AssistInput& in, RegionState centre, double dt
 
 bool Assist::side_in_path(const AssistInput& in, std::size_t i) const {
     const RegionEvidence& e = in.regions[i];
+    const double since = st_.side_unsafe_since_s[i == 0 ? 0 : 1];
     if (!(p_.side_hull_half_m > 0) || !known(e.edge_m) || effective(e) != RegionState::Unsafe ||
-        !known(in.vx_mps) || in.vx_mps <= p_.moving_forward_mps)
+        !known(in.vx_mps) || in.vx_mps <= p_.moving_forward_mps || !known(since) ||
+        in.t_s - since < p_.side_reach_confirm_s)
         return false;
     // The hull's clearance if the drone held its course (the edge is measured square to the
     // direction of travel), and what a push away could add before the drone is there.
@@ -308,6 +313,13 @@ AssistOutput Assist::step(const AssistInput& in) {
     // A side's reading stands in for the centre's (the nearer such side's when both):
     //  - a side unsafe beside a centre with no evidence (side_blocks_unknown_centre);
     //  - a side unsafe whose obstacle reaches into the path beyond what a push clears in time.
+    for (const std::size_t i : {0u, 2u}) {
+        double& since = st_.side_unsafe_since_s[i == 0 ? 0 : 1];
+        if (effective(in.regions[i]) != RegionState::Unsafe)
+            since = kUnknown;
+        else if (!known(since))
+            since = in.t_s;
+    }
     int beside = -1;
     StandIn why = StandIn::None;
     if (in.enabled && !in.override && in.flying) {

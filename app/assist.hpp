@@ -291,8 +291,13 @@ struct AssistParams {
     // ahead-doorway-right-1.5-35: a wall whose edge stood 0.2 m inside the path read unsafe on
     // the right only, 1.4 m before it, and the push carried the drone past it 0.23 m clear.
     // 0 (side_hull_half_m): off.
-    double side_hull_half_m = 0.26;  // the AR.Drone 2's half-width with the indoor hull
+    double side_hull_half_m = 0.26;   // the AR.Drone 2's half-width with the indoor hull
     double side_reach_clear_m = 0.3;  // the clearance the assist aims for (issue 16)
+    // ... and only once the side has read unsafe this long without a break (s): the push away is
+    // already under way, and a side's false alarms come a frame or two at a time (seed 67's
+    // open-none-0.6-12 under --realism: two frames' right alarm, contact in 0.9 s, its edge 0.1 m
+    // off the line, braked an open flight).
+    double side_reach_confirm_s = 0.25;
 };
 
 // Every AssistParams member by name, with its range and meaning: `eval-assist --assist-set
@@ -369,6 +374,8 @@ private:
         RegionEvidence pending_evidence{};
         double last_unsafe_t_s = kUnknown;  // the centre's last unsafe reading (free flight)
         std::string braked_for = "obstacle ahead";  // what the brake under way is for
+        // Per side (left, right): since when it has read unsafe without a break (NaN: not now).
+        std::array<double, 2> side_unsafe_since_s{kUnknown, kUnknown};
     };
     // Whether a centre alarm in free flight brakes now (see the rules above).
     bool confirm_centre(const AssistInput& in, RegionState centre, double dt);

@@ -34,13 +34,15 @@ RegionEvidence unknown(double age_s = 0.05) {
 }
 
 // Steps `in` every 30 ms from t = 0 until the assist brakes or 1 s has passed; the last output
-// (and, when asked, the first).
-AssistOutput step_until_braking(Assist& a, AssistInput& in, AssistOutput* first = nullptr) {
+// (and, when asked, every output on the way).
+AssistOutput step_until_braking(Assist& a, AssistInput& in,
+                                std::vector<AssistOutput>* seen = nullptr) {
     AssistOutput o = a.step(in);
-    if (first != nullptr) *first = o;
+    if (seen != nullptr) seen->push_back(o);
     for (double t = 0.03; t < 1.0 && o.action != AssistAction::Braking; t += 0.03) {
         in.t_s = t;
         o = a.step(in);
+        if (seen != nullptr) seen->push_back(o);
     }
     return o;
 }
@@ -967,7 +969,9 @@ TEST(Assist, ASideObstacleReachingIntoThePathBrakesWhenNoPushClearsItInTime) {
     // (0.26 m) would pass nearer than 0.3 m, even after the push it can still make (at most
     // 0.5 m, 0.07 m in the 0.43 s that 0.9 s to contact leaves), is braked for as the centre's
     // alarm; with time to push, or the edge well beside, or not placed, or the rule off, the side
-    // rules alone. The push counts only toward a side that reads clear.
+    // rules alone. The push counts only toward a side that reads clear. A side that reads so for
+    // less than 0.25 s without a break (two frames' false alarm) is pushed from, never braked
+    // for.
     struct Case {
         const char* what;
         double ttc_s, edge_m;
@@ -993,8 +997,8 @@ TEST(Assist, ASideObstacleReachingIntoThePathBrakesWhenNoPushClearsItInTime) {
         AssistInput in = flying_forward(1.5, clear());
         in.regions[0] = c.left;
         in.regions[2] = RegionEvidence{RegionState::Unsafe, 0.05, c.ttc_s, c.edge_m};
-        AssistOutput first;
-        AssistOutput o = step_until_braking(a, in, &first);
+        std::vector<AssistOutput> seen;
+        AssistOutput o = step_until_braking(a, in, &seen);
         const bool braked = o.action == AssistAction::Braking;
         EXPECT_EQ(braked, c.brakes) << o.reason;
         if (!c.brakes) {
@@ -1008,15 +1012,19 @@ TEST(Assist, ASideObstacleReachingIntoThePathBrakesWhenNoPushClearsItInTime) {
         EXPECT_EQ(o.region, vision::Region::Right) << "the region it acted for, as recorded";
         EXPECT_EQ(o.centre, RegionState::Clear) << "the centre as read";
         EXPECT_GT(o.command.pitch, 0.0f);
-        // No time to spare: braked on the first reading; with time, confirmed first (said
-        // beside the push away while the other side reads clear).
+        // Only once the side has read unsafe for side_reach_confirm_s (0.25 s: pushed away
+        // meanwhile where the left is clear); then, with no time to spare, at once, and with time,
+        // confirmed first (said beside the push away while the other side reads clear).
+        EXPECT_GE(in.t_s, 0.25 - 1e-9);
+        EXPECT_NE(seen.front().action, AssistAction::Braking) << seen.front().reason;
+        const bool confirmed = std::any_of(seen.begin(), seen.end(), [](const AssistOutput& x) {
+            return x.pending ==
+                   "CONFIRMING: right alarm reaching into the path, contact in 3.0 s, braking if "
+                   "it holds";
+        });
+        EXPECT_EQ(confirmed, c.ttc_s > 1);
         if (c.ttc_s < 1) {
-            EXPECT_EQ(first.action, AssistAction::Braking) << first.reason;
-        } else {
-            EXPECT_EQ(first.pending,
-                      "CONFIRMING: right alarm reaching into the path, contact in 3.0 s, braking "
-                      "if it holds")
-                << first.reason;
+            EXPECT_LT(in.t_s, 0.25 + 0.031) << "braked once the side's time was up";
         }
         // The side no longer reads unsafe: still braking, and still saying what for.
         in.regions[2] = clear();
@@ -1026,6 +1034,19 @@ TEST(Assist, ASideObstacleReachingIntoThePathBrakesWhenNoPushClearsItInTime) {
         EXPECT_EQ(o.reason,
                   "BRAKING: obstacle right reaching into the path (centre now clear), until "
                   "stopped");
+    }
+    {
+        // Two frames in the path, one clear, two again: never 0.25 s without a break.
+        SCOPED_TRACE("flickering");
+        Assist a;
+        AssistInput in = flying_forward(1.5, clear());
+        const RegionEvidence in_path{RegionState::Unsafe, 0.05, 0.9, 0.05};
+        for (int k = 0; k < 30; ++k) {
+            in.t_s = 0.03 * k;
+            in.regions[2] = k % 3 == 2 ? clear() : in_path;
+            const AssistOutput o = a.step(in);
+            EXPECT_NE(o.action, AssistAction::Braking) << k << ": " << o.reason;
+        }
     }
 }
 
