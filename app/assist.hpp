@@ -38,8 +38,9 @@
 //    The banner says so ("BRAKING: obstacle left, nothing seen ahead, contact in 2.2 s").
 //    So is a side unsafe whose obstacle reaches into the path (the classifier places its inner
 //    edge, `edge_m`) farther than the push away could clear in the time left before the drone
-//    gets there (`side_hull_half_m`, `side_reach_clear_m`): "BRAKING: obstacle right reaching
-//    into the path, contact in 0.9 s".
+//    gets there (`side_hull_half_m`, `side_reach_clear_m`), once the side has read unsafe for
+//    `side_reach_confirm_s` without a break: "BRAKING: obstacle right reaching into the path,
+//    contact in 0.9 s".
 //  - Left / right unsafe: the roll command toward that side is zeroed, and stays zeroed until the
 //    drone has flown past where the obstacle was seen (its time to contact x speed, plus
 //    `side_pass_margin_m`): the side of a pass goes out of the camera's view before the drone is
